@@ -1,0 +1,59 @@
+// shearbench: entry point. Parses the global flags, dispatches to the registered subcommands, and turns
+// bad input into one clear line (file:line:col: what) instead of a crash.
+#include <algorithm>
+#include <iostream>
+#include <map>
+
+#include "app/command.hpp"
+#include "core/error.hpp"
+
+namespace sb::app {
+std::vector<CommandInfo>& command_registry() {
+  static std::vector<CommandInfo> registry;
+  return registry;
+}
+}  // namespace sb::app
+
+int main(int argc, char** argv) {
+  using namespace sb::app;
+  CLI::App cli{"shearbench: a workbench for tactile shear models (HydroShear, FOTS, TacSL) against GelSight data"};
+  cli.set_version_flag("--version", std::string("shearbench ") + SHEARBENCH_VERSION);
+  GlobalOptions global;
+  cli.add_option("--data", global.data_root_flag,
+                 "data root (default: $SHEARBENCH_DATA, else ../shared/data)");
+  cli.add_option("--threads", global.threads, "worker threads (0: all cores)");
+  cli.add_flag("-q,--quiet", global.quiet, "print less");
+  cli.require_subcommand(0, 1);
+  cli.footer("With no subcommand: opens the workbench (`gui`) on the default scene; "
+             "without a display it renders the default scene headless.");
+
+  auto& registry = command_registry();
+  std::sort(registry.begin(), registry.end(), [](auto& a, auto& b) { return a.order < b.order; });
+  std::map<CLI::App*, std::function<int()>> runners;
+  for (auto& c : registry) {
+    CLI::App* sub = cli.add_subcommand(c.name, c.help);
+    runners[sub] = c.setup(*sub, global);
+  }
+
+  try {
+    cli.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return cli.exit(e);
+  }
+
+  try {
+    for (auto& [sub, run] : runners)
+      if (sub->parsed()) return run();
+    // No subcommand: the workbench when it is built, help otherwise.
+    for (auto& [sub, run] : runners)
+      if (sub->get_name() == "gui") return run();
+    std::cout << cli.help();
+    return 0;
+  } catch (const sb::InputError& e) {
+    std::cerr << "shearbench: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "shearbench: error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,35 @@
+#include "core/data_root.hpp"
+
+#include <cstdlib>
+#include <filesystem>
+
+#include "core/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sb {
+
+std::string resolve_data_root(const std::string& cli_value) {
+  if (!cli_value.empty()) return cli_value;
+  if (const char* env = std::getenv("SHEARBENCH_DATA"); env && *env) return env;
+  if (fs::exists("../shared/data")) return "../shared/data";
+  // Running from build/ or elsewhere: the layout puts shared/ beside the repository.
+  const fs::path beside_source = fs::path(SHEARBENCH_SOURCE_DIR) / ".." / "shared" / "data";
+  if (fs::exists(beside_source)) return fs::weakly_canonical(beside_source).string();
+  return "../shared/data";
+}
+
+std::string resolve_path(const std::string& path, const std::string& data_root, const std::string& base_dir) {
+  constexpr std::string_view kDataPrefix = "data:";
+  if (path.rfind(kDataPrefix, 0) == 0) return (fs::path(data_root) / path.substr(kDataPrefix.size())).string();
+  const fs::path p(path);
+  if (p.is_absolute() || base_dir.empty()) return path;
+  return (fs::path(base_dir) / p).string();
+}
+
+void require_exists(const std::string& path, const std::string& what) {
+  if (!fs::exists(path))
+    throw InputError(path, what + " not found (data root: set --data or SHEARBENCH_DATA; default ../shared/data)");
+}
+
+}  // namespace sb

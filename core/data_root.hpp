@@ -1,0 +1,16 @@
+#pragma once
+// Where measured data is found: --data, else $SHEARBENCH_DATA, else ../shared/data relative to the
+// working directory, else relative to the source tree. Nothing from there is ever copied into the repo.
+#include <string>
+
+namespace sb {
+
+// `cli_value` is the --data flag (empty when not given).
+std::string resolve_data_root(const std::string& cli_value = "");
+// Resolves "data:<relative>" against the data root; other paths are returned unchanged (relative ones
+// joined to base_dir when base_dir is not empty).
+std::string resolve_path(const std::string& path, const std::string& data_root, const std::string& base_dir);
+// Throws InputError naming `what` and the searched location when `path` does not exist.
+void require_exists(const std::string& path, const std::string& what);
+
+}  // namespace sb
