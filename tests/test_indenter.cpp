@@ -246,3 +246,27 @@ TEST_CASE("indenter shapes from specs: procedural, loaded, analytic fields", "[i
   file.mesh_path = "data:meshes/missing.obj";
   CHECK_THROWS_AS(make_indenter_mesh(file, data_root(), ""), InputError);
 }
+
+TEST_CASE("the committed assets/ meshes load clean and match their generators", "[indenter][mesh]") {
+  // Written by `shearbench assets`; regenerate them if a generator changes.
+  const fs::path dir = fs::path(SHEARBENCH_SOURCE_DIR) / "assets";
+  struct Expected {
+    const char* file;
+    TriMesh mesh;
+  };
+  const Expected assets[] = {{"sphere_r4.obj", make_sphere_mesh(4e-3)},
+                             {"torus_R6_r1.5.obj", make_torus_mesh(6e-3, 1.5e-3)},
+                             {"cylinder_r4_l40_f0.5.obj", make_cylinder_mesh(4e-3, 40e-3, 0.5e-3)},
+                             {"punch_r3_f0.5.obj", make_cylinder_mesh(3e-3, 10e-3, 0.5e-3)},
+                             {"box_10x10x5.obj", make_box_mesh(Vec3(10e-3, 10e-3, 5e-3))}};
+  // Written with 9 digits and read as 32-bit floats: relative 6e-8 on the volume, allowed 1e-6.
+  constexpr double kFileTol = 1e-6;
+  for (const auto& a : assets) {
+    INFO(a.file);
+    Warnings w;
+    const TriMesh m = load_mesh((dir / a.file).string(), {}, nullptr, &w);
+    CHECK(w.empty());
+    CHECK(m.faces.size() == a.mesh.faces.size());
+    CHECK(m.signed_volume() == Approx(a.mesh.signed_volume()).epsilon(kFileTol));
+  }
+}
