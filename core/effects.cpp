@@ -1,6 +1,7 @@
 #include "core/effects.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <stdexcept>
@@ -147,6 +148,8 @@ void EffectModel::reset() {
 }
 
 void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
+  if (!std::isfinite(dt) || dt < 0.0)
+    throw std::invalid_argument("EffectModel::step: dt = " + std::to_string(dt) + " must be finite and >= 0");
   base_->step(X_EI, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
   last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI);

@@ -80,6 +80,7 @@ class EffectModel final : public ShearModel {
   const ParamSet& params() const override { return params_; }
   void set_params(const ParamSet& params) override;
   void reset() override;
+  // Base step, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
   void step(const Pose& X_EI, double dt, FieldOutput* out) override;
   std::unique_ptr<ShearModel> clone() const override;
 

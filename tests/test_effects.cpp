@@ -251,6 +251,8 @@ TEST_CASE("EffectModel passes time, depth, contact and loading to effects", "[ef
   FieldOutput o;
   m.step(pressed(0.001), kDt, &o);
   CHECK(std::abs(dynamic_cast<const RecordingEffect&>(m.effect(0)).seen.back().time_s - kDt) < kExact);
+  CHECK_THROWS_AS(m.step(pressed(0.001), -kDt, &o), std::invalid_argument);
+  CHECK_THROWS_AS(m.step(pressed(0.001), std::nan(""), &o), std::invalid_argument);
 }
 
 TEST_CASE("viscoelastic_creep: delayed creep under a held load and delayed recovery", "[effects]") {
