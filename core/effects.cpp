@@ -38,21 +38,26 @@ void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& dis
 // ---------------------------------------------------------------------------------------- depth
 
 Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter, const Pose& X_EI) {
-  std::vector<Vec3> p_E;
-  p_E.reserve(indenter.samples.p_IS.size() + indenter.mesh.vertices.size());
-  for (const Vec3& p_IS : indenter.samples.p_IS) p_E.push_back(X_EI * p_IS);
-  for (const Vec3& p_IV : indenter.mesh.vertices) p_E.push_back(X_EI * p_IV);
-  if (p_E.empty())
+  if (indenter.samples.p_IS.empty() && indenter.mesh.vertices.empty())
     throw std::invalid_argument("indenter '" + indenter.name + "' has no surface samples or vertices");
+  // The gel lies in z <= 0 (tsd/1: its surface apex is at z = 0), so only points at or below z = 0 can
+  // be inside it; the SDF is evaluated for those only (most of the indenter is above the gel).
+  std::vector<Vec3> p_E;
+  Vec3 lowest_E(0.0, 0.0, std::numeric_limits<double>::infinity());
+  const auto consider = [&](const Vec3& p_I) {
+    const Vec3 p = X_EI * p_I;
+    if (p.z() < lowest_E.z()) lowest_E = p;
+    if (p.z() <= 0.0) p_E.push_back(p);
+  };
+  for (const Vec3& p_IS : indenter.samples.p_IS) consider(p_IS);
+  for (const Vec3& p_IV : indenter.mesh.vertices) consider(p_IV);
   std::vector<double> phi(p_E.size());
-  gel_sdf_E.values(p_E, phi);
+  if (!p_E.empty()) gel_sdf_E.values(p_E, phi);
 
   Penetration result;
   double weight_sum = 0.0;
   Vec2 weighted_xy = Vec2::Zero();
-  std::size_t lowest = 0;
   for (std::size_t i = 0; i < p_E.size(); ++i) {
-    if (p_E[i].z() < p_E[lowest].z()) lowest = i;
     const double depth = -phi[i];
     if (depth <= 0.0) continue;
     result.depth_m = std::max(result.depth_m, depth);
@@ -60,7 +65,7 @@ Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter,
     weighted_xy += depth * p_E[i].head<2>();
   }
   result.penetrating = result.depth_m > 0.0;
-  result.centre_E = result.penetrating ? Vec2(weighted_xy / weight_sum) : Vec2(p_E[lowest].head<2>());
+  result.centre_E = result.penetrating ? Vec2(weighted_xy / weight_sum) : Vec2(lowest_E.head<2>());
   return result;
 }
 

@@ -24,7 +24,8 @@ struct Penetration {
                                    // the xy of the lowest point when not touching
 };
 
-// Evaluates the gel SDF phi_E at the indenter's surface samples and mesh vertices placed by X_EI.
+// Evaluates the gel SDF phi_E at the indenter's surface samples and mesh vertices placed by X_EI
+// (those with z <= 0 only: the gel occupies z <= 0 in E).
 // Throws std::invalid_argument when the indenter has neither samples nor vertices.
 Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter, const Pose& X_EI);
 
