@@ -367,7 +367,7 @@ std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSampl
   return out;
 }
 
-nlohmann::json FitResult::report_json() const {
+nlohmann::json CalibrationResult::report_json() const {
   nlohmann::json st = nlohmann::json::array();
   for (const auto& s : stages) {
     nlohmann::json j = {{"name", s.name},       {"params", s.params},
@@ -384,11 +384,11 @@ nlohmann::json FitResult::report_json() const {
   return {{"model", model_id}, {"cancelled", cancelled}, {"time_s", time_s}, {"stages", st}};
 }
 
-FitResult run_fit_stages(const std::string& model_id, const ModelFactory& make, const std::vector<FitStage>& stages,
+CalibrationResult run_fit_stages(const std::string& model_id, const ModelFactory& make, const std::vector<FitStage>& stages,
                          const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
   require_calibration_split(samples);
   const auto t_fit = std::chrono::steady_clock::now();
-  FitResult result{model_id, start, {}, false, 0};
+  CalibrationResult result{model_id, start, {}, false, 0};
 
   // One model per sample, cloned from one prototype per indenter; scored sets fixed by the data.
   std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
@@ -483,7 +483,7 @@ FitResult run_fit_stages(const std::string& model_id, const ModelFactory& make, 
   return result;
 }
 
-FitResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
                     const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
   const auto& table = fit_stages(model_id);
   std::vector<FitStage> stages;

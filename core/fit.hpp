@@ -72,7 +72,7 @@ struct FitProgress {
 };
 
 struct StageReport;
-struct FitResult;
+struct CalibrationResult;
 
 struct FitOptions {
   std::vector<std::string> stages;     // names to run, in table order; empty: all
@@ -87,7 +87,7 @@ struct FitOptions {
   // result holds the parameters of the last completed stage.
   const std::atomic<bool>* cancel = nullptr;
   // Called after every completed stage with the result so far (the CLI writes its file there).
-  std::function<void(const FitResult&)> on_stage_done;
+  std::function<void(const CalibrationResult&)> on_stage_done;
 };
 
 struct StageReport {
@@ -107,7 +107,7 @@ struct StageReport {
   bool skipped = false;
 };
 
-struct FitResult {
+struct CalibrationResult {
   std::string model_id;
   ParamSet params;
   std::vector<StageReport> stages;
@@ -124,12 +124,12 @@ using ModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_ptr<c
 
 // The engine: runs `stages` in order from `start` (options.stages / joint are ignored here). Usable with
 // any ShearModel, which is how the Ceres part is tested on its own.
-FitResult run_fit_stages(const std::string& model_id, const ModelFactory& make, const std::vector<FitStage>& stages,
+CalibrationResult run_fit_stages(const std::string& model_id, const ModelFactory& make, const std::vector<FitStage>& stages,
                          const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
 
 // Runs the stages of `model_id` from `start` (the table, filtered by options.stages, plus the joint stage). Throws std::invalid_argument for unknown stage names or
 // parameters, and when a sample is not from the calibration split.
-FitResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
                     const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
 
 // The model's prediction for every frame of a sample (the model is reset first).

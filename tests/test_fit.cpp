@@ -117,7 +117,7 @@ const std::vector<sb::FitStage>& toy_stages() {
   return st;
 }
 
-sb::FitResult toy_fit(const std::vector<FitSample>& samples, const ParamSet& start, const sb::FitOptions& o = {}) {
+sb::CalibrationResult toy_fit(const std::vector<FitSample>& samples, const ParamSet& start, const sb::FitOptions& o = {}) {
   const sb::ModelFactory make = [](std::shared_ptr<const sb::Indenter>) { return std::make_unique<ToyModel>(); };
   return sb::run_fit_stages("toy", make, toy_stages(), samples, start, o);
 }
@@ -231,7 +231,7 @@ TEST_CASE("cancel discards the running stage and keeps the last completed one", 
     sb::FitOptions o;
     o.cancel = &cancel;
     ParamSet after_first;
-    o.on_stage_done = [&](const sb::FitResult& r) {
+    o.on_stage_done = [&](const sb::CalibrationResult& r) {
       after_first = r.params;
       cancel = true;
     };
