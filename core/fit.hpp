@@ -21,13 +21,14 @@
 #include <vector>
 
 #include "core/indenter.hpp"
+#include "core/metrics.hpp"
 #include "core/model.hpp"
 #include "core/sensor.hpp"
 
 namespace sb {
 
 // A marker that moved at least this far (px) in a frame makes the frame active (the metric's rule).
-inline constexpr double kActiveFramePx = 0.5;
+inline constexpr double kActiveFramePx = kMotionThresholdPx;
 
 // One calibration sample, loaded: the indenter pose per frame and the measured displacement per
 // frame and marker (NaN where the tracker lost the marker).
@@ -77,7 +78,7 @@ struct CalibrationResult;
 struct FitOptions {
   std::vector<std::string> stages;     // names to run, in table order; empty: all
   bool joint = false;                  // append the joint refinement
-  bool fit_px_scale = false;           // the joint stage also fits the image scale (px/m)
+  bool fit_px_scale = false;           // joint also fits the image scale (fots: px_per_mm; the others' px/m gains are stage params)
   RobustLoss robust = RobustLoss::None;
   double robust_scale_px = 1.0;        // where the robust loss bends
   int max_iterations = 50;             // per stage
@@ -120,11 +121,11 @@ struct CalibrationResult {
 void require_calibration_split(const std::vector<FitSample>& samples);
 
 // Makes one model instance for a sample's indenter (each sample gets its own).
-using ModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_ptr<const Indenter>)>;
+using FitModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_ptr<const Indenter>)>;
 
 // The engine: runs `stages` in order from `start` (options.stages / joint are ignored here). Usable with
 // any ShearModel, which is how the Ceres part is tested on its own.
-CalibrationResult run_fit_stages(const std::string& model_id, const ModelFactory& make, const std::vector<FitStage>& stages,
+CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
                          const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
 
 // Runs the stages of `model_id` from `start` (the table, filtered by options.stages, plus the joint stage). Throws std::invalid_argument for unknown stage names or
