@@ -184,20 +184,27 @@ class StageCost final : public ceres::CostFunction {
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
     const int P = map_->size();
     const double* x = parameters[0];
-    if (!ev_->residuals(x, residuals)) return false;
-    if (!jacobians || !jacobians[0]) return true;
     const int n = num_residuals();
+    // On cancel, report a zero evaluation instead of a failure (which Ceres logs as an error): the
+    // iteration callback then aborts, and run_fit_stages discards the stage.
+    const auto cancelled = [&] {
+      std::fill(residuals, residuals + n, 0.0);
+      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * P, 0.0);
+      return true;
+    };
+    if (!ev_->residuals(x, residuals)) return cancelled();
+    if (!jacobians || !jacobians[0]) return true;
     std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
     for (int k = 0; k < P; ++k) {
       const double h = map_->log[k] ? kDiffStepLog
                                     : kDiffStepLinear * std::max(std::abs(x[k]), 0.01 * (map_->hi[k] - map_->lo[k]));
       xp[k] = std::min(x[k] + h, map_->hi[k]);
       xm[k] = std::max(x[k] - h, map_->lo[k]);
-      if (!ev_->residuals(xp.data(), rp.data())) return false;
+      if (!ev_->residuals(xp.data(), rp.data())) return cancelled();
       if (xm[k] == x[k]) {
         std::copy(residuals, residuals + n, rm.begin());
       } else if (!ev_->residuals(xm.data(), rm.data())) {
-        return false;
+        return cancelled();
       }
       const double dx = xp[k] - xm[k];
       for (int i = 0; i < n; ++i) jacobians[0][i * P + k] = dx > 0 ? (rp[i] - rm[i]) / dx : 0.0;

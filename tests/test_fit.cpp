@@ -359,3 +359,76 @@ TEST_CASE("HydroShear fits converge from x10 and /10 starts to the same optimum"
     }
   }
 }
+
+// ------------------------------------------------------------------ the split rule on files
+#include <filesystem>
+#include <fstream>
+
+#include "core/fit_data.hpp"
+#include "core/mesh.hpp"
+#include "core/tsd.hpp"
+
+namespace {
+
+// A tsd/1 dataset in a temporary folder: the 4 mm sphere's trajectories, simulated by HydroShear with
+// known gains, written as calibration samples, plus one validation copy of each.
+std::string write_split_dataset(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sb_fit_split_" + name);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir / "meshes");
+  sb::save_obj(sb::make_sphere_mesh(0.004, 3), (dir / "meshes" / "sphere.obj").string());
+  sb::Dataset ds;
+  ds.name = name;
+  const sb::Sensor sensor = sb::make_default_sensor();
+  ds.camera = sensor.camera;
+  ds.gel = sensor.gel;
+  ds.markers_rest_px = sensor.markers_rest_px;
+  ds.indenters["sphere"] = {"meshes/sphere.obj", nlohmann::json::object()};
+  std::vector<sb::SampleData> data;
+  for (const auto& s : real_samples("hydroshear", perturbed_truth("hydroshear", 1.3))) {
+    for (const std::string split : {"calibration", "validation"}) {
+      sb::TsdSampleInfo info;
+      info.id = s.id + (split == "calibration" ? "_c" : "_v");
+      info.motion = s.motion;
+      info.indenter = "sphere";
+      info.split = split;
+      ds.samples.push_back(info);
+      sb::SampleData d;
+      for (std::size_t k = 0; k < s.X_EI.size(); ++k) d.push_pose(0.02 * k, s.X_EI[k]);
+      d.markers_px = s.meas_px;
+      data.push_back(d);
+    }
+  }
+  sb::write_dataset(dir.string(), ds, data);
+  return dir.string();
+}
+
+sb::CalibrationResult fit_dir(const std::string& dir) {
+  const sb::Dataset ds = sb::read_dataset(dir);
+  const sb::FitData d = sb::load_calibration_data(ds, "");
+  for (const auto& s : d.samples) REQUIRE(s.split == "calibration");
+  sb::FitOptions o;
+  o.stages = {"dilation"};
+  return sb::fit_model("hydroshear", d.sensor, d.samples, sb::default_params("hydroshear"), o);
+}
+
+}  // namespace
+
+TEST_CASE("a fit reads only the calibration split: corrupt or absent validation files change nothing", "[fit]") {
+  const std::string dir = write_split_dataset("intact");
+  const auto intact = fit_dir(dir);
+  REQUIRE(intact.stages.size() == 1);
+  REQUIRE(intact.stages[0].samples == 1);
+  // Corrupt every validation sample: garbage marker CSVs, and one sample folder removed altogether.
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.size() > 2 && n.substr(n.size() - 2) == "_v") std::ofstream(e.path() / "markers.csv") << "not,a,csv\n1,2\n";
+  }
+  std::filesystem::remove_all(std::filesystem::path(dir) / "shr_v");
+  const auto corrupted = fit_dir(dir);
+  CHECK(corrupted.params.values() == intact.params.values());
+  CHECK(corrupted.stages[0].loss_after == intact.stages[0].loss_after);
+  // The corruption is real: reading a validation sample fails.
+  CHECK_THROWS(sb::read_sample(sb::read_dataset(dir), "dil_v"));
+  std::filesystem::remove_all(dir);
+}
