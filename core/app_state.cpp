@@ -93,7 +93,18 @@ std::size_t AppState::pending_edits() const {
 int AppState::sync() {
   std::vector<Edit> edits;
   { std::lock_guard lock(edits_mutex_); edits.swap(edits_); }
-  for (const Edit& e : edits) std::visit([this](const auto& x) { apply(x); }, e);
+  for (std::size_t i = 0; i < edits.size(); ++i) {
+    // A parameter set replaces the whole table and replays from the start: when the same model gets a
+    // newer table later in this batch (a slider being dragged), only the last one needs the replay.
+    if (const auto* p = std::get_if<SetParams>(&edits[i])) {
+      const bool superseded = std::any_of(edits.begin() + i + 1, edits.end(), [&](const Edit& later) {
+        const auto* q = std::get_if<SetParams>(&later);
+        return q != nullptr && q->model == p->model;
+      });
+      if (superseded) continue;
+    }
+    std::visit([this](const auto& x) { apply(x); }, edits[i]);
+  }
   if (!edits.empty()) publish();
   return static_cast<int>(edits.size());
 }

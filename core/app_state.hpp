@@ -92,7 +92,9 @@ class AppState {
   std::size_t pending_edits() const;
 
   // ---- physics side (one thread at a time)
-  // The sync point: applies every queued edit once, in the order queued. Returns how many.
+  // The sync point: applies every queued edit once, in the order queued (of several parameter tables
+  // for one model in a batch only the last is applied: each replaces the whole table). Returns how many
+  // edits were taken from the queue.
   int sync();
   // Advances every model one step along the path; false when already at its end.
   bool step();

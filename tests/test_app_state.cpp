@@ -185,3 +185,17 @@ TEST_CASE("the background thread plays the path and stops at its end", "[ui]") {
   CHECK(s.step == 7);
   CHECK(s.models[0].out.disp_px[0].y() == 8);
 }
+
+TEST_CASE("several parameter tables for one model in one batch replay once, with the last", "[ui]") {
+  auto state = make_state(8, 4);
+  const auto path = state->path();
+  for (int i = 0; i < 5; ++i) state->step();
+  for (double gain : {2.0, 5.0, 7.0}) {  // a slider dragged across three values between two steps
+    ParamSet p = state->model(0).params();
+    p.set("gain", gain);
+    state->request_params(0, p);
+  }
+  CHECK(state->sync() == 3);
+  CHECK(dynamic_cast<const HistoryModel&>(state->model(0)).set_params_calls == 1);
+  CHECK(state->output(0).disp_px[0].x() == direct_output(path, 4, 7.0).x());
+}
