@@ -1,7 +1,11 @@
 // `shearbench render`: draws exactly what the GUI draws (same Workbench::draw on a GLFW window, visible
 // or not), at one step of a scene or dataset sample, and writes a PNG. Needs an X display: without one
 // run it under `xvfb-run -a -s "-screen 0 1600x900x24"`.
+#include <cmath>
 #include <iostream>
+#include <sstream>
+
+#include "core/error.hpp"
 
 #include "app/command.hpp"
 #include "app/frontend.hpp"
@@ -17,7 +21,18 @@ struct RenderArgs {
   bool no_timings = false;
   bool report = false;
   bool visible = false;
+  std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
+  double drag_twist_deg = 0; // ... twisting it about the pad normal by this much
 };
+
+Vec3 parse_mm_triple(const std::string& text) {
+  Vec3 v;
+  char c1 = 0, c2 = 0;
+  std::istringstream in(text);
+  if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !v.allFinite())
+    throw InputError("--drag-mm", "expected x,y,z in millimetres, got '" + text + "'");
+  return v * 1e-3;
+}
 
 int run_render(const RenderArgs& a, const GlobalOptions& g) {
   SessionOptions so;
@@ -43,6 +58,14 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   } else {
     const int target = a.frame != -2 ? a.frame : a.step != -2 ? a.step : static_cast<int>(state.path().size()) - 1;
     state.run_to(target);
+    if (!a.drag_mm.empty() || a.drag_twist_deg != 0) {
+      // The GUI's drag path: queued at the sync point, sub-stepped, run by tick() to its end.
+      Pose X = state.snapshot().X_EI;
+      if (!a.drag_mm.empty()) X.translation() = parse_mm_triple(a.drag_mm);
+      X.linear() = Rz(a.drag_twist_deg * M_PI / 180.0) * X.linear();
+      state.request_drag(X);
+      while (state.tick()) {}
+    }
   }
   // ImGui lays a fixed-size window out on its first frame and draws it settled on the second.
   constexpr int kSettleFrames = 3;
@@ -70,6 +93,8 @@ const CommandRegistrar registrar{
       sub.add_option("--profile", a->profile, "first run N frames of a synthetic drag and print frame-time percentiles");
       sub.add_flag("--no-timings", a->no_timings, "hide timings in the status bar (deterministic images)");
       sub.add_flag("--report", a->report, "print model step times and field magnitudes");
+      sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
+      sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
       sub.add_flag("--visible", a->visible, "show the window while rendering");
       return [a, &g] { return run_render(*a, g); };
     }};

@@ -59,9 +59,8 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   ImGui::TextUnformatted(in.title.c_str());
   if (in.metrics) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "RMSE %.3f px  CS %.3f", in.metrics->rmse_px, in.metrics->cs);
-    ImGui::SameLine(std::max(0.0f, width - ImGui::CalcTextSize(buf).x) + ImGui::GetCursorStartPos().x - 0);
-    ImGui::TextUnformatted(buf);
+    std::snprintf(buf, sizeof buf, "RMSE %.2f px  CS %.2f", in.metrics->rmse_px, in.metrics->cs);
+    dl->AddText(ImVec2(top.x + width - ImGui::CalcTextSize(buf).x, top.y), IM_COL32(255, 220, 120, 255), buf);
   }
   const float zoom = width / static_cast<float>(in.image_width_px);
   const float height = in.image_height_px * zoom;
@@ -117,23 +116,25 @@ float draw_field_legend(const FieldScale& scale, float image_zoom, float width) 
     dl->AddRectFilled(ImVec2(x0, top.y + 3), ImVec2(x1 + 0.5f, top.y + 3 + bar_h), colour_map((i + 0.5f) / kSegments));
   }
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
-  dl->AddText(ImVec2(top.x, top.y), text, "|d| px");
+  dl->AddText(ImVec2(top.x, top.y), text, "|d|");
   char buf[64];
   dl->AddText(ImVec2(top.x + label_w, top.y + bar_h + 4), text, "0");
-  std::snprintf(buf, sizeof buf, "%.2g", double(scale.colour_max_px));
+  std::snprintf(buf, sizeof buf, "%.3g px", double(scale.colour_max_px));
   dl->AddText(ImVec2(top.x + label_w + bar_w - ImGui::CalcTextSize(buf).x, top.y + bar_h + 4), text, buf);
 
   // Arrow scale bar: the drawn length of a nice round displacement.
   const float x_bar = top.x + label_w + bar_w + 30.0f;
   const float avail = top.x + width - x_bar - 90.0f;
   const double px_per_disp = double(scale.arrow_gain) * image_zoom;
-  const double disp = nice_floor(std::max(1e-3, 0.8 * avail / px_per_disp));
+  // A round displacement near the top of the colour map, shortened until it fits.
+  double disp = nice_floor(std::max(1e-3, double(scale.colour_max_px)));
+  while (disp * px_per_disp > avail && disp > 1e-3) disp = nice_floor(disp * 0.99);
   const float len = float(disp * px_per_disp);
   const float y = top.y + 3 + bar_h / 2;
   dl->AddLine(ImVec2(x_bar, y), ImVec2(x_bar + len, y), text, 2.0f);
   dl->AddLine(ImVec2(x_bar, y - 5), ImVec2(x_bar, y + 5), text, 2.0f);
   dl->AddLine(ImVec2(x_bar + len, y - 5), ImVec2(x_bar + len, y + 5), text, 2.0f);
-  std::snprintf(buf, sizeof buf, "%g px", disp);
+  std::snprintf(buf, sizeof buf, "arrow of %g px", disp);
   dl->AddText(ImVec2(x_bar + len + 6, y - ImGui::GetTextLineHeight() / 2), text, buf);
   const float h = bar_h + 6 + ImGui::GetTextLineHeight();
   ImGui::Dummy(ImVec2(width, h));

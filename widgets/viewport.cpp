@@ -173,8 +173,9 @@ void Viewport3D::Impl::init_gl(int w, int h) {
   window->SetOwnContext(false);
   window->AddRenderer(renderer);
   window->SetSize(w, h);
-  renderer->SetBackground(0.16, 0.17, 0.20);
-  renderer->SetBackground2(0.34, 0.36, 0.42);
+  // Light, Polyscope-like: dark markers and the translucent pad read well on it.
+  renderer->SetBackground(0.62, 0.65, 0.70);
+  renderer->SetBackground2(0.93, 0.94, 0.96);
   renderer->GradientBackgroundOn();
   renderer->SetBackgroundAlpha(1.0);  // or the background vanishes inside ImGui::Image
   interactor->SetRenderWindow(window);
@@ -285,8 +286,9 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   }
   pad_mapper->ScalarVisibilityOff();
   s.pad->SetMapper(pad_mapper);
-  s.pad->GetProperty()->SetColor(0.86, 0.80, 0.68);
-  s.pad->GetProperty()->SetOpacity(0.35);
+  s.pad->GetProperty()->SetColor(0.95, 0.88, 0.72);
+  s.pad->GetProperty()->SetOpacity(0.45);
+  s.pad->GetProperty()->SetAmbient(0.35);
   s.pad->PickableOff();
 
   s.indenter_data = polydata_from_mesh(indenter.mesh);
@@ -389,14 +391,14 @@ void Viewport3D::set_camera(CameraPreset preset) {
       cam->SetViewUp(0, 0, 1);
       break;
     case CameraPreset::Iso:
-      cam->SetPosition(1.3 * sx, -1.9 * sx, 1.4 * sx);
+      cam->SetPosition(0.9 * sx, -1.6 * sx, 1.3 * sx);
       cam->SetViewUp(0, 0, 1);
       break;
   }
   cam->SetViewAngle(30);
   // Frame the pad (and room above it for the indenter) rather than the whole indenter, which may be big.
   const double sy = s.sensor ? s.sensor->gel.size_m.y() * kMmPerM : 21.0;
-  const double bounds[6] = {-sx / 2, sx / 2, -sy / 2, sy / 2, -5.0, 8.0};
+  const double bounds[6] = {-sx / 2, sx / 2, -sy / 2, sy / 2, -3.0, 4.0};
   s.renderer->ResetCamera(bounds);
   s.renderer->ResetCameraClippingRange();
   s.camera_set = true;

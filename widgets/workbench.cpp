@@ -320,7 +320,10 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
     const std::string label = "3D markers: " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
                               "   tracked points: stick green, slip orange, free grey; contact patch orange";
     ImDrawList* dl = ImGui::GetWindowDrawList();
-    dl->AddText(ImVec2(view_origin.x + 8, view_origin.y + 6), IM_COL32(235, 235, 235, 255), label.c_str());
+    const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
+    dl->AddRectFilled(ImVec2(view_origin.x + 4, view_origin.y + 4), ImVec2(view_origin.x + 12 + ts.x, view_origin.y + 8 + ts.y),
+                      IM_COL32(20, 20, 25, 170), 3.0f);
+    dl->AddText(ImVec2(view_origin.x + 8, view_origin.y + 6), IM_COL32(240, 240, 240, 255), label.c_str());
   }
   ImGui::End();
   ImGui::PopStyleVar();
