@@ -85,13 +85,16 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
 }
 
 bool Frontend::frame() {
-  const auto t0 = std::chrono::steady_clock::now();
-  window_.begin_frame();
+  // Idle (nothing playing, dragging or computing): sleep until input, redraw at least every 50 ms.
+  constexpr double kIdleWaitS = 0.05;
+  window_.begin_frame(workbench_.animating() ? 0.0 : kIdleWaitS);
+  const auto t_start = std::chrono::steady_clock::now();
   const ui::WorkbenchRequest req = workbench_.draw(frame_ms_);
   window_.render();
   handle(req, true);
   window_.present();
-  frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  // Frame time excludes the idle wait: it is what drawing costs.
+  frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   return !quit_ && !window_.should_close();
 }
 

@@ -147,6 +147,10 @@ struct Viewport3D::Impl {
   int width = 0, height = 0;
   bool initialised = false;
   bool camera_set = false;
+  // Re-render only when something changed (pose, fields, camera, size): the texture is kept otherwise.
+  bool dirty = true;
+  std::uint64_t shown_version = 0;
+  int shown_model = -1;
 
   // Drag state
   enum class DragMode { None, Plane, Push, Twist, Tilt };
@@ -208,6 +212,9 @@ void Viewport3D::Impl::resize(int w, int h) {
 
 void Viewport3D::Impl::render(int w, int h) {
   if (!initialised) init_gl(w, h);
+  if (w != width || h != height) dirty = true;
+  if (!dirty) return;
+  dirty = false;
   resize(w, h);
   // ImGui changed GL state behind VTK's cache since the last frame.
   window->GetState()->Reset();
@@ -266,6 +273,11 @@ Viewport3D::~Viewport3D() {
 }
 
 bool Viewport3D::dragging() const { return impl_->drag != Impl::DragMode::None; }
+bool Viewport3D::busy() const {
+  const Impl& s = *impl_;
+  return s.dirty || s.drag != Impl::DragMode::None || s.camera_button_down[0] || s.camera_button_down[1] ||
+         s.camera_button_down[2];
+}
 
 void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   Impl& s = *impl_;
@@ -308,12 +320,18 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.links_actor->PickableOff();
   s.have_pose = false;
   s.camera_set = false;
+  s.shown_version = 0;
+  s.dirty = true;
 }
 
 void Viewport3D::update(const AppSnapshot& snap, int model_index) {
   Impl& s = *impl_;
   if (s.sensor == nullptr) return;
   const Sensor& sensor = *s.sensor;
+  if (snap.version == s.shown_version && model_index == s.shown_model) return;
+  s.shown_version = snap.version;
+  s.shown_model = model_index;
+  s.dirty = true;
   const FieldOutput* out =
       (model_index >= 0 && model_index < static_cast<int>(snap.models.size())) ? &snap.models[model_index].out : nullptr;
 
@@ -402,6 +420,7 @@ void Viewport3D::set_camera(CameraPreset preset) {
   s.renderer->ResetCamera(bounds);
   s.renderer->ResetCameraClippingRange();
   s.camera_set = true;
+  s.dirty = true;
 }
 
 std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI_now, bool interactive) {
@@ -409,7 +428,7 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   const int w = std::max(16, static_cast<int>(width));
   const int h = std::max(16, static_cast<int>(height));
   if (!s.camera_set) set_camera(CameraPreset::Iso);
-  s.renderer->ResetCameraClippingRange();
+  if (s.dirty) s.renderer->ResetCameraClippingRange();
   s.render(w, h);
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();
@@ -484,7 +503,12 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
     s.interactor->InvokeEvent(vtkCommand::MiddleButtonReleaseEvent, nullptr);
     s.camera_button_down[2] = false;
   }
-  if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) s.interactor->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+  const bool camera_moving = s.camera_button_down[0] || s.camera_button_down[1] || s.camera_button_down[2];
+  if (io.MouseDelta.x != 0 || io.MouseDelta.y != 0) {
+    s.interactor->InvokeEvent(vtkCommand::MouseMoveEvent, nullptr);
+    if (camera_moving) s.dirty = true;
+  }
+  if (hovered && io.MouseWheel != 0) s.dirty = true;
   return target;
 }
 

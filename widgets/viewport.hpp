@@ -32,6 +32,8 @@ class Viewport3D {
   // drags the indenter to, when `interactive` and a drag is under way.
   std::optional<Pose> draw(float width, float height, const Pose& X_EI_now, bool interactive);
   bool dragging() const;
+  // Something is moving (a drag, a camera gesture, a pending re-render): keep drawing frames.
+  bool busy() const;
 
  private:
   struct Impl;

@@ -271,6 +271,11 @@ void Workbench::draw_fields(float width) {
   draw_field_legend(scale_, pw / float(iw), width);
 }
 
+bool Workbench::animating() const {
+  return state_ != nullptr && (snap_.playing || viewport_.busy() || state_->version() != snap_.version ||
+                               state_->pending_edits() > 0);
+}
+
 WorkbenchRequest Workbench::draw(double frame_ms) {
   WorkbenchRequest req;
   if (state_ == nullptr) return req;

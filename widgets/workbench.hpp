@@ -54,6 +54,8 @@ class Workbench {
   void set_message(std::string m) { message_ = std::move(m); }
   void set_camera(CameraPreset preset) { viewport_.set_camera(preset); }
   const AppSnapshot& last_snapshot() const { return snap_; }
+  // True while anything on screen may change without input (play-back, a drag, physics catching up).
+  bool animating() const;
   FieldScale& scale() { return scale_; }
   ReplayUi& replay_ui() { return replay_; }
 
