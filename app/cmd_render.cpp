@@ -2,6 +2,7 @@
 // or not), at one step of a scene or dataset sample, and writes a PNG. Needs an X display: without one
 // run it under `xvfb-run -a -s "-screen 0 1600x900x24"`.
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -71,7 +72,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   constexpr int kSettleFrames = 3;
   const ui::Image img = front.render_still(kSettleFrames);
   ui::write_png_atomic(img, a.out);
-  if (!g.quiet) std::cout << "wrote " << a.out << " (" << img.width << "x" << img.height << ")\n";
+  if (!g.quiet) std::cout << "wrote " << std::filesystem::absolute(a.out).string() << " (" << img.width << "x" << img.height << ")\n";
   if (a.report) std::cout << text_report(state.snapshot());
   return 0;
 }

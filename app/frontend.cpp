@@ -8,6 +8,8 @@
 #include <iostream>
 #include <sstream>
 
+#include <GLFW/glfw3.h>
+
 #include "core/error.hpp"
 #include "widgets/panels.hpp"
 
@@ -37,6 +39,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   workbench_.set_metrics(field_metrics());
   workbench_.set_camera(parse_camera(options.camera));
+  session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
 }
 
 Frontend::~Frontend() {
@@ -49,6 +52,7 @@ void Frontend::reopen(const SessionOptions& session) {
   session_ = std::move(next);
   session_options_ = session;
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
+  session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
 }
 
@@ -85,8 +89,9 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
 }
 
 bool Frontend::frame() {
-  // Idle (nothing playing, dragging or computing): sleep until input, redraw at least every 50 ms.
-  constexpr double kIdleWaitS = 0.05;
+  // Idle (nothing playing, dragging or computing): sleep until input or a physics publish (which posts
+  // an empty event), redraw at least every 0.5 s.
+  constexpr double kIdleWaitS = 0.5;
   window_.begin_frame(workbench_.animating() ? 0.0 : kIdleWaitS);
   const auto t_start = std::chrono::steady_clock::now();
   const ui::WorkbenchRequest req = workbench_.draw(frame_ms_);

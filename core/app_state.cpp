@@ -220,8 +220,11 @@ void AppState::publish() {
   s.models.reserve(slots_.size());
   for (const Slot& slot : slots_) s.models.push_back({slot.model->id(), slot.model->params(), slot.out, slot.timing});
   s.version = ++version_;
-  std::lock_guard lock(snapshot_mutex_);
-  snapshot_ = std::move(s);
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_ = std::move(s);
+  }
+  if (on_publish_) on_publish_();
 }
 
 // ---------------------------------------------------------------- background thread

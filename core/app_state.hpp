@@ -18,6 +18,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -116,6 +117,8 @@ class AppState {
   // segments and seeks as fast as the models go.
   void start_thread();
   void stop_thread();
+  // Called (on the physics thread) after each publish: lets a GUI sleeping in its event wait wake up.
+  void set_on_publish(std::function<void()> fn) { on_publish_ = std::move(fn); }
 
  private:
   struct SetParams { std::size_t model; ParamSet params; };
@@ -166,6 +169,7 @@ class AppState {
   std::atomic<bool> playing_{false};
   std::atomic<double> speed_{1.0};
 
+  std::function<void()> on_publish_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   std::condition_variable wake_;

@@ -300,7 +300,9 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.pad->SetMapper(pad_mapper);
   s.pad->GetProperty()->SetColor(0.95, 0.88, 0.72);
   s.pad->GetProperty()->SetOpacity(0.45);
-  s.pad->GetProperty()->SetAmbient(0.35);
+  s.pad->GetProperty()->SetAmbient(0.6);
+  s.pad->GetProperty()->SetDiffuse(0.5);
+  s.pad->GetProperty()->BackfaceCullingOn();  // only the near faces: a clear, light slab
   s.pad->PickableOff();
 
   s.indenter_data = polydata_from_mesh(indenter.mesh);
