@@ -83,6 +83,14 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       o.scene_path.clear();
       reopen(o);
     }
+    if (req.open_dataset) {
+      SessionOptions o = session_options_;
+      o.dataset_dir = *req.open_dataset;
+      o.sample_id.clear();
+      o.scene_path.clear();
+      reopen(o);
+      workbench_.set_message("opened " + *req.open_dataset);
+    }
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());
   }

@@ -83,10 +83,12 @@ bool pose_panel(Pose& X) {
 
 ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
   ReplayRequest req;
+  ImGui::SetNextItemWidth(-60);
+  ImGui::InputTextWithHint("##dataset", "tsd/1 dataset folder", ui.dataset_buf, sizeof ui.dataset_buf);
+  ImGui::SameLine();
+  if (ImGui::Button("Open", ImVec2(-1, 0))) req.open_dataset = true;
   if (!ui.samples.empty()) {
-    ImGui::SetNextItemWidth(-70);
-    ImGui::InputText("dataset", ui.dataset_buf, sizeof ui.dataset_buf);
-    ImGui::SetNextItemWidth(-70);
+    ImGui::SetNextItemWidth(-60);
     const char* current = ui.samples[std::clamp(ui.sample_index, 0, int(ui.samples.size()) - 1)].c_str();
     if (ImGui::BeginCombo("sample", current)) {
       for (int i = 0; i < int(ui.samples.size()); ++i)

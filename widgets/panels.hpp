@@ -22,7 +22,8 @@ struct ReplayRequest {
   bool toggle_play = false;
   int seek_to = -2;          // -2: none
   double speed = -1;         // < 0: unchanged
-  bool open_sample = false;  // open `sample` of `dataset_dir`
+  bool open_sample = false;  // open samples[sample_index] of dataset_dir
+  bool open_dataset = false; // open the folder typed in dataset_buf (its first sample)
 };
 
 // Dataset/sample chooser (the caller lists the samples), play/pause, speed, step buttons and a timeline.

@@ -178,6 +178,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (r.seek_to != -2) state_->request_seek(r.seek_to);
     if (r.speed > 0) state_->set_speed(r.speed);
     if (r.open_sample) req.open_sample = replay_.sample_index;
+    if (r.open_dataset) req.open_dataset = std::string(replay_.dataset_buf);
   }
   if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen)) {
     Pose X = last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI;

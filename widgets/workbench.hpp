@@ -37,6 +37,7 @@ struct WorkbenchRequest {
   bool quit = false;
   bool screenshot = false;
   std::optional<int> open_sample;           // index into ReplayUi::samples
+  std::optional<std::string> open_dataset;  // a dataset folder (its first sample)
   std::optional<std::string> load_params;   // params.json path
   std::optional<std::string> save_params;
 };
