@@ -234,7 +234,7 @@ struct Candidate {
 };
 
 // Area-stratified uniform candidates: each face gets floor(expected) points plus one more with the
-// fractional probability; then a shuffle so acceptance order is random over the whole surface.
+// fractional probability.
 std::vector<Candidate> throw_candidates(const TriMesh& mesh, const std::vector<double>& face_area, double density,
                                         Rng& rng) {
   std::vector<Candidate> c;
@@ -254,14 +254,22 @@ std::vector<Candidate> throw_candidates(const TriMesh& mesh, const std::vector<d
       c.push_back({(1 - s) * a + s * (1 - t) * b + s * t * d, static_cast<int>(f)});
     }
   }
-  for (std::size_t i = c.size(); i > 1; --i) std::swap(c[i - 1], c[rng.below(i)]);
   return c;
 }
 
-int nearest_by_scan(const std::vector<Candidate>& cand, const std::vector<int>& accepted, const Vec3& p) {
+// A random order in which to throw the candidates (they stay in face order, which keeps the area pass
+// below walking the grid coherently).
+std::vector<std::uint32_t> random_order(std::size_t n, Rng& rng) {
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::uint32_t>(i);
+  for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
+  return order;
+}
+
+int nearest_by_scan(const std::vector<Vec3>& points, const Vec3& p) {
   int best = 0;
-  for (std::size_t k = 1; k < accepted.size(); ++k)
-    if ((cand[accepted[k]].p - p).squaredNorm() < (cand[accepted[best]].p - p).squaredNorm()) best = static_cast<int>(k);
+  for (std::size_t k = 1; k < points.size(); ++k)
+    if ((points[k] - p).squaredNorm() < (points[best] - p).squaredNorm()) best = static_cast<int>(k);
   return best;
 }
 
@@ -288,41 +296,42 @@ SurfaceSamples poisson_disk_samples(const TriMesh& mesh, double spacing_m, unsig
   const std::vector<Candidate> cand = throw_candidates(mesh, face_area, kCandidatesPerSpacingSq / s2, rng);
   if (cand.empty()) return out;
 
-  // Dart throwing: accept a candidate when no accepted point lies closer than the spacing.
+  // Dart throwing in random order: accept a candidate when no accepted point lies closer than the
+  // spacing. Accepted positions are kept compact: the neighbour tests touch only them.
   PointHash grid(spacing_m, static_cast<std::size_t>(total_area / s2) + 1);
-  std::vector<int> accepted;
-  for (std::size_t i = 0; i < cand.size(); ++i) {
+  std::vector<Vec3> p_acc;
+  std::vector<int> face_acc;
+  for (std::uint32_t i : random_order(cand.size(), rng)) {
+    const Vec3& p = cand[i].p;
     bool free = true;
-    grid.for_neighbours(cand[i].p, [&](int id) {
-      free = (cand[accepted[id]].p - cand[i].p).squaredNorm() >= s2;
+    grid.for_neighbours(p, [&](int id) {
+      free = (p_acc[id] - p).squaredNorm() >= s2;
       return free;
     });
     if (!free) continue;
-    grid.insert(cand[i].p, static_cast<int>(accepted.size()));
-    accepted.push_back(static_cast<int>(i));
+    grid.insert(p, static_cast<int>(p_acc.size()));
+    p_acc.push_back(p);
+    face_acc.push_back(cand[i].face);
   }
 
   // Voronoi areas by Monte Carlo: every candidate is an equal share of the area and belongs to its
   // nearest accepted point (always within the spacing: either itself or the point that rejected it).
   const double share = total_area / static_cast<double>(cand.size());
-  out.area_m2.assign(accepted.size(), 0.0);
+  out.area_m2.assign(p_acc.size(), 0.0);
   for (const auto& c : cand) {
     int best = -1;
     double best_d2 = 4 * s2;
     grid.for_neighbours(c.p, [&](int id) {
-      const double d2 = (cand[accepted[id]].p - c.p).squaredNorm();
+      const double d2 = (p_acc[id] - c.p).squaredNorm();
       if (d2 < best_d2) best_d2 = d2, best = id;
       return true;
     });
-    if (best < 0) best = nearest_by_scan(cand, accepted, c.p);  // unreachable by construction; never drop area
+    if (best < 0) best = nearest_by_scan(p_acc, c.p);  // unreachable by construction; never drop area
     out.area_m2[best] += share;
   }
-  out.p_IS.reserve(accepted.size());
-  out.n_IS.reserve(accepted.size());
-  for (int i : accepted) {
-    out.p_IS.push_back(cand[i].p);
-    out.n_IS.push_back(face_normal[cand[i].face]);
-  }
+  out.n_IS.reserve(p_acc.size());
+  for (int f : face_acc) out.n_IS.push_back(face_normal[f]);
+  out.p_IS = std::move(p_acc);
   return out;
 }
 
