@@ -13,8 +13,9 @@ namespace sb::app {
 namespace {
 
 struct GuiArgs {
-  std::string scene, dataset, sample, size = "1280x800", fots = "fots", tacsl = "tacsl";
+  std::string scene, dataset, sample, indenter_mesh, size = "1280x800", fots = "fots", tacsl = "tacsl";
   int profile = 0;
+  double indenter_scale = 0.002;
   std::string headless_out = "shearbench_headless.png";
 };
 
@@ -48,6 +49,8 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   if (!a.scene.empty()) args.insert(args.end(), {"--scene", a.scene});
   if (!a.dataset.empty()) args.insert(args.end(), {"--dataset", a.dataset});
   if (!a.sample.empty()) args.insert(args.end(), {"--sample", a.sample});
+  if (!a.indenter_mesh.empty())
+    args.insert(args.end(), {"--indenter-mesh", a.indenter_mesh, "--indenter-scale", std::to_string(a.indenter_scale)});
   if (a.profile > 0) args.insert(args.end(), {"--profile", std::to_string(a.profile)});
   std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
   std::vector<char*> argv;
@@ -67,6 +70,8 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   so.data_root = g.data_root_flag;
   so.fots_id = a.fots;
   so.tacsl_id = a.tacsl;
+  so.indenter_mesh = a.indenter_mesh;
+  so.indenter_scale = a.indenter_scale;
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   Frontend front(so, fo);
@@ -88,6 +93,8 @@ const CommandRegistrar registrar{
       sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
       sub.add_option("--sample", a->sample, "sample id (default: the first)");
       sub.add_option("--size", a->size, "window size")->capture_default_str();
+      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
+      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
       sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
       sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
       sub.add_option("--profile", a->profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");

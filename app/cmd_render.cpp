@@ -15,10 +15,11 @@ namespace sb::app {
 namespace {
 
 struct RenderArgs {
-  std::string scene, dataset, sample, size = "1600x900", out, camera = "iso", fots = "fots", tacsl = "tacsl";
+  std::string scene, dataset, sample, indenter_mesh, size = "1600x900", out, camera = "iso", fots = "fots", tacsl = "tacsl";
   int step = -2;     // -2: the last step
   int frame = -2;    // dataset frame (same as step)
   int profile = 0;
+  double indenter_scale = 0.002;
   bool no_timings = false;
   bool report = false;
   bool visible = false;
@@ -43,6 +44,8 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   so.data_root = g.data_root_flag;
   so.fots_id = a.fots;
   so.tacsl_id = a.tacsl;
+  so.indenter_mesh = a.indenter_mesh;
+  so.indenter_scale = a.indenter_scale;
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.visible = a.visible;
@@ -88,6 +91,8 @@ const CommandRegistrar registrar{
       sub.add_option("--step", a->step, "step to show (default: the last)");
       sub.add_option("--size", a->size, "window size WIDTHxHEIGHT")->capture_default_str();
       sub.add_option("--camera", a->camera, "iso | top | side")->capture_default_str();
+      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
+      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
       sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
       sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
       sub.add_option("--out", a->out, "PNG to write")->required();

@@ -59,6 +59,7 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
 Session open_session(const SessionOptions& o) {
   Session s;
   const std::string root = resolve_data_root(o.data_root);
+  double indenter_bottom_shift = 0;
   if (!o.scene_path.empty()) {
     s.scene = load_scene(o.scene_path, root);
   } else if (const std::string def = default_scene_path(); !def.empty()) {
@@ -66,9 +67,25 @@ Session open_session(const SessionOptions& o) {
   } else {
     s.scene = builtin_default_scene();
   }
+  if (!o.indenter_mesh.empty()) {
+    // The mesh's lowest point is put where the scene's indenter had its lowest point, so the same path
+    // presses it in by the same depth.
+    const double old_bottom = s.scene.indenter_spec.shape == "sphere" ? -s.scene.indenter_spec.radius_m : 0.0;
+    s.scene.indenter_spec = IndenterSpec{};
+    s.scene.indenter_spec.shape = "mesh";
+    s.scene.indenter_spec.mesh_path = o.indenter_mesh;
+    s.scene.indenter_spec.scale = o.indenter_scale;
+    s.scene.indenter_spec.allow_open = true;
+    s.scene.name += " [indenter: " + o.indenter_mesh + "]";
+    indenter_bottom_shift = old_bottom;
+  }
   const std::string base_dir = s.scene.path.empty() ? std::string() : fs::path(s.scene.path).parent_path().string();
   Warnings warnings;
   auto indenter = std::make_shared<const Indenter>(build_indenter(s.scene.indenter_spec, root, base_dir, &warnings));
+  if (!o.indenter_mesh.empty()) {
+    const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
+    for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
+  }
   s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, indenter), s.scene.X_EI,
                                        s.scene.dt_s);
   s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;

@@ -18,6 +18,8 @@ struct SessionOptions {
   std::string data_root;
   std::string fots_id = "fots";     // or fots-reimpl
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
+  std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
+  double indenter_scale = 0.002;    // file units to metres for indenter_mesh
 };
 
 struct Session {

@@ -57,6 +57,16 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   const ImVec2 top = ImGui::GetCursorScreenPos();
   const float line = ImGui::GetTextLineHeightWithSpacing();
   ImGui::TextUnformatted(in.title.c_str());
+  if (in.disp_px != nullptr && !in.disp_px->empty()) {
+    // The panel's own largest displacement: the shared arrow scale can make a small field look empty.
+    double max_px = 0;
+    for (const Vec2& d : *in.disp_px)
+      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
+    ImGui::SameLine();
+    ImGui::TextDisabled("%s", buf);
+  }
   if (in.metrics) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "RMSE %.2f px  CS %.2f", in.metrics->rmse_px, in.metrics->cs);

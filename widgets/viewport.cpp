@@ -124,6 +124,7 @@ constexpr std::array<unsigned char, 3> kIndenterContactRgb{255, 150, 30};
 struct Viewport3D::Impl {
   vtkNew<vtkGenericOpenGLRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
+  vtkNew<vtkRenderer> overlay;   // layer 1, same camera: tracked points drawn over the (opaque) indenter
   vtkNew<vtkGenericRenderWindowInteractor> interactor;
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   vtkNew<vtkCellPicker> picker;
@@ -175,7 +176,9 @@ void Viewport3D::Impl::init_gl(int w, int h) {
   window->SetIsDirect(true);
   window->InitializeFromCurrentContext();
   window->SetOwnContext(false);
+  window->SetNumberOfLayers(2);
   window->AddRenderer(renderer);
+  window->AddRenderer(overlay);
   window->SetSize(w, h);
   // Light, Polyscope-like: dark markers and the translucent pad read well on it.
   renderer->SetBackground(0.62, 0.65, 0.70);
@@ -253,9 +256,12 @@ Viewport3D::Viewport3D() : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.renderer->AddActor(s.pad);
   s.renderer->AddActor(s.markers.actor);
-  s.renderer->AddActor(s.tracked.actor);
-  s.renderer->AddActor(s.anchors.actor);
-  s.renderer->AddActor(s.links_actor);
+  s.overlay->AddActor(s.tracked.actor);
+  s.overlay->AddActor(s.anchors.actor);
+  s.overlay->AddActor(s.links_actor);
+  s.overlay->SetLayer(1);
+  s.overlay->InteractiveOff();
+  s.overlay->SetActiveCamera(s.renderer->GetActiveCamera());
   s.renderer->AddActor(s.indenter);
   vtkNew<vtkPolyDataMapper> links_mapper;
   links_mapper->SetInputData(s.links);
@@ -430,7 +436,10 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   const int w = std::max(16, static_cast<int>(width));
   const int h = std::max(16, static_cast<int>(height));
   if (!s.camera_set) set_camera(CameraPreset::Iso);
-  if (s.dirty) s.renderer->ResetCameraClippingRange();
+  if (s.dirty) {
+    s.renderer->ResetCameraClippingRange();
+    s.overlay->ResetCameraClippingRange();
+  }
   s.render(w, h);
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();
