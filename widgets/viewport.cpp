@@ -152,6 +152,10 @@ struct Viewport3D::Impl {
   bool dirty = true;
   std::uint64_t shown_version = 0;
   int shown_model = -1;
+  // While the indenter moves the 3D view renders at a lower resolution (llvmpipe's cost is per pixel);
+  // the first frame it stands still is rendered at full resolution again.
+  bool moving = false;
+  bool low_res_shown = false;
 
   // Drag state
   enum class DragMode { None, Plane, Push, Twist, Tilt };
@@ -336,7 +340,13 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index) {
   Impl& s = *impl_;
   if (s.sensor == nullptr) return;
   const Sensor& sensor = *s.sensor;
-  if (snap.version == s.shown_version && model_index == s.shown_model) return;
+  if (snap.version == s.shown_version && model_index == s.shown_model) {
+    if (s.moving) {
+      s.moving = false;
+      if (s.low_res_shown) s.dirty = true;
+    }
+    return;
+  }
   s.shown_version = snap.version;
   s.shown_model = model_index;
   s.dirty = true;
@@ -344,6 +354,8 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index) {
       (model_index >= 0 && model_index < static_cast<int>(snap.models.size())) ? &snap.models[model_index].out : nullptr;
 
   // Indenter pose and contact patch (vertices inside the gel), recoloured only when the pose moved.
+  s.moving = s.have_pose && !snap.X_EI.isApprox(s.X_EI_shown, 1e-12);
+  if (!s.moving && s.low_res_shown) s.dirty = true;
   if (!s.have_pose || !snap.X_EI.isApprox(s.X_EI_shown, 1e-12)) {
     s.indenter->SetUserMatrix(vtk_matrix_mm(snap.X_EI));
     const auto& verts = s.indenter_src->mesh.vertices;
@@ -440,7 +452,10 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
     s.renderer->ResetCameraClippingRange();
     s.overlay->ResetCameraClippingRange();
   }
-  s.render(w, h);
+  constexpr double kMotionScale = 0.6;  // linear resolution while moving: 0.36 of the pixels
+  const bool low = s.moving || s.drag != Impl::DragMode::None;
+  if (s.dirty) s.low_res_shown = low;
+  s.render(low ? static_cast<int>(w * kMotionScale) : w, low ? static_cast<int>(h * kMotionScale) : h);
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   // VTK's texture rows start at the bottom: flip V.
@@ -450,13 +465,14 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
 
   ImGuiIO& io = ImGui::GetIO();
   const bool hovered = ImGui::IsItemHovered();
-  const double mx = io.MousePos.x - origin.x, my = io.MousePos.y - origin.y;
+  // Mouse in VTK's pixels (the view may be rendered at a lower resolution than it is shown).
+  const double mx = (io.MousePos.x - origin.x) * s.width / w, my = (io.MousePos.y - origin.y) * s.height / h;
   s.interactor->SetEventInformationFlipY(static_cast<int>(mx), static_cast<int>(my), io.KeyCtrl, io.KeyShift);
   std::optional<Pose> target;
 
   using Mode = Impl::DragMode;
   if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) {
-    s.picker->Pick(mx, h - 1 - my, 0.0, s.renderer);
+    s.picker->Pick(mx, s.height - 1 - my, 0.0, s.renderer);
     if (s.picker->GetActor() == s.indenter.GetPointer()) {
       double p[3];
       s.picker->GetPickPosition(p);
