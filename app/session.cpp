@@ -3,11 +3,15 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
 #include <regex>
 
 #include "core/data_root.hpp"
 #include "core/error.hpp"
+#include "core/metrics.hpp"
 #include "core/model.hpp"
+#include "core/tsd.hpp"
 
 namespace sb::app {
 
@@ -54,13 +58,42 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
   return models;
 }
 
+// The measured side of a dataset replay: marker field and frames of each step, the sample list.
+void load_measured(Session& s) {
+  Warnings warnings;
+  const Dataset ds = read_dataset(s.scene.dataset_dir, &warnings);
+  SampleData data = read_sample(ds, s.scene.sample_id, &warnings);
+  const TsdSampleInfo& info = ds.sample(s.scene.sample_id);
+  s.measured.disp_px = std::move(data.markers_px);
+  s.measured.frame_paths = std::move(data.frame_paths);
+  s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";
+  s.replay.dataset_dir = s.scene.dataset_dir;
+  s.replay.samples.clear();
+  for (const auto& smp : ds.samples) s.replay.samples.push_back(smp.id);
+  s.replay.sample_index = static_cast<int>(
+      std::find(s.replay.samples.begin(), s.replay.samples.end(), info.id) - s.replay.samples.begin());
+  s.title = ds.name + " / " + info.id + "  (" + info.motion + ", " + info.split + ", " + ds.kind + ")";
+}
+
 }  // namespace
 
 Session open_session(const SessionOptions& o) {
   Session s;
   const std::string root = resolve_data_root(o.data_root);
   double indenter_bottom_shift = 0;
-  if (!o.scene_path.empty()) {
+  if (!o.dataset_dir.empty()) {
+    // A dataset replay is a scene with a "dataset" entry: the scene parser builds sensor, indenter, path.
+    const std::string dir = resolve_path(o.dataset_dir, root, fs::current_path().string());
+    std::string sample = o.sample_id;
+    if (sample.empty()) {
+      const Dataset ds = read_dataset(dir);
+      if (ds.samples.empty()) throw InputError(ds.json_path(), "the dataset lists no samples");
+      sample = ds.samples.front().id;
+    }
+    const nlohmann::json j = {{"name", fs::path(dir).filename().string() + " / " + sample},
+                              {"dataset", {{"path", dir}, {"sample", sample}}}};
+    s.scene = parse_scene(j, "--dataset " + o.dataset_dir, root, fs::current_path().string());
+  } else if (!o.scene_path.empty()) {
     s.scene = load_scene(o.scene_path, root);
   } else if (const std::string def = default_scene_path(); !def.empty()) {
     s.scene = load_scene(def, root);
@@ -88,11 +121,21 @@ Session open_session(const SessionOptions& o) {
   }
   s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, indenter), s.scene.X_EI,
                                        s.scene.dt_s);
-  s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;
+  if (!s.scene.dataset_dir.empty()) load_measured(s);
+  if (s.title.empty())
+    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;
   return s;
 }
 
-ui::MetricsFn field_metrics() { return {}; }
+ui::MetricsFn field_metrics() {
+  return [](const std::vector<Vec2>& sim, const std::vector<Vec2>& measured) -> std::optional<ui::FieldMetrics> {
+    if (sim.size() != measured.size()) return std::nullopt;
+    const MetricsResult r = frame_metrics(sim, measured);
+    // A frame where nothing measured moves is not counted (core/metrics.hpp): no readout then.
+    if (r.n == 0) return std::nullopt;
+    return ui::FieldMetrics{r.rmse_px, r.n_cs > 0 ? r.cs : std::nan("")};
+  };
+}
 
 void load_params_file(AppState& state, const std::string& path) {
   std::ifstream in(path);

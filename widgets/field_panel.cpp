@@ -57,16 +57,6 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   const ImVec2 top = ImGui::GetCursorScreenPos();
   const float line = ImGui::GetTextLineHeightWithSpacing();
   ImGui::TextUnformatted(in.title.c_str());
-  if (in.disp_px != nullptr && !in.disp_px->empty()) {
-    // The panel's own largest displacement: the shared arrow scale can make a small field look empty.
-    double max_px = 0;
-    for (const Vec2& d : *in.disp_px)
-      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
-    ImGui::SameLine();
-    ImGui::TextDisabled("%s", buf);
-  }
   if (in.metrics) {
     char buf[96];
     std::snprintf(buf, sizeof buf, "RMSE %.2f px  CS %.2f", in.metrics->rmse_px, in.metrics->cs);
@@ -100,6 +90,19 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
       const ImVec2 tip(r.x + float(d.x()) * scale.arrow_gain * zoom, r.y + float(d.y()) * scale.arrow_gain * zoom);
       draw_arrow(dl, r, tip, col, std::max(1.5f, 0.9f * zoom));
     }
+  }
+  if (have_field) {
+    // The panel's own largest displacement, bottom left: the shared arrow scale can make a small field
+    // look empty.
+    double max_px = 0;
+    for (const Vec2& d : *in.disp_px)
+      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
+    const ImVec2 ts = ImGui::CalcTextSize(buf);
+    const ImVec2 c(p0.x + 3, p1.y - ts.y - 3);
+    dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
+    dl->AddText(c, IM_COL32(255, 255, 255, 255), buf);
   }
   if (!have_field && !in.note.empty()) {
     const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());

@@ -429,7 +429,7 @@ void Viewport3D::set_camera(CameraPreset preset) {
       cam->SetViewUp(0, 0, 1);
       break;
     case CameraPreset::Iso:
-      cam->SetPosition(0.9 * sx, -1.6 * sx, 1.3 * sx);
+      cam->SetPosition(0.9 * sx, -1.7 * sx, 1.0 * sx);
       cam->SetViewUp(0, 0, 1);
       break;
   }

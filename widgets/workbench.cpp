@@ -111,18 +111,30 @@ const std::vector<Vec2>* Workbench::measured_at_step() const {
 }
 
 void Workbench::auto_scale() {
-  double max_px = 0;
-  const auto take = [&](const std::vector<Vec2>& d) {
+  const auto max_of = [](const std::vector<Vec2>& d) {
+    double m = 0;
     for (const Vec2& v : d)
-      if (std::isfinite(v.x()) && std::isfinite(v.y())) max_px = std::max(max_px, v.norm());
+      if (std::isfinite(v.x()) && std::isfinite(v.y())) m = std::max(m, v.norm());
+    return m;
   };
-  for (const auto& m : snap_.models) take(m.out.disp_px);
-  if (const auto* meas = measured_at_step()) take(*meas);
+  // The reference field sets the scale: the measurement when there is one, else the median of the
+  // models' largest displacements (one model far off should not flatten the others).
+  double max_px = 0;
+  if (const auto* meas = measured_at_step()) {
+    max_px = max_of(*meas);
+  } else {
+    std::vector<double> maxes;
+    for (const auto& m : snap_.models) maxes.push_back(max_of(m.out.disp_px));
+    if (!maxes.empty()) {
+      std::sort(maxes.begin(), maxes.end());
+      max_px = maxes[maxes.size() / 2];
+    }
+  }
   // Without a field yet keep the previous scale rather than blowing up the gain.
   constexpr double kMinFieldPx = 0.05;
   if (max_px < kMinFieldPx) return;
   scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
-  // The colour map tops out at a round number just above the largest displacement.
+  // The colour map tops out at a round number just above the reference's largest displacement.
   const double top = nice_floor(max_px);
   scale_.colour_max_px = static_cast<float>(top >= max_px ? top : (top * 2 >= max_px ? top * 2 : top * 5));
 }
