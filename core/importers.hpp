@@ -51,6 +51,10 @@ struct SphereContactEstimate {
 };
 SphereContactEstimate estimate_sphere_contact(const std::vector<Vec2>& rest_px, const std::vector<Vec2>& disp_px,
                                               double pitch_px);
+// The same with a given centre and contact radius (drift removed, travel = mean displacement inside a).
+SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2>& rest_px,
+                                                          const std::vector<Vec2>& disp_px, const Vec2& centre_px,
+                                                          double a_px, double a_sigma_px);
 // Spherical-cap depth d = R - sqrt(R^2 - a^2); NaN when a > R.
 double sphere_depth_from_contact_radius(double R, double a);
 

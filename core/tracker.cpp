@@ -394,7 +394,7 @@ TrackResult track_frames(const std::vector<cv::Mat>& frames, const TrackerOption
 
 std::vector<cv::Mat> read_video_frames(const std::string& path) {
   if (!fs::is_regular_file(path)) throw InputError(path, "video not found");
-  cv::VideoCapture cap(path);
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);  // FFmpeg only: no GStreamer or image-sequence guesses
   if (!cap.isOpened()) throw InputError(path, "cannot open video (not a video or unsupported codec)");
   std::vector<cv::Mat> frames;
   cv::Mat f;
@@ -405,7 +405,7 @@ std::vector<cv::Mat> read_video_frames(const std::string& path) {
 
 TrackResult track_video(const std::string& path, const TrackerOptions& options) {
   if (!fs::is_regular_file(path)) throw InputError(path, "video not found");
-  cv::VideoCapture cap(path);
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);  // FFmpeg only: no GStreamer or image-sequence guesses
   if (!cap.isOpened()) throw InputError(path, "cannot open video (not a video or unsupported codec)");
   MarkerTracker tracker(options);
   cv::Mat f;
