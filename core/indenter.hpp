@@ -51,6 +51,15 @@ struct IndenterSpec {
   bool analytic_sdf = true;     // use the exact SDF where one exists (sphere, torus, box)
 };
 
+// The two halves of build_indenter, usable alone (they need no mesh SDF):
+// the indenter's mesh in I (procedural, or loaded and scaled), and its exact field where the shape has
+// one (sphere, torus, box, sharp-edged cylinder), else null. Bad shapes or dimensions throw InputError.
+TriMesh make_indenter_mesh(const IndenterSpec& spec, const std::string& data_root, const std::string& base_dir,
+                           Warnings* warnings = nullptr);
+SdfPtr make_analytic_indenter_sdf(const IndenterSpec& spec);
+
+// Mesh, surface samples (spec.sample_spacing_m, seed 1) and field: the analytic one when
+// spec.analytic_sdf and the shape has one, else make_mesh_sdf.
 Indenter build_indenter(const IndenterSpec& spec, const std::string& data_root, const std::string& base_dir,
                         Warnings* warnings = nullptr);
 

@@ -36,6 +36,8 @@ SdfPtr make_torus_sdf(double major_radius, double minor_radius);
 SdfPtr make_box_sdf(const Vec3& size);
 // Flat gel pad of tsd/1: x in [-sx/2, sx/2], y in [-sy/2, sy/2], z in [-thickness, 0].
 SdfPtr make_pad_sdf(const Vec2& size, double thickness);
+// Flat-ended (capped) cylinder along z, centred at the origin: radius r, full length L.
+SdfPtr make_capped_cylinder_sdf(double radius, double length);
 // Half-space z <= 0 (an infinite slab surface): phi = z.
 SdfPtr make_halfspace_sdf();
 // A field expressed in another frame: value(p_A) = inner(X_BA * p_A) where inner is given in B.

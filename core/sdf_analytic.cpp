@@ -1,5 +1,6 @@
 // Exact signed distance fields of simple shapes. Gradients are the analytic outward normals; at the
 // few points where the gradient is undefined (sphere centre, torus axis) a fixed direction is returned.
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -108,6 +109,46 @@ class BoxSdf final : public Sdf {
   Vec3 c_, h_;
 };
 
+class CappedCylinderSdf final : public Sdf {
+ public:
+  CappedCylinderSdf(double r, double L) : r_(r), h_(L / 2) {}
+  double value(const Vec3& p) const override {
+    Vec3 g;
+    return value_and_gradient(p, &g);
+  }
+  // In the (rho, z) half-plane the cylinder is the rectangle [0, r] x [-h, h]: the 2-D box distance.
+  double value_and_gradient(const Vec3& p, Vec3* g) const override {
+    const double rho = std::hypot(p.x(), p.y());
+    const Vec3 radial = rho > 0 ? Vec3(p.x() / rho, p.y() / rho, 0) : Vec3::UnitX();
+    const double sz = p.z() >= 0 ? 1.0 : -1.0;
+    const double dr = rho - r_;
+    const double dz = std::abs(p.z()) - h_;
+    if (dr > 0 || dz > 0) {
+      const double er = std::max(dr, 0.0), ez = std::max(dz, 0.0);
+      const double n = std::hypot(er, ez);
+      *g = (er * radial + ez * sz * Vec3::UnitZ()) / n;
+      return n;
+    }
+    if (dr > dz) {
+      *g = radial;
+      return dr;
+    }
+    *g = sz * Vec3::UnitZ();
+    return dz;
+  }
+  Eigen::AlignedBox3d bounds() const override {
+    return {Vec3(-2 * r_, -2 * r_, -2 * h_), Vec3(2 * r_, 2 * r_, 2 * h_)};
+  }
+  std::string describe() const override {
+    std::ostringstream s;
+    s << "analytic capped cylinder r=" << r_ << " L=" << 2 * h_ << " m";
+    return s.str();
+  }
+
+ private:
+  double r_, h_;
+};
+
 class HalfspaceSdf final : public Sdf {
  public:
   double value(const Vec3& p) const override { return p.z(); }
@@ -150,6 +191,9 @@ SdfPtr make_box_sdf(const Vec3& size) { return std::make_shared<BoxSdf>(Vec3::Ze
 SdfPtr make_pad_sdf(const Vec2& size, double thickness) {
   const Vec3 half(size.x() / 2, size.y() / 2, thickness / 2);
   return std::make_shared<BoxSdf>(Vec3(0, 0, -thickness / 2), half);
+}
+SdfPtr make_capped_cylinder_sdf(double radius, double length) {
+  return std::make_shared<CappedCylinderSdf>(radius, length);
 }
 SdfPtr make_halfspace_sdf() { return std::make_shared<HalfspaceSdf>(); }
 SdfPtr make_transformed_sdf(SdfPtr inner_B, const Pose& X_AB) {

@@ -1,6 +1,7 @@
 #pragma once
 // The GelSight Mini elastomer: gel geometry (flat pad or a mesh such as the real domed gel), its SDF,
 // the camera, and the marker layout. Markers live on the undeformed gel surface, in E.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,9 +39,21 @@ struct Sensor {
 
 // Builds the default GelSight Mini (flat 25.25 x 20.75 x 4.5 mm pad, 7 x 9 markers at 33 px).
 Sensor make_default_sensor();
-// Builds a sensor from its parts; for a mesh gel, `gel_mesh_E` is already in E (apex at z = 0).
+// Builds a sensor from its parts; for a mesh gel, `gel_mesh_E` is already in E (apex at z = 0). A flat gel
+// (surface "flat", no mesh) gets the analytic pad SDF and a box mesh. A mesh gel gets make_mesh_sdf of the mesh,
+// markers at the mesh surface height under them, and gel.size_m / thickness_m replaced by the mesh's footprint
+// and depth. Throws std::invalid_argument for a mesh surface without a mesh, and InputError when a marker lies
+// outside the mesh footprint.
 Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<Vec2>& markers_rest_px,
                    const TriMesh* gel_mesh_E = nullptr);
+
+// The highest and lowest crossings of the vertical line through (x, y) with a mesh (z_high = the surface
+// under a marker); nullopt when the line misses the mesh. Brute force over the triangles.
+struct VerticalSpan {
+  double z_low = 0.0;
+  double z_high = 0.0;
+};
+std::optional<VerticalSpan> vertical_span(const TriMesh& mesh, const Vec2& xy);
 
 // The real GelSight Mini gel from ../shared/data/meshes/gel_gelsight_mini.obj (millimetres, thin axis y)
 // placed into E: thin axis to z, domed top at z = 0.

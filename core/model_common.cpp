@@ -1,0 +1,60 @@
+#include "core/model_common.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace sb {
+
+double FlatPad::value(const Vec3& p) const {
+  // Box centred at (0, 0, -thickness/2) with half sizes (hx, hy, thickness/2), as make_pad_sdf.
+  const double hz = 0.5 * thickness;
+  const double qx = std::abs(p.x()) - hx;
+  const double qy = std::abs(p.y()) - hy;
+  const double qz = std::abs(p.z() + hz) - hz;
+  const double ox = std::max(qx, 0.0), oy = std::max(qy, 0.0), oz = std::max(qz, 0.0);
+  const double outside2 = ox * ox + oy * oy + oz * oz;
+  if (outside2 > 0) return std::sqrt(outside2);
+  return std::max(qx, std::max(qy, qz));
+}
+
+bool flat_pad_of(const Sensor& sensor, FlatPad* pad) {
+  if (sensor.gel.surface != "flat") return false;
+  pad->hx = 0.5 * sensor.gel.size_m.x();
+  pad->hy = 0.5 * sensor.gel.size_m.y();
+  pad->thickness = sensor.gel.thickness_m;
+  return true;
+}
+
+MarkerGridLayout detect_marker_grid(const std::vector<Vec3>& p_EM) {
+  // Relative tolerance on coordinates when deciding that markers share a row, column or height.
+  constexpr double kGridTolerance = 1e-9;
+  MarkerGridLayout g;
+  const std::size_t n = p_EM.size();
+  if (n == 0) return g;
+  std::size_t cols = 1;
+  while (cols < n && std::abs(p_EM[cols].y() - p_EM[0].y()) < kGridTolerance) ++cols;
+  if (n % cols != 0) return g;
+  const std::size_t rows = n / cols;
+  g.xs.resize(cols);
+  g.ys.resize(rows);
+  for (std::size_t c = 0; c < cols; ++c) g.xs[c] = p_EM[c].x();
+  for (std::size_t r = 0; r < rows; ++r) g.ys[r] = p_EM[r * cols].y();
+  g.z0 = p_EM[0].z();
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t c = 0; c < cols; ++c) {
+      const Vec3& m = p_EM[r * cols + c];
+      if (std::abs(m.x() - g.xs[c]) > kGridTolerance || std::abs(m.y() - g.ys[r]) > kGridTolerance ||
+          std::abs(m.z() - g.z0) > kGridTolerance)
+        return MarkerGridLayout{};
+    }
+  g.rows = static_cast<int>(rows);
+  g.cols = static_cast<int>(cols);
+  g.is_grid = true;
+  return g;
+}
+
+void require_finite_pose(const Pose& X_EI, const std::string& model_id) {
+  if (!is_finite(X_EI)) throw std::invalid_argument(model_id + ": the indenter pose X_EI is not finite");
+}
+
+}  // namespace sb

@@ -1,0 +1,40 @@
+#pragma once
+// Pieces shared by the shear-model batches (hydroshear, fots, tacsl): the analytic flat-pad SDF fast
+// path, the marker-grid structure used by separable Gaussian sums, and the adapter that turns a batch
+// of one into a ShearModel.
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace sb {
+
+// phi_E of the flat tsd/1 pad (x in [-hx, hx], y in [-hy, hy], z in [-thickness, 0]) without a virtual
+// call: the same box distance as make_pad_sdf.
+struct FlatPad {
+  double hx = 0, hy = 0, thickness = 0;
+  double value(const Vec3& p) const;
+};
+// The flat pad of a sensor whose gel is "flat"; false otherwise.
+bool flat_pad_of(const Sensor& sensor, FlatPad* pad);
+
+// Markers laid out as a Cartesian grid x_c (cols, fastest) by y_r (rows) at one height z0, as
+// marker_grid_px builds them. Gaussians of such markers factor per axis:
+//   exp(-l |m_rc - a|^2) = exp(-l (x_c - a_x)^2) exp(-l (y_r - a_y)^2) exp(-l (z0 - a_z)^2).
+struct MarkerGridLayout {
+  bool is_grid = false;
+  int rows = 0, cols = 0;
+  std::vector<double> xs, ys;
+  double z0 = 0;
+};
+MarkerGridLayout detect_marker_grid(const std::vector<Vec3>& p_EM);
+
+// A parameter that is really a switch: true when the value is >= 0.5.
+inline bool param_flag(const ParamSet& p, std::string_view name) { return p.get(name) >= 0.5; }
+
+// Throws std::invalid_argument naming the model when a pose is not finite.
+void require_finite_pose(const Pose& X_EI, const std::string& model_id);
+
+}  // namespace sb

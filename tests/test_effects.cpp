@@ -1,0 +1,414 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <memory>
+
+#include "core/effects.hpp"
+
+using namespace sb;
+
+namespace {
+
+constexpr double kExact = 1e-12;    // px: closed-form arithmetic on O(1..100) px values
+constexpr double kDepthTol = 1e-12; // metres: analytic SDFs
+
+constexpr double kSphereRadius = 0.004;
+const Vec2 kGelSize(0.02, 0.016);
+constexpr double kGelThickness = 0.0045;
+
+// A sensor with markers at the given xy (metres, in E), seen by the default orthographic camera.
+std::shared_ptr<Sensor> make_test_sensor(const std::vector<Vec2>& p_E_xy) {
+  auto s = std::make_shared<Sensor>();
+  s->gel.size_m = kGelSize;
+  s->gel.thickness_m = kGelThickness;
+  s->gel_sdf = make_pad_sdf(kGelSize, kGelThickness);
+  for (const Vec2& p : p_E_xy) {
+    s->p_EM.emplace_back(p.x(), p.y(), 0.0);
+    s->markers_rest_px.push_back(s->camera.px_from_E(p));
+  }
+  return s;
+}
+
+std::shared_ptr<Sensor> make_grid_sensor() {
+  std::vector<Vec2> p;
+  for (int r = -1; r <= 1; ++r)
+    for (int c = -1; c <= 1; ++c) p.emplace_back(0.003 * c, 0.003 * r);
+  return make_test_sensor(p);
+}
+
+// A sphere whose samples are its bottom pole and a ring of four points 45 degrees below the equator,
+// so the penetration of a pose is known in closed form.
+std::shared_ptr<Indenter> make_test_indenter() {
+  auto ind = std::make_shared<Indenter>();
+  ind->name = "test-sphere";
+  ind->sdf = make_sphere_sdf(kSphereRadius);
+  const double r = kSphereRadius, q = kSphereRadius * std::sqrt(0.5);
+  ind->samples.p_IS = {Vec3(0, 0, -r), Vec3(q, 0, -q), Vec3(-q, 0, -q), Vec3(0, q, -q), Vec3(0, -q, -q)};
+  return ind;
+}
+
+// Sphere centre at (x, y) pressed `depth` into the flat pad (negative depth: above it).
+Pose pressed(double depth, double x = 0.0, double y = 0.0) {
+  Pose X = Pose::Identity();
+  X.translation() = Vec3(x, y, kSphereRadius - depth);
+  return X;
+}
+
+// The in-test base model: a fixed field, times `gain`, while the sphere touches the gel (centre z < R).
+class FixedFieldModel final : public ShearModel {
+ public:
+  explicit FixedFieldModel(std::vector<Vec2> field)
+      : field_(std::move(field)), params_({{"gain", "", 1.0, 0.0, 10.0, "field scale"}}) {}
+  std::string id() const override { return "fixed"; }
+  const ParamSet& params() const override { return params_; }
+  void set_params(const ParamSet& p) override { params_ = p; }
+  void reset() override {}
+  void step(const Pose& X_EI, double, FieldOutput* out) override {
+    const bool touching = X_EI.translation().z() < kSphereRadius;
+    out->disp_px.assign(field_.size(), Vec2::Zero());
+    out->marker_in_contact.assign(field_.size(), touching ? 1 : 0);
+    if (touching)
+      for (std::size_t i = 0; i < field_.size(); ++i) out->disp_px[i] = params_.get("gain") * field_[i];
+  }
+  std::unique_ptr<ShearModel> clone() const override { return std::make_unique<FixedFieldModel>(*this); }
+
+ private:
+  std::vector<Vec2> field_;
+  ParamSet params_;
+};
+
+std::vector<Vec2> test_field(std::size_t n) {
+  std::vector<Vec2> f;
+  for (std::size_t i = 0; i < n; ++i) f.emplace_back(1.0 + 0.5 * double(i), -2.0 + 0.25 * double(i));
+  return f;
+}
+
+// Approach, press, hold, slide, release: poses with 10 ms steps.
+std::vector<Pose> test_trajectory() {
+  std::vector<Pose> t;
+  for (int k = 0; k <= 30; ++k) t.push_back(pressed(-0.001 + 0.0001 * k));       // to 2 mm deep
+  for (int k = 0; k < 20; ++k) t.push_back(pressed(0.002, 0.0001 * k, 0.0));      // hold and slide
+  for (int k = 0; k <= 30; ++k) t.push_back(pressed(0.002 - 0.0001 * k, 0.002));  // release
+  return t;
+}
+constexpr double kDt = 0.01;
+
+EffectContext context_for(const Sensor* sensor, double depth = 0.0, bool contact = false) {
+  EffectContext ctx;
+  ctx.sensor = sensor;
+  ctx.dt_s = kDt;
+  ctx.depth_m = depth;
+  ctx.in_contact = contact;
+  return ctx;
+}
+
+Vec2 apply_one(Effect& e, const EffectContext& ctx, const std::vector<Vec2>& field, std::size_t marker) {
+  std::vector<Vec2> d = field;
+  e.apply(ctx, d);
+  return d[marker];
+}
+
+// Records what the wrapper passes to effects.
+class RecordingEffect final : public Effect {
+ public:
+  RecordingEffect() : Effect({}) {}
+  std::string id() const override { return "recorder"; }
+  std::string physics() const override { return "records the context"; }
+  void apply(const EffectContext& ctx, std::vector<Vec2>&) override { seen.push_back(ctx); }
+  std::unique_ptr<Effect> clone() const override { return std::make_unique<RecordingEffect>(*this); }
+  std::vector<EffectContext> seen;
+};
+
+}  // namespace
+
+TEST_CASE("effect registry makes every listed effect with described parameters", "[effects]") {
+  REQUIRE(effect_ids().size() >= 7);
+  for (const auto& id : effect_ids()) {
+    auto e = make_effect(id);
+    CHECK(e->id() == id);
+    CHECK(!e->physics().empty());
+    for (std::size_t i = 0; i < e->params().size(); ++i) {
+      const ParamSpec& s = e->params().specs()[i];
+      CHECK(s.min <= s.default_value);
+      CHECK(s.default_value <= s.max);
+      CHECK(!s.help.empty());
+    }
+  }
+  CHECK_THROWS_AS(make_effect("no_such_effect"), std::invalid_argument);
+}
+
+TEST_CASE("a model wrapped with any effect at its defaults equals the base model", "[effects]") {
+  const auto sensor = make_grid_sensor();
+  const auto indenter = make_test_indenter();
+  std::vector<std::vector<std::string>> cases;
+  for (const auto& id : effect_ids()) cases.push_back({id});
+  cases.push_back(effect_ids());  // all at once
+  for (const auto& ids : cases) {
+    FixedFieldModel base(test_field(9));
+    auto wrapped = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), ids, sensor, indenter);
+    for (const Pose& X : test_trajectory()) {
+      FieldOutput a, b;
+      base.step(X, kDt, &a);
+      wrapped->step(X, kDt, &b);
+      REQUIRE(a.disp_px.size() == b.disp_px.size());
+      for (std::size_t i = 0; i < a.disp_px.size(); ++i) REQUIRE(a.disp_px[i] == b.disp_px[i]);  // bit-exact
+    }
+  }
+}
+
+TEST_CASE("EffectModel concatenates and routes parameter tables; clone is deep", "[effects]") {
+  const auto sensor = make_grid_sensor();
+  auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)),
+                             {"viscoelastic_creep", "load_stiffening"}, sensor, make_test_indenter());
+  CHECK(m->id() == "fixed+viscoelastic_creep+load_stiffening");
+  // 1 base + 2 creep + 1 stiffening parameters, base names unchanged, effect names prefixed.
+  REQUIRE(m->params().size() == 4);
+  CHECK(m->params().specs()[0].name == "gain");
+  CHECK(m->params().index_of("viscoelastic_creep.tau_s") >= 0);
+  CHECK(m->params().index_of("viscoelastic_creep.creep_fraction") >= 0);
+  CHECK(m->params().index_of("load_stiffening.beta_per_m") >= 0);
+
+  ParamSet p = m->params();
+  p.set("gain", 2.0);
+  p.set("viscoelastic_creep.tau_s", 0.5);
+  p.set("load_stiffening.beta_per_m", 100.0);
+  m->set_params(p);
+  CHECK(m->base().params().get("gain") == 2.0);
+  CHECK(m->effect(0).params().get("tau_s") == 0.5);
+  CHECK(m->effect(1).params().get("beta_per_m") == 100.0);
+  CHECK(m->params().get("load_stiffening.beta_per_m") == 100.0);
+
+  // A table from another model is rejected and leaves this one unchanged.
+  ParamSet foreign({{"gain", "", 1, 0, 10, ""}, {"x.y", "", 0, 0, 1, ""}, {"a", "", 0, 0, 1, ""},
+                    {"b", "", 0, 0, 1, ""}});
+  CHECK_THROWS_AS(m->set_params(foreign), std::invalid_argument);
+  CHECK(m->params().get("gain") == 2.0);
+
+  // Clone: same output from the same state; its parameters are its own.
+  for (int k = 0; k < 5; ++k) {
+    FieldOutput o;
+    m->step(pressed(0.001), kDt, &o);
+  }
+  auto c = m->clone();
+  FieldOutput a, b;
+  m->step(pressed(0.001), kDt, &a);
+  c->step(pressed(0.001), kDt, &b);
+  for (std::size_t i = 0; i < a.disp_px.size(); ++i) CHECK(a.disp_px[i] == b.disp_px[i]);
+  ParamSet q = c->params();
+  q.set("viscoelastic_creep.tau_s", 3.0);
+  c->set_params(q);
+  CHECK(m->params().get("viscoelastic_creep.tau_s") == 0.5);
+
+  std::vector<std::unique_ptr<Effect>> twice;
+  twice.push_back(make_effect("tracker_bias"));
+  twice.push_back(make_effect("tracker_bias"));
+  CHECK_THROWS_AS(EffectModel(std::make_unique<FixedFieldModel>(test_field(9)), std::move(twice), sensor,
+                              make_test_indenter()),
+                  std::invalid_argument);
+}
+
+TEST_CASE("indenter penetration is the deepest -phi_E and its weighted centre", "[effects]") {
+  const auto sensor = make_grid_sensor();
+  const auto ind = make_test_indenter();
+  // Pole 1 mm deep; ring points at z = R - 1 mm - R sqrt(1/2) = 0.17 mm, outside: depth 1 mm at the pole.
+  Penetration p = indenter_penetration(*sensor->gel_sdf, *ind, pressed(0.001, 0.002, -0.001));
+  CHECK(p.penetrating);
+  CHECK(std::abs(p.depth_m - 0.001) < kDepthTol);
+  CHECK((p.centre_E - Vec2(0.002, -0.001)).norm() < kDepthTol);
+  // 2 mm deep: the symmetric ring also penetrates (0.83 mm); the depth stays the pole's, the centre the axis.
+  p = indenter_penetration(*sensor->gel_sdf, *ind, pressed(0.002, 0.001, 0.0));
+  CHECK(std::abs(p.depth_m - 0.002) < kDepthTol);
+  CHECK((p.centre_E - Vec2(0.001, 0.0)).norm() < kDepthTol);
+  // Above the gel: no penetration, centre below the lowest point.
+  p = indenter_penetration(*sensor->gel_sdf, *ind, pressed(-0.001, 0.003, 0.004));
+  CHECK(!p.penetrating);
+  CHECK(p.depth_m == 0.0);
+  CHECK((p.centre_E - Vec2(0.003, 0.004)).norm() < kDepthTol);
+}
+
+TEST_CASE("EffectModel passes time, depth, contact and loading to effects", "[effects]") {
+  std::vector<std::unique_ptr<Effect>> fx;
+  fx.push_back(std::make_unique<RecordingEffect>());
+  EffectModel m(std::make_unique<FixedFieldModel>(test_field(9)), std::move(fx), make_grid_sensor(),
+                make_test_indenter());
+  const std::vector<double> depths = {-0.001, 0.0005, 0.001, 0.001, 0.0004};
+  for (double d : depths) {
+    FieldOutput o;
+    m.step(pressed(d), kDt, &o);
+  }
+  const auto& seen = dynamic_cast<const RecordingEffect&>(m.effect(0)).seen;
+  REQUIRE(seen.size() == depths.size());
+  CHECK(!seen[0].in_contact);
+  CHECK(!seen[0].loading);
+  CHECK(seen[1].in_contact);
+  CHECK(seen[1].loading);   // 0 -> 0.5 mm
+  CHECK(seen[2].loading);   // 0.5 -> 1 mm
+  CHECK(!seen[3].loading);  // held
+  CHECK(!seen[4].loading);  // unloading
+  CHECK(std::abs(seen[2].depth_m - 0.001) < kDepthTol);
+  CHECK(std::abs(seen[4].time_s - 5 * kDt) < kExact);
+  CHECK(seen[4].dt_s == kDt);
+  m.reset();
+  FieldOutput o;
+  m.step(pressed(0.001), kDt, &o);
+  CHECK(std::abs(dynamic_cast<const RecordingEffect&>(m.effect(0)).seen.back().time_s - kDt) < kExact);
+  CHECK_THROWS_AS(m.step(pressed(0.001), -kDt, &o), std::invalid_argument);
+  CHECK_THROWS_AS(m.step(pressed(0.001), std::nan(""), &o), std::invalid_argument);
+}
+
+TEST_CASE("viscoelastic_creep: delayed creep under a held load and delayed recovery", "[effects]") {
+  auto e = make_effect("viscoelastic_creep");
+  const double tau = 0.1, c = 0.5;
+  ParamSet p = e->params();
+  p.set("tau_s", tau);
+  p.set("creep_fraction", c);
+  e->set_params(p);
+  const EffectContext ctx = context_for(nullptr);  // dt = tau / 10
+  const Vec2 d(2.0, -1.0);
+  // Step load: the first loaded step shows the glassy value d (the load has not acted for any time yet).
+  CHECK((apply_one(*e, ctx, {d}, 0) - d).norm() < kExact);
+  // Held for 10 more steps = tau. With constant input, x' = (c d - x)/tau, x(0) = 0 gives
+  // x(t) = c d (1 - e^{-t/tau}); the exact-exponential step reproduces it, so at t = tau the output is
+  // d + x = d (1 + c (1 - e^{-1})).
+  Vec2 out;
+  for (int k = 0; k < 10; ++k) out = apply_one(*e, ctx, {d}, 0);
+  CHECK((out - d * (1.0 + c * (1.0 - std::exp(-1.0)))).norm() < kExact);
+  // Release: the base field drops to 0 but the load acted over the last interval, so the residual is
+  // x_r = c d (1 - e^{-1.1}); afterwards (input 0) x decays by e^{-1} per tau.
+  const Vec2 residual = apply_one(*e, ctx, {Vec2::Zero()}, 0);
+  CHECK((residual - c * d * (1.0 - std::exp(-1.1))).norm() < kExact);
+  for (int k = 0; k < 10; ++k) out = apply_one(*e, ctx, {Vec2::Zero()}, 0);
+  CHECK((out - residual * std::exp(-1.0)).norm() < kExact);
+  // reset() forgets the history.
+  e->reset();
+  CHECK((apply_one(*e, ctx, {d}, 0) - d).norm() < kExact);
+}
+
+TEST_CASE("lens_distortion: a marker at r = 0.5 moves by the distorted difference", "[effects]") {
+  // Default camera 320 x 240: half-diagonal R = 0.5 hypot(320, 240) = 200 px. A marker 100 px right of
+  // the principal point (r0 = 0.5) displaced 20 px outward (r1 = 0.6) is imaged at
+  //   D(r) = R r (1 + k1 r^2 + k2 r^4):  with k1 = 0.2, k2 = 0.1
+  //   D(0.6) - D(0.5) = 200 (0.6 * 1.08496 - 0.5 * 1.05625) = 200 * 0.122851 = 24.5702 px along u.
+  auto sensor = make_test_sensor({Vec2::Zero()});
+  sensor->markers_rest_px = {sensor->camera.principal_px + Vec2(100.0, 0.0)};
+  auto e = make_effect("lens_distortion");
+  ParamSet p = e->params();
+  p.set("k1", 0.2);
+  p.set("k2", 0.1);
+  e->set_params(p);
+  const Vec2 out = apply_one(*e, context_for(sensor.get()), {Vec2(20.0, 0.0)}, 0);
+  CHECK(std::abs(out.x() - 24.5702) < 1e-9);
+  CHECK(std::abs(out.y()) < kExact);
+  // Wrong marker count is an error, not a crash.
+  std::vector<Vec2> two(2, Vec2::Zero());
+  CHECK_THROWS_AS(e->apply(context_for(sensor.get()), two), std::invalid_argument);
+}
+
+TEST_CASE("subsurface_markers: uniform fields are only attenuated; smoothing mixes neighbours", "[effects]") {
+  const auto grid = make_grid_sensor();
+  auto e = make_effect("subsurface_markers");
+  ParamSet p = e->params();
+  p.set("depth_m", 0.001);
+  p.set("attenuation", 0.7);
+  e->set_params(p);
+  // Row-normalised weights reproduce a uniform field, so only the factor a = 0.7 remains.
+  std::vector<Vec2> uniform(9, Vec2(3.0, -1.0));
+  e->apply(context_for(grid.get()), uniform);
+  for (const Vec2& d : uniform) CHECK((d - 0.7 * Vec2(3.0, -1.0)).norm() < kExact);
+  // Two markers h apart, field (1, 0) on the first only: w = e^{-h^2 / (2 h^2)} = e^{-1/2};
+  // out_0 = a / (1 + w), out_1 = a w / (1 + w).
+  const auto pair = make_test_sensor({Vec2(0, 0), Vec2(0.001, 0)});
+  std::vector<Vec2> f = {Vec2(1, 0), Vec2(0, 0)};
+  e->apply(context_for(pair.get()), f);
+  const double w = std::exp(-0.5);
+  CHECK(std::abs(f[0].x() - 0.7 / (1 + w)) < kExact);
+  CHECK(std::abs(f[1].x() - 0.7 * w / (1 + w)) < kExact);
+}
+
+TEST_CASE("gravity_preload: shear g at the contact centre, g e^{-1/2} at one width, none off contact",
+          "[effects]") {
+  const double w = 0.003;
+  const auto sensor = make_test_sensor({Vec2(0.001, 0.0), Vec2(0.001, w)});
+  auto e = make_effect("gravity_preload");
+  ParamSet p = e->params();
+  p.set("gx_px", 1.5);
+  p.set("gy_px", -0.5);
+  p.set("width_m", w);
+  e->set_params(p);
+  EffectContext ctx = context_for(sensor.get(), 0.001, true);
+  ctx.contact_centre_E = Vec2(0.001, 0.0);
+  std::vector<Vec2> f(2, Vec2(1.0, 1.0));
+  e->apply(ctx, f);
+  CHECK((f[0] - Vec2(2.5, 0.5)).norm() < kExact);
+  CHECK((f[1] - (Vec2(1.0, 1.0) + std::exp(-0.5) * Vec2(1.5, -0.5))).norm() < kExact);
+  std::vector<Vec2> g(2, Vec2(1.0, 1.0));
+  e->apply(context_for(sensor.get(), 0.0, false), g);
+  CHECK(g[0] == Vec2(1.0, 1.0));
+}
+
+TEST_CASE("edge_constraint: a marker one length from the wall is scaled by 1 - s/e", "[effects]") {
+  const double l = 0.002, s = 0.6;
+  // Gel 20 x 16 mm: half-widths 10 and 8 mm. Marker A at x = 10 - 2 mm: nearest wall l away.
+  // Marker B at the centre: nearest walls (y) 8 mm = 4 l away.
+  const auto sensor = make_test_sensor({Vec2(0.01 - l, 0.0), Vec2(0.0, 0.0)});
+  auto e = make_effect("edge_constraint");
+  ParamSet p = e->params();
+  p.set("length_m", l);
+  p.set("strength", s);
+  e->set_params(p);
+  std::vector<Vec2> f(2, Vec2(2.0, -4.0));
+  e->apply(context_for(sensor.get()), f);
+  CHECK((f[0] - (1 - s * std::exp(-1.0)) * Vec2(2.0, -4.0)).norm() < kExact);
+  CHECK((f[1] - (1 - s * std::exp(-4.0)) * Vec2(2.0, -4.0)).norm() < kExact);
+}
+
+TEST_CASE("load_stiffening scales by 1 / (1 + beta depth), floored for softening", "[effects]") {
+  auto e = make_effect("load_stiffening");
+  ParamSet p = e->params();
+  p.set("beta_per_m", 500.0);
+  e->set_params(p);
+  // 1 mm deep: 1 / (1 + 500 * 0.001) = 1 / 1.5.
+  CHECK((apply_one(*e, context_for(nullptr, 0.001), {Vec2(3, 6)}, 0) - Vec2(2, 4)).norm() < kExact);
+  // Softening: beta = -200 at 5 mm gives 1 + beta delta = 0; the floor 0.1 caps the gain at 10.
+  p.set("beta_per_m", -200.0);
+  e->set_params(p);
+  CHECK((apply_one(*e, context_for(nullptr, 0.005), {Vec2(1, 0)}, 0) - Vec2(10, 0)).norm() < 1e-9);
+}
+
+TEST_CASE("tracker_bias: gain everywhere, bias only on moving markers", "[effects]") {
+  auto e = make_effect("tracker_bias");
+  ParamSet p = e->params();
+  p.set("gain", 0.9);
+  p.set("bias_x_px", 0.3);
+  p.set("bias_y_px", -0.2);
+  e->set_params(p);  // threshold stays 0.5 px
+  std::vector<Vec2> f = {Vec2(2.0, 0.0), Vec2(0.3, 0.0)};
+  e->apply(context_for(nullptr), f);
+  CHECK((f[0] - Vec2(0.9 * 2.0 + 0.3, -0.2)).norm() < kExact);
+  CHECK((f[1] - Vec2(0.9 * 0.3, 0.0)).norm() < kExact);
+}
+
+TEST_CASE("camera_misalignment rotates and scales displacements", "[effects]") {
+  auto e = make_effect("camera_misalignment");
+  ParamSet p = e->params();
+  p.set("rotation_rad", 0.1);
+  p.set("scale", 1.1);
+  e->set_params(p);
+  const Vec2 out = apply_one(*e, context_for(nullptr), {Vec2(1.0, 0.0)}, 0);
+  CHECK((out - 1.1 * Vec2(std::cos(0.1), std::sin(0.1))).norm() < kExact);
+}
+
+TEST_CASE("effects compose in order inside EffectModel", "[effects]") {
+  // tracker_bias then load_stiffening: (g d + b) / (1 + beta delta); the other order differs.
+  const auto sensor = make_grid_sensor();
+  auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"tracker_bias", "load_stiffening"},
+                             sensor, make_test_indenter());
+  ParamSet p = m->params();
+  p.set("tracker_bias.gain", 1.2);
+  p.set("tracker_bias.bias_x_px", 1.0);
+  p.set("load_stiffening.beta_per_m", 1000.0);
+  m->set_params(p);
+  FieldOutput o;
+  m->step(pressed(0.001), kDt, &o);  // depth 1 mm: 1 + 1000 * 0.001 = 2
+  const Vec2 d0 = test_field(9)[0];  // (1, -2), moving
+  CHECK((o.disp_px[0] - (1.2 * d0 + Vec2(1.0, 0.0)) / 2.0).norm() < kExact);
+}
