@@ -21,13 +21,15 @@ namespace sb {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kDefaultFps = 25.0;  // GelSight Mini recordings (SOURCE.md), used when the file has none
+constexpr double kDefaultFps = 25.0;
+constexpr const char* kUnknownContact = "unknown_contact";  // GelSight Mini recordings (SOURCE.md), used when the file has none
 const char* kAxisNote =
     "Axes: the camera looks along +z_E from inside the gel, so image u (right), v (down) are x_E, y_E of a "
     "right-handed E with +z out of the gel; no mirroring applied.";
 const char* kPoseNote =
     "Pose unknown (pose_known false): poses.csv holds identity placeholder rows only so that every sample "
-    "has one row per frame; they are not measurements.";
+    "has one row per frame; they are not measurements. The sample's indenter 'unknown_contact' is a labelled "
+    "1 mm sphere proxy (tsd/1 requires a mesh), not the real contact.";
 
 std::string fmt(const char* f, double a) {
   char buf[64];
@@ -136,8 +138,16 @@ TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& na
   }
   ds.principal_px = Vec2((ds.width_px - 1) / 2.0, (ds.height_px - 1) / 2.0);
   ds.markers_rest_px = track.rest_px;
+  // tsd/1 readers require every sample to name a listed indenter with a mesh: unknown contacts get a
+  // clearly labelled proxy (a 1 mm sphere), never to be used as the real geometry.
+  ds.indenters = {{kUnknownContact,
+                   {{"mesh", "meshes/unknown_contact.obj"},
+                    {"proxy", "contact geometry unknown (fingertip, grasped object or unmodelled indenter); "
+                              "this 1 mm sphere only satisfies the format"}}}};
+  ds.mesh_files = {{"meshes/unknown_contact.obj", sphere_obj(0.001)}};
   TsdSampleOut s;
   s.id = sample_id;
+  s.indenter = kUnknownContact;
   s.dt_s = dt_s;
   s.disp_px = track.disp_px;
   s.X_EI.assign(track.disp_px.size(), Pose::Identity());
@@ -355,6 +365,7 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
   ds.principal_px = Vec2(159.5, 119.5);
   ds.markers_rest_px = press.rest;
   ds.indenters = {{"sphere_r3", {{"mesh", "meshes/sphere_r3.obj"}}}};
+  ds.mesh_files = {{"meshes/sphere_r3.obj", sphere_obj(0.003)}};
   ds.provenance = prov.str();
   const double R = 0.003;
   Camera cam;
@@ -385,8 +396,6 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
   };
   ds.samples = {make("press", press, ep, false), make("shear", shear, es, true)};
   write_tsd_dataset(ds, out_dir);
-  fs::create_directories(fs::path(out_dir) / "meshes");
-  write_file_atomically((fs::path(out_dir) / "meshes" / "sphere_r3.obj").string(), sphere_obj(R));
   ImportReport report;
   report.datasets.push_back(out_dir);
   report.lines.push_back("fots: press a = " + fmt("%.1f", ep.a_px) + " px, shear a = " + fmt("%.1f", es.a_px) +
@@ -418,7 +427,7 @@ ImportReport import_feats(const std::string& in_dir, const std::string& out_dir)
       "FEATS sample from feats-ai/feats (MIT), see raw/feats/SOURCE.md: frame 0 = nocontact.png (rest), frame 1 = "
       "cuboid_10mm_contact.png (alpha dropped), a 10 mm cuboid pressed into a GelSight Mini. Markers tracked by "
       "shearbench's tracker (rest = frame 0, expected grid 7 rows x 9 cols): " + track_summary(r) +
-      ". Scale " + fmt("%.4f", kMmPerPx) + " mm/px from the authors' point_correspondences.yaml (10 mm = 140 px); "
+      ". The real indenter is a 10 mm cuboid; its pose is unknown. Scale " + fmt("%.4f", kMmPerPx) + " mm/px from the authors' point_correspondences.yaml (10 mm = 140 px); "
       "their world axes are rotated 90 degrees against the image, we keep image axes. " + kAxisNote + " " + kPoseNote +
       " The gel is domed (4.0 mm at the centre, 2.75 mm at the edge); written as flat 4.0 mm here.";
   for (const auto& w : r.warnings) prov += " Tracker warning: " + w + ".";

@@ -91,6 +91,11 @@ void write_tsd_dataset(const TsdDatasetOut& ds, const std::string& dir) {
                {"surface", "flat"}}},
       {"markers_rest_px", rest}};
   j["indenters"] = ds.indenters;
+  for (const auto& [rel, text] : ds.mesh_files) {
+    const fs::path path = fs::path(dir) / rel;
+    fs::create_directories(path.parent_path(), ec);
+    write_file_atomically(path.string(), text);
+  }
   j["samples"] = nlohmann::json::array();
 
   for (const auto& s : ds.samples) {

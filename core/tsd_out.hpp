@@ -37,6 +37,7 @@ struct TsdDatasetOut {
   double gel_thickness_m = 0.0045;
   std::vector<Vec2> markers_rest_px;
   nlohmann::json indenters = nlohmann::json::object();
+  std::vector<std::pair<std::string, std::string>> mesh_files;  // (path relative to the dataset, OBJ text)
   std::vector<TsdSampleOut> samples;
 };
 

@@ -10,6 +10,7 @@
 #include "core/data_root.hpp"
 #include "core/importers.hpp"
 #include "core/track_eval.hpp"
+#include "core/tsd.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;
@@ -164,4 +165,20 @@ TEST_CASE("incipient-slip import keeps the slip label", "[import]") {
   REQUIRE(rep.datasets.size() == 2);
   CHECK(read_json(out / "plier_exp1_camera_2" / "dataset.json")["samples"][0]["slip_label"] == true);
   CHECK(read_json(out / "nolabel_exp1_camera_2" / "dataset.json")["samples"][0]["slip_label"] == false);
+}
+
+TEST_CASE("imported datasets pass the tsd/1 reader", "[import]") {
+  // The data helper's reader validates dataset.json (indenters with meshes, samples) and the CSVs.
+  const fs::path out = fresh_dir("sb_test_import_readback");
+  import_fots(require_data("raw/fots_marker_calib"), (out / "fots").string());
+  import_feats(require_data("raw/feats"), (out / "feats").string());
+  for (const char* name : {"fots", "feats"}) {
+    INFO(name);
+    const Dataset ds = read_dataset((out / name).string());
+    for (const auto& s : ds.samples) {
+      const SampleData d = read_sample(ds, s.id);
+      CHECK_FALSE(s.pose_known);
+      CHECK(d.markers_px.size() == 2);
+    }
+  }
 }
