@@ -1,0 +1,44 @@
+// dataset_model_factory lives apart from evaluate.cpp because it is the part that links the built-in
+// models and the mesh pipeline; the evaluation loop itself (and its tests) need neither.
+#include <filesystem>
+#include <map>
+
+#include "core/evaluate.hpp"
+
+namespace sb {
+
+ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_id, const nlohmann::json& params,
+                                   const std::string& data_root, const std::string& params_where,
+                                   Warnings* warnings) {
+  ParamSet param_set = default_params(model_id);
+  param_set.update_from_json(params, params_where);
+  std::shared_ptr<const Sensor> sensor;
+  if (ds.gel.surface == "flat") {
+    sensor = std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
+  } else {
+    GelSpec gel = ds.gel;
+    gel.surface = (std::filesystem::path(ds.dir) / ds.gel.surface).string();
+    const TriMesh gel_E = gelsight_mini_gel_in_E(gel.surface);
+    sensor = std::make_shared<const Sensor>(make_sensor(ds.camera, gel, ds.markers_rest_px, &gel_E));
+  }
+  // Build each indenter once, before the parallel loop, so the factory only reads shared state.
+  auto indenters = std::make_shared<std::map<std::string, std::shared_ptr<const Indenter>>>();
+  for (const auto& [name, entry] : ds.indenters) {
+    bool used = false;
+    for (const auto& s : ds.samples) used = used || s.indenter == name;
+    if (!used) continue;
+    IndenterSpec spec;
+    spec.shape = "mesh";
+    spec.mesh_path = ds.mesh_path(name);
+    auto ind = std::make_shared<Indenter>(build_indenter(spec, data_root, ds.dir, warnings));
+    ind->name = name;
+    (*indenters)[name] = std::move(ind);
+  }
+  return [=](const TsdSampleInfo& info) {
+    auto model = make_model(model_id, sensor, indenters->at(info.indenter));
+    model->set_params(param_set);
+    return model;
+  };
+}
+
+}  // namespace sb
