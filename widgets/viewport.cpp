@@ -39,7 +39,8 @@ constexpr double kMmPerM = 1000.0;
 constexpr double kPushMmPerPx = 0.01;
 constexpr double kTurnRadPerPx = 0.4 * M_PI / 180.0;
 
-vtkSmartPointer<vtkPolyData> polydata_from_mesh(const TriMesh& mesh) {
+// `sharp_edges`: split normals at creases (a box pad), else smooth shading (curved indenters).
+vtkSmartPointer<vtkPolyData> polydata_from_mesh(const TriMesh& mesh, bool sharp_edges = false) {
   vtkNew<vtkPoints> pts;
   pts->SetNumberOfPoints(static_cast<vtkIdType>(mesh.vertices.size()));
   for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
@@ -56,7 +57,8 @@ vtkSmartPointer<vtkPolyData> polydata_from_mesh(const TriMesh& mesh) {
   pd->SetPolys(tris);
   vtkNew<vtkPolyDataNormals> normals;
   normals->SetInputData(pd);
-  normals->SplittingOff();
+  normals->SetSplitting(sharp_edges);
+  normals->SetFeatureAngle(40.0);
   normals->ConsistencyOff();
   normals->Update();
   auto out = vtkSmartPointer<vtkPolyData>::New();
@@ -296,14 +298,18 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
 
   // The pad: the gel mesh when the sensor has one, else the flat box it stands for.
   vtkNew<vtkPolyDataMapper> pad_mapper;
-  if (!sensor.gel_mesh.empty()) {
-    pad_mapper->SetInputData(polydata_from_mesh(sensor.gel_mesh));
+  // A flat gel is drawn as the exact box; a mesh gel (domed) as its mesh.
+  if (sensor.gel.surface != "flat" && !sensor.gel_mesh.empty()) {
+    s.pad->GetProperty()->BackfaceCullingOff();
+    pad_mapper->SetInputData(polydata_from_mesh(sensor.gel_mesh, true));
   } else {
     vtkNew<vtkCubeSource> box;
     const double sx = sensor.gel.size_m.x() * kMmPerM, sy = sensor.gel.size_m.y() * kMmPerM;
     const double t = sensor.gel.thickness_m * kMmPerM;
     box->SetBounds(-sx / 2, sx / 2, -sy / 2, sy / 2, -t, 0.0);
     box->Update();
+    // Near faces only: the box's inner walls seen through it read as a different shape.
+    s.pad->GetProperty()->BackfaceCullingOn();
     pad_mapper->SetInputData(box->GetOutput());
   }
   pad_mapper->ScalarVisibilityOff();
@@ -312,7 +318,6 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.pad->GetProperty()->SetOpacity(0.45);
   s.pad->GetProperty()->SetAmbient(0.6);
   s.pad->GetProperty()->SetDiffuse(0.5);
-  s.pad->GetProperty()->BackfaceCullingOn();  // only the near faces: a clear, light slab
   s.pad->PickableOff();
 
   s.indenter_data = polydata_from_mesh(indenter.mesh);
@@ -429,7 +434,7 @@ void Viewport3D::set_camera(CameraPreset preset) {
       cam->SetViewUp(0, 0, 1);
       break;
     case CameraPreset::Iso:
-      cam->SetPosition(0.9 * sx, -1.7 * sx, 1.0 * sx);
+      cam->SetPosition(0.9 * sx, -1.6 * sx, 1.3 * sx);
       cam->SetViewUp(0, 0, 1);
       break;
   }
@@ -450,7 +455,6 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   if (!s.camera_set) set_camera(CameraPreset::Iso);
   if (s.dirty) {
     s.renderer->ResetCameraClippingRange();
-    s.overlay->ResetCameraClippingRange();
   }
   constexpr double kMotionScale = 0.6;  // linear resolution while moving: 0.36 of the pixels
   const bool low = s.moving || s.drag != Impl::DragMode::None;
