@@ -2,10 +2,37 @@
 // models and the mesh pipeline; the evaluation loop itself (and its tests) need neither.
 #include <filesystem>
 #include <map>
+#include <mutex>
 
 #include "core/evaluate.hpp"
 
 namespace sb {
+
+namespace {
+
+// Building a mesh SDF takes seconds; evaluate --model all, fits and the GUI ask for the same dataset
+// indenter many times in one process, so built indenters are kept for the life of the process. The key
+// is the mesh's absolute path plus its modification time, so an edited file is rebuilt.
+std::shared_ptr<const Indenter> cached_dataset_indenter(const Dataset& ds, const std::string& name,
+                                                        const std::string& data_root, Warnings* warnings) {
+  static std::mutex mutex;
+  static std::map<std::string, std::shared_ptr<const Indenter>> cache;  // a handful per process
+  const std::string path = std::filesystem::absolute(ds.mesh_path(name)).lexically_normal().string();
+  std::error_code ec;
+  const auto mtime = std::filesystem::last_write_time(path, ec);
+  const std::string key = path + "@" + std::to_string(ec ? 0 : mtime.time_since_epoch().count());
+  std::lock_guard<std::mutex> lock(mutex);
+  if (auto it = cache.find(key); it != cache.end()) return it->second;
+  IndenterSpec spec;
+  spec.shape = "mesh";
+  spec.mesh_path = path;  // already absolute: no base directory to join
+  auto ind = std::make_shared<Indenter>(build_indenter(spec, data_root, "", warnings));
+  ind->name = name;
+  cache[key] = ind;
+  return ind;
+}
+
+}  // namespace
 
 ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_id, const nlohmann::json& params,
                                    const std::string& data_root, const std::string& params_where,
@@ -27,12 +54,7 @@ ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_i
     bool used = false;
     for (const auto& s : ds.samples) used = used || s.indenter == name;
     if (!used) continue;
-    IndenterSpec spec;
-    spec.shape = "mesh";
-    spec.mesh_path = ds.mesh_path(name);
-    auto ind = std::make_shared<Indenter>(build_indenter(spec, data_root, ds.dir, warnings));
-    ind->name = name;
-    (*indenters)[name] = std::move(ind);
+    (*indenters)[name] = cached_dataset_indenter(ds, name, data_root, warnings);
   }
   return [=](const TsdSampleInfo& info) {
     auto model = make_model(model_id, sensor, indenters->at(info.indenter));

@@ -3,9 +3,12 @@
 // OpenVDB stays inside this translation unit (it costs ~25 s and 1 GB to compile); nothing else includes it.
 //
 // Field semantics (see MeshSdfOptions in sdf.hpp):
-//  - The level set stores exact point-to-triangle distances on voxel centres within a narrow band of
+//  - The level set stores point-to-triangle distances on voxel centres within a narrow band of
 //    ceil(band_width / voxel) + 1 voxels on each side; the extra voxel keeps trilinear interpolation exact
-//    up to |phi| = band_width.
+//    up to |phi| = band_width. OpenVDB finds each voxel's closest triangle by propagating candidates through
+//    the band, which is approximate (measured: up to ~0.1 voxel off on a torus); we then refine every active
+//    voxel by a local descent over vertex-adjacent triangles from OpenVDB's candidate (exact on smooth
+//    meshes, to float precision) and keep OpenVDB's sign.
 //  - value(): trilinear interpolation of the eight surrounding voxel values (OpenVDB's BoxSampler
 //    stencil), in mesh-frame metres, then clamped to [-band_width, +band_width]. So outside the band the
 //    value is exactly +-band_width: a lower bound of the true distance, with the correct sign.
@@ -18,9 +21,13 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
@@ -46,6 +53,90 @@ double pick_voxel_size(const Eigen::AlignedBox3d& box, const MeshSdfOptions& opt
   if (options.voxel_size > 0) return options.voxel_size;
   constexpr double kMaxAutoVoxel = 0.25e-3;  // metres
   return std::min(box.diagonal().norm() / 200.0, kMaxAutoVoxel);
+}
+
+// Distance from p to triangle abc (closest-point regions, Ericson, Real-Time Collision Detection 5.1.5).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return ap.norm();
+  const Vec3 bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return bp.norm();
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
+  const Vec3 cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return cp.norm();
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
+  const double denom = 1.0 / (va + vb + vc);
+  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
+}
+
+// Faces around each vertex (compressed rows).
+struct VertexFaces {
+  std::vector<int> start, faces;
+  explicit VertexFaces(const TriMesh& m) : start(m.vertices.size() + 1, 0) {
+    for (const auto& f : m.faces)
+      for (int k = 0; k < 3; ++k) ++start[static_cast<std::size_t>(f[k]) + 1];
+    for (std::size_t v = 1; v < start.size(); ++v) start[v] += start[v - 1];
+    faces.resize(static_cast<std::size_t>(start.back()));
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (std::size_t i = 0; i < m.faces.size(); ++i)
+      for (int k = 0; k < 3; ++k) faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(m.faces[i][k])]++)] = static_cast<int>(i);
+  }
+};
+
+// Local descent from OpenVDB's candidate triangle: move to the closest of the triangles sharing a vertex
+// with the current one while that brings p closer. Exact where the distance to the mesh has a single basin
+// around the candidate, as on any smooth surface; never worse than the candidate.
+double descend_to_closest_face(const TriMesh& m, const VertexFaces& vf, const Vec3& p, int face) {
+  auto dist = [&](int f) {
+    const auto& t = m.faces[static_cast<std::size_t>(f)];
+    const double d = point_triangle_distance(p, m.vertices[static_cast<std::size_t>(t[0])],
+                                             m.vertices[static_cast<std::size_t>(t[1])],
+                                             m.vertices[static_cast<std::size_t>(t[2])]);
+    return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();  // degenerate triangles
+  };
+  double best = dist(face);
+  for (int step = 0; step < 256; ++step) {
+    int next = face;
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::size_t>(m.faces[static_cast<std::size_t>(face)][k]);
+      for (int i = vf.start[v]; i < vf.start[v + 1]; ++i) {
+        const int g = vf.faces[static_cast<std::size_t>(i)];
+        const double d = dist(g);
+        if (d < best) best = d, next = g;
+      }
+    }
+    if (next == face) break;
+    face = next;
+  }
+  return best;
+}
+
+void refine_distances(openvdb::FloatGrid& grid, const openvdb::Int32Grid& closest_face, const TriMesh& mesh,
+                      double voxel) {
+  const VertexFaces vf(mesh);
+  std::vector<openvdb::FloatTree::LeafNodeType*> leaves;
+  grid.tree().getNodes(leaves);
+  const int n_faces = static_cast<int>(mesh.faces.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, leaves.size()), [&](const tbb::blocked_range<std::size_t>& r) {
+    auto face_at = closest_face.getConstUnsafeAccessor();
+    for (std::size_t l = r.begin(); l < r.end(); ++l)
+      for (auto it = leaves[l]->beginValueOn(); it; ++it) {
+        const openvdb::Coord c = it.getCoord();
+        const int face = face_at.getValue(c);
+        if (face < 0 || face >= n_faces) continue;
+        const double d = descend_to_closest_face(mesh, vf, voxel * Vec3(c.x(), c.y(), c.z()), face);
+        const float old = it.getValue();
+        it.setValue(static_cast<float>(old < 0 ? -d : d));
+      }
+  });
 }
 
 class VdbMeshSdf final : public Sdf {
@@ -154,11 +245,18 @@ SdfPtr make_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options) {
   // One more voxel than the band so that interpolation is exact up to |phi| = band_width.
   const float half_width = static_cast<float>(std::ceil(options.band_width / voxel) + 1.0);
   const auto xform = openvdb::math::Transform::createLinearTransform(voxel);
-  // meshToLevelSet classifies inside/outside by a flood fill of the voxelised surface, not by face
+  for (auto& p : points) p = xform->worldToIndex(p);  // the adapter wants index-space points
+  // meshToVolume classifies inside/outside by a flood fill of the voxelised surface, not by face
   // orientation: it tolerates non-manifold and self-intersecting (but closed) meshes such as cow.obj. For
   // open meshes it is the best effort: holes narrower than about a voxel are sealed by the voxelisation;
   // wider holes may let the "outside" flood leak in, so the sign near them is unreliable.
-  auto grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, half_width);
+  openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, triangles);
+  openvdb::util::NullInterrupter interrupter;
+  openvdb::Int32Grid closest_face(0);
+  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(interrupter, adapter, *xform, half_width, half_width,
+                                                               0, &closest_face);
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  refine_distances(*grid, closest_face, mesh, voxel);
   return std::make_shared<VdbMeshSdf>(grid, voxel, options.band_width, box, mesh.faces.size(), options.allow_open);
 }
 

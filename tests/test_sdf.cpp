@@ -134,6 +134,8 @@ TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[s
   // bisector planes of adjacent facets, a gradient jump of about the facet angle theta = 2 pi / 128: an error
   // of up to h * theta / 4. The requirement (2 % of a voxel) applies on top of both.
   const double theta = 2 * M_PI / 128;
+  // Gradient: the trilinear interpolant's gradient errs by about h * |Hessian| / 2 = h / (2 rho) rad, on top
+  // of the facet-vs-tube normal difference (<= theta / 2 = 1.4 deg): 3 deg plus the curvature term.
   constexpr double kAngleToleranceDeg = 3.0;
 
   std::mt19937 rng(11);
@@ -155,7 +157,7 @@ TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[s
     worst = std::max(worst, std::abs(v - exact) - interpolation);
     worst_angle = std::max(worst_angle, angle_deg(g, g_analytic));
     CHECK(v == Approx(exact).margin(tolerance));
-    CHECK(angle_deg(g, g_analytic) < kAngleToleranceDeg);
+    CHECK(angle_deg(g, g_analytic) < kAngleToleranceDeg + h / (2 * (r + d)) * 180 / M_PI);
   }
   WARN("torus: worst |phi - exact| beyond the interpolation bound = " << worst / h << " voxel, worst normal angle "
                                                                        << worst_angle << " deg");

@@ -1,0 +1,106 @@
+// `shearbench gui` (also `shearbench` with no arguments): the interactive workbench. Without a display it
+// renders the default view headless under xvfb-run and prints where the PNG is and a short report.
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+#include "app/command.hpp"
+#include "app/frontend.hpp"
+
+namespace sb::app {
+namespace {
+
+struct GuiArgs {
+  std::string scene, dataset, sample, indenter_mesh, size = "1280x800", fots = "fots", tacsl = "tacsl";
+  int profile = 0;
+  double indenter_scale = 0.002;
+  std::string headless_out = "shearbench_headless.png";
+};
+
+bool on_path(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (path == nullptr) return false;
+  std::string p(path);
+  std::size_t start = 0;
+  while (start <= p.size()) {
+    const std::size_t end = p.find(':', start);
+    const std::string dir = p.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    if (!dir.empty() && access((std::filesystem::path(dir) / program).c_str(), X_OK) == 0) return true;
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return false;
+}
+
+// No display: re-run ourselves as `render` under a virtual X server (Mesa llvmpipe).
+int run_headless(const GuiArgs& a, const GlobalOptions& g) {
+  if (!on_path("xvfb-run")) {
+    std::cerr << "shearbench: error: no display (DISPLAY is not set) and xvfb-run is not installed.\n"
+                 "  Run it on a desktop, or install xvfb (apt-get install xvfb xauth) to render headless.\n";
+    return 1;
+  }
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  std::vector<std::string> args = {"xvfb-run", "-a", "-s", "-screen 0 1600x900x24", self};
+  if (!g.data_root_flag.empty()) args.insert(args.end(), {"--data", g.data_root_flag});
+  args.insert(args.end(), {"render", "--size", "1600x900", "--out", a.headless_out, "--report", "--fots", a.fots,
+                           "--tacsl", a.tacsl});
+  if (!a.scene.empty()) args.insert(args.end(), {"--scene", a.scene});
+  if (!a.dataset.empty()) args.insert(args.end(), {"--dataset", a.dataset});
+  if (!a.sample.empty()) args.insert(args.end(), {"--sample", a.sample});
+  if (!a.indenter_mesh.empty())
+    args.insert(args.end(), {"--indenter-mesh", a.indenter_mesh, "--indenter-scale", std::to_string(a.indenter_scale)});
+  if (a.profile > 0) args.insert(args.end(), {"--profile", std::to_string(a.profile)});
+  std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
+  std::vector<char*> argv;
+  for (auto& s : args) argv.push_back(s.data());
+  argv.push_back(nullptr);
+  execvp("xvfb-run", argv.data());
+  std::cerr << "shearbench: error: cannot run xvfb-run\n";
+  return 1;
+}
+
+int run_gui(const GuiArgs& a, const GlobalOptions& g) {
+  if (!ui::display_available()) return run_headless(a, g);
+  SessionOptions so;
+  so.scene_path = a.scene;
+  so.dataset_dir = a.dataset;
+  so.sample_id = a.sample;
+  so.data_root = g.data_root_flag;
+  so.fots_id = a.fots;
+  so.tacsl_id = a.tacsl;
+  so.indenter_mesh = a.indenter_mesh;
+  so.indenter_scale = a.indenter_scale;
+  FrontendOptions fo;
+  std::tie(fo.width, fo.height) = parse_size(a.size);
+  Frontend front(so, fo);
+  if (a.profile > 0) {
+    std::cout << "profile (" << fo.width << "x" << fo.height << ", synthetic drag): "
+              << percentiles_line(front.profile_drag(a.profile)) << "\n";
+    return 0;
+  }
+  front.session().state->start_thread();
+  while (front.frame()) {}
+  return 0;
+}
+
+const CommandRegistrar registrar{
+    "gui", "the interactive workbench (default command); headless without a display", 5,
+    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
+      auto a = std::make_shared<GuiArgs>();
+      sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
+      sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
+      sub.add_option("--sample", a->sample, "sample id (default: the first)");
+      sub.add_option("--size", a->size, "window size")->capture_default_str();
+      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
+      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
+      sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
+      sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
+      sub.add_option("--profile", a->profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
+      sub.add_option("--headless-out", a->headless_out, "PNG written when there is no display")->capture_default_str();
+      return [a, &g] { return run_gui(*a, g); };
+    }};
+
+}  // namespace
+}  // namespace sb::app

@@ -1,0 +1,44 @@
+// shearbench import: converts one raw recording folder (<data>/raw/...) into tsd/1.
+#include <cstdio>
+
+#include "app/command.hpp"
+#include "core/error.hpp"
+#include "core/importers.hpp"
+
+namespace sb::app {
+namespace {
+
+struct ImportArgs {
+  std::string source, in, out, grid = "auto";
+  double mm_per_px = 0.0634;
+};
+
+int run(const ImportArgs& a) {
+  TrackerOptions opts;
+  parse_grid(a.grid, "--grid", opts);
+  ImportReport report;
+  if (a.source == "gsrobotics") report = import_gsrobotics(a.in, a.out, opts, a.mm_per_px);
+  else if (a.source == "incipient_slip") report = import_incipient_slip(a.in, a.out, opts, a.mm_per_px);
+  else if (a.source == "fots") report = import_fots(a.in, a.out);
+  else if (a.source == "feats") report = import_feats(a.in, a.out);
+  else throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats)");
+  for (const auto& l : report.lines) std::printf("%s\n", l.c_str());
+  for (const auto& d : report.datasets) std::printf("wrote %s\n", d.c_str());
+  return 0;
+}
+
+const CommandRegistrar kRegistrar(
+    "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats) into tsd/1", 41,
+    [](CLI::App& sub, const GlobalOptions&) -> std::function<int()> {
+      auto args = std::make_shared<ImportArgs>();
+      sub.add_option("--source", args->source, "gsrobotics | incipient_slip | fots | feats")->required();
+      sub.add_option("--in", args->in, "raw folder (e.g. <data>/raw/gsrobotics_tracking)")->required();
+      sub.add_option("--out", args->out, "output directory (video sources: one dataset per recording inside)")
+          ->required();
+      sub.add_option("--grid", args->grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
+      sub.add_option("--mm-per-px", args->mm_per_px, "scale for video sources")->capture_default_str();
+      return [args]() { return run(*args); };
+    });
+
+}  // namespace
+}  // namespace sb::app

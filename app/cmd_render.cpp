@@ -1,0 +1,109 @@
+// `shearbench render`: draws exactly what the GUI draws (same Workbench::draw on a GLFW window, visible
+// or not), at one step of a scene or dataset sample, and writes a PNG. Needs an X display: without one
+// run it under `xvfb-run -a -s "-screen 0 1600x900x24"`.
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "core/error.hpp"
+
+#include "app/command.hpp"
+#include "app/frontend.hpp"
+
+namespace sb::app {
+namespace {
+
+struct RenderArgs {
+  std::string scene, dataset, sample, indenter_mesh, size = "1600x900", out, camera = "iso", fots = "fots", tacsl = "tacsl";
+  int step = -2;     // -2: the last step
+  int frame = -2;    // dataset frame (same as step)
+  int profile = 0;
+  double indenter_scale = 0.002;
+  bool no_timings = false;
+  bool report = false;
+  bool visible = false;
+  std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
+  double drag_twist_deg = 0; // ... twisting it about the pad normal by this much
+};
+
+Vec3 parse_mm_triple(const std::string& text) {
+  Vec3 v;
+  char c1 = 0, c2 = 0;
+  std::istringstream in(text);
+  if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !v.allFinite())
+    throw InputError("--drag-mm", "expected x,y,z in millimetres, got '" + text + "'");
+  return v * 1e-3;
+}
+
+int run_render(const RenderArgs& a, const GlobalOptions& g) {
+  SessionOptions so;
+  so.scene_path = a.scene;
+  so.dataset_dir = a.dataset;
+  so.sample_id = a.sample;
+  so.data_root = g.data_root_flag;
+  so.fots_id = a.fots;
+  so.tacsl_id = a.tacsl;
+  so.indenter_mesh = a.indenter_mesh;
+  so.indenter_scale = a.indenter_scale;
+  FrontendOptions fo;
+  std::tie(fo.width, fo.height) = parse_size(a.size);
+  fo.visible = a.visible;
+  fo.show_timings = !a.no_timings;
+  fo.interactive = false;
+  fo.camera = a.camera;
+  Frontend front(so, fo);
+  AppState& state = *front.session().state;
+  if (a.profile > 0) {
+    const auto ms = front.profile_drag(a.profile);
+    std::cout << "profile (" << fo.width << "x" << fo.height << ", 3D view + " << state.num_models() + 1
+              << " panels, synthetic drag): " << percentiles_line(ms) << "\n";
+    std::cout << "physics: " << state.current_step() + 1 << " model steps during the drag\n";
+  } else {
+    const int target = a.frame != -2 ? a.frame : a.step != -2 ? a.step : static_cast<int>(state.path().size()) - 1;
+    state.run_to(target);
+    if (!a.drag_mm.empty() || a.drag_twist_deg != 0) {
+      // The GUI's drag path: queued at the sync point, sub-stepped, run by tick() to its end.
+      Pose X = state.snapshot().X_EI;
+      if (!a.drag_mm.empty()) X.translation() = parse_mm_triple(a.drag_mm);
+      X.linear() = Rz(a.drag_twist_deg * M_PI / 180.0) * X.linear();
+      state.request_drag(X);
+      while (state.tick()) {}
+    }
+  }
+  // ImGui lays a fixed-size window out on its first frame and draws it settled on the second.
+  constexpr int kSettleFrames = 3;
+  const ui::Image img = front.render_still(kSettleFrames);
+  ui::write_png_atomic(img, a.out);
+  if (!g.quiet) std::cout << "wrote " << std::filesystem::absolute(a.out).string() << " (" << img.width << "x" << img.height << ")\n";
+  if (a.report) std::cout << text_report(state.snapshot());
+  return 0;
+}
+
+const CommandRegistrar registrar{
+    "render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60,
+    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
+      auto a = std::make_shared<RenderArgs>();
+      sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
+      sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
+      sub.add_option("--sample", a->sample, "sample id of the dataset (default: the first)");
+      sub.add_option("--frame", a->frame, "dataset frame to show (= step)");
+      sub.add_option("--step", a->step, "step to show (default: the last)");
+      sub.add_option("--size", a->size, "window size WIDTHxHEIGHT")->capture_default_str();
+      sub.add_option("--camera", a->camera, "iso | top | side")->capture_default_str();
+      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
+      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
+      sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
+      sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
+      sub.add_option("--out", a->out, "PNG to write")->required();
+      sub.add_option("--profile", a->profile, "first run N frames of a synthetic drag and print frame-time percentiles");
+      sub.add_flag("--no-timings", a->no_timings, "hide timings in the status bar (deterministic images)");
+      sub.add_flag("--report", a->report, "print model step times and field magnitudes");
+      sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
+      sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
+      sub.add_flag("--visible", a->visible, "show the window while rendering");
+      return [a, &g] { return run_render(*a, g); };
+    }};
+
+}  // namespace
+}  // namespace sb::app

@@ -1,0 +1,126 @@
+// shearbench track: follows the markers of a video or a frames directory and writes a tsd/1 dataset
+// (motion free, pose unknown). With --reference-vendor / --reference-tsd it also reports the accuracy.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <fstream>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "app/command.hpp"
+#include "core/error.hpp"
+#include "core/importers.hpp"
+#include "core/track_eval.hpp"
+#include "core/tracker.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sb::app {
+namespace {
+
+struct TrackArgs {
+  std::string video, frames, out, grid = "auto", reference_vendor, reference_tsd, draw;
+  double mm_per_px = 0.0634;
+  int rest_frames = TrackerOptions{}.rest_frames;
+  int vendor_frame_offset = 0;
+};
+
+void print_comparison(const std::string& what, const TrackComparison& c) {
+  std::printf("%s: %d marker-frames, %d/%d markers paired, lost %d, RMSE %.3f px, median %.3f px, "
+              "p95 %.3f px, max %.3f px, rest offset (%.3f, %.3f) px\n",
+              what.c_str(), c.pairs, c.paired_markers, c.reference_markers, c.lost, c.rmse_px, c.median_px, c.p95_px,
+              c.max_px, c.mean_rest_offset_px.x(), c.mean_rest_offset_px.y());
+  std::printf("  displacements: RMSE %.3f px, median %.3f px, p95 %.3f px, max %.3f px\n", c.disp_rmse_px,
+              c.disp_median_px, c.disp_p95_px, c.disp_max_px);
+}
+
+// Annotated copies of the frames: tracked positions (green), lost markers at their rest (red).
+void draw_frames(const std::vector<cv::Mat>& frames, const TrackResult& r, const std::string& dir) {
+  fs::create_directories(dir);
+  for (int f = 0; f < std::min<int>(r.frames(), static_cast<int>(frames.size())); ++f) {
+    cv::Mat big;
+    cv::resize(frames[f], big, {}, 3, 3, cv::INTER_NEAREST);
+    for (int m = 0; m < r.markers(); ++m) {
+      const Vec2 d = r.disp_px[f][m];
+      const bool ok = std::isfinite(d.x());
+      const Vec2 p = 3.0 * ((ok ? Vec2(r.rest_px[m] + d) : r.rest_px[m]) + Vec2(0.5, 0.5));
+      cv::circle(big, cv::Point(int(p.x()), int(p.y())), ok ? 4 : 8, ok ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 0, 255), 1);
+      cv::putText(big, std::to_string(m), cv::Point(int(p.x()) + 5, int(p.y()) - 5), cv::FONT_HERSHEY_PLAIN, 0.8,
+                  cv::Scalar(255, 255, 255));
+    }
+    char name[32];
+    std::snprintf(name, sizeof name, "%06d.png", f);
+    cv::imwrite((fs::path(dir) / name).string(), big);
+  }
+}
+
+// The tsd sample directory's dataset.json is its parent's.
+void compare_tsd(const TrackResult& r, const std::string& sample_dir) {
+  const fs::path json_path = fs::path(sample_dir).parent_path() / "dataset.json";
+  std::ifstream in(json_path);
+  if (!in) throw InputError(json_path.string(), "cannot open dataset.json of the reference sample");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(json_path.string(), e.what());
+  }
+  std::vector<Vec2> rest;
+  for (const auto& p : j.at("sensor").at("markers_rest_px")) rest.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
+  const auto disp = read_markers_csv((fs::path(sample_dir) / "markers.csv").string(), static_cast<int>(rest.size()));
+  print_comparison("vs reference positions (rest + disp)", compare_to_reference(r, rest, disp, false));
+  print_comparison("vs reference displacements", compare_to_reference(r, rest, disp, true));
+}
+
+int run(const TrackArgs& a, const GlobalOptions& g) {
+  TrackerOptions opts;
+  parse_grid(a.grid, "--grid", opts);
+  opts.rest_frames = a.rest_frames;
+  const auto t0 = std::chrono::steady_clock::now();
+  const TrackResult r = !a.video.empty() ? track_video(a.video, opts) : track_frames_dir(a.frames, opts);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("tracked %d frames, %d markers (grid %dx%d, pitch %.2f px), lost %.4f of marker-frames, "
+              "%.0f frames/s including decoding\n",
+              r.frames(), r.markers(), r.grid_rows, r.grid_cols, r.pitch_px, r.lost_fraction(), r.frames() / seconds);
+  for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
+
+  if (!a.out.empty()) {
+    const std::string source = !a.video.empty() ? a.video : a.frames;
+    const std::string stem = fs::path(source).filename().replace_extension().string();
+    const auto ds = dataset_from_track(r, stem, stem.empty() ? "recording" : stem, 0.04, a.mm_per_px,
+                                       "tracked by `shearbench track` from " + source + " (grid " + a.grid + ")");
+    write_tsd_dataset(ds, a.out);
+    if (!g.quiet) std::printf("wrote %s\n", a.out.c_str());
+  }
+  if (!a.reference_vendor.empty())
+    print_comparison("vs vendor tracker", compare_to_vendor(r, read_vendor_csv(a.reference_vendor), a.vendor_frame_offset));
+  if (!a.reference_tsd.empty()) compare_tsd(r, a.reference_tsd);
+  if (!a.draw.empty() && !a.video.empty()) draw_frames(read_video_frames(a.video), r, a.draw);
+  return 0;
+}
+
+const CommandRegistrar kRegistrar(
+    "track", "track the markers of a video or frames directory into a tsd/1 dataset", 40,
+    [](CLI::App& sub, const GlobalOptions& global) -> std::function<int()> {
+      auto args = std::make_shared<TrackArgs>();
+      auto* video = sub.add_option("--video", args->video, "input video (e.g. .avi)");
+      auto* frames = sub.add_option("--frames", args->frames, "input frames directory (NNNNNN.png)");
+      video->excludes(frames);
+      sub.add_option("--out", args->out, "output tsd/1 dataset directory");
+      sub.add_option("--grid", args->grid, "marker grid ROWSxCOLS (7x9, 8x10, 11x9) or auto")->capture_default_str();
+      sub.add_option("--mm-per-px", args->mm_per_px, "image scale written to the dataset")->capture_default_str();
+      sub.add_option("--rest-frames", args->rest_frames, "frames whose median is the rest")->capture_default_str();
+      sub.add_option("--reference-vendor", args->reference_vendor, "vendor marker_locations CSV to compare with");
+      sub.add_option("--vendor-frame-offset", args->vendor_frame_offset, "our frame = vendor frame - 1 + offset");
+      sub.add_option("--draw", args->draw, "write annotated frames (3x) into this directory (videos)");
+      sub.add_option("--reference-tsd", args->reference_tsd, "tsd/1 sample directory with exact markers.csv");
+      return [args, &global]() {
+        if (args->video.empty() && args->frames.empty()) throw InputError("track", "give --video FILE or --frames DIR");
+        return run(*args, global);
+      };
+    });
+
+}  // namespace
+}  // namespace sb::app

@@ -1,0 +1,54 @@
+#pragma once
+// The frame loop both `gui` and `render` use: one window, one workbench, one session.
+#include <string>
+#include <vector>
+
+#include "app/session.hpp"
+#include "widgets/gl_window.hpp"
+#include "widgets/workbench.hpp"
+
+namespace sb::app {
+
+struct FrontendOptions {
+  int width = 1280;
+  int height = 800;
+  bool visible = true;
+  bool show_timings = true;
+  bool interactive = true;
+  std::string camera = "iso";   // iso | top | side
+};
+
+class Frontend {
+ public:
+  Frontend(const SessionOptions& session, const FrontendOptions& options);
+  ~Frontend();
+  // One frame: events, workbench, render, (screenshot), present. Returns false when the user quit.
+  bool frame();
+  // Draws `frames` frames without presenting the last, and returns its pixels (headless render).
+  ui::Image render_still(int frames);
+  // Frame times (ms) of `frames` frames while a synthetic drag moves the indenter (in contact) around
+  // a circle in the pad plane with the physics on its thread; what "dragging the cow" costs.
+  std::vector<double> profile_drag(int frames);
+  Session& session() { return session_; }
+  ui::Workbench& workbench() { return workbench_; }
+  void reopen(const SessionOptions& session);
+
+ private:
+  void handle(const ui::WorkbenchRequest& req, bool before_present);
+  SessionOptions session_options_;
+  FrontendOptions options_;
+  Session session_;
+  ui::GlWindow window_;
+  ui::Workbench workbench_;
+  double frame_ms_ = 0;
+  bool quit_ = false;
+  bool screenshot_pending_ = false;
+};
+
+// p50 / p90 / p99 / max of frame times, one line.
+std::string percentiles_line(std::vector<double> ms);
+// Short text report: per-model step time and field magnitudes at the current step.
+std::string text_report(const AppSnapshot& snap);
+ui::CameraPreset parse_camera(const std::string& name);
+
+}  // namespace sb::app

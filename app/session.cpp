@@ -1,0 +1,179 @@
+#include "app/session.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <algorithm>
+#include <cmath>
+#include <regex>
+
+#include "core/data_root.hpp"
+#include "core/error.hpp"
+#include "core/metrics.hpp"
+#include "core/model.hpp"
+#include "core/tsd.hpp"
+
+namespace sb::app {
+
+namespace fs = std::filesystem;
+
+std::string default_scene_path() {
+  for (const fs::path& p : {fs::path("scenes/default.json"), fs::path(SHEARBENCH_SOURCE_DIR) / "scenes/default.json"})
+    if (fs::exists(p)) return p.string();
+  return {};
+}
+
+Scene builtin_default_scene() {
+  Scene s;
+  s.name = "default (built in): 4 mm sphere, press 1 mm, slide 3 mm";
+  s.sensor = std::make_shared<const Sensor>(make_default_sensor());
+  s.indenter_spec.shape = "sphere";
+  s.indenter_spec.radius_m = 0.004;
+  s.dt_s = 0.02;
+  // Sphere centre 0.5 mm above the gel, pressed to 1 mm depth in 0.4 s, held, slid 3 mm in 1 s, held.
+  const double r = 0.004;
+  s.keyframes = {{0.0, Vec3(0, 0, r + 0.5e-3), Quat::Identity()},
+                 {0.4, Vec3(0, 0, r - 1.0e-3), Quat::Identity()},
+                 {0.5, Vec3(0, 0, r - 1.0e-3), Quat::Identity()},
+                 {1.5, Vec3(3.0e-3, 0, r - 1.0e-3), Quat::Identity()},
+                 {1.7, Vec3(3.0e-3, 0, r - 1.0e-3), Quat::Identity()}};
+  s.X_EI = sample_trajectory(s.keyframes, s.dt_s);
+  return s;
+}
+
+namespace {
+
+std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
+                                                     std::shared_ptr<const Indenter> indenter) {
+  std::vector<std::unique_ptr<ShearModel>> models;
+  for (const std::string& id : {std::string("hydroshear"), o.fots_id, o.tacsl_id}) {
+    auto m = make_model(id, scene.sensor, indenter);
+    if (auto it = scene.params.find(id); it != scene.params.end()) {
+      ParamSet p = m->params();
+      p.update_from_json(it->second, scene.path.empty() ? "scene" : scene.path);
+      m->set_params(p);
+    }
+    models.push_back(std::move(m));
+  }
+  return models;
+}
+
+// The measured side of a dataset replay: marker field and frames of each step, the sample list.
+void load_measured(Session& s) {
+  Warnings warnings;
+  const Dataset ds = read_dataset(s.scene.dataset_dir, &warnings);
+  SampleData data = read_sample(ds, s.scene.sample_id, &warnings);
+  const TsdSampleInfo& info = ds.sample(s.scene.sample_id);
+  s.measured.disp_px = std::move(data.markers_px);
+  s.measured.frame_paths = std::move(data.frame_paths);
+  s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";
+  s.replay.dataset_dir = s.scene.dataset_dir;
+  s.replay.samples.clear();
+  for (const auto& smp : ds.samples) s.replay.samples.push_back(smp.id);
+  s.replay.sample_index = static_cast<int>(
+      std::find(s.replay.samples.begin(), s.replay.samples.end(), info.id) - s.replay.samples.begin());
+  s.title = ds.name + " / " + info.id + "  (" + info.motion + ", " + info.split + ", " + ds.kind + ")";
+}
+
+}  // namespace
+
+Session open_session(const SessionOptions& o) {
+  Session s;
+  const std::string root = resolve_data_root(o.data_root);
+  double indenter_bottom_shift = 0;
+  if (!o.dataset_dir.empty()) {
+    // A dataset replay is a scene with a "dataset" entry: the scene parser builds sensor, indenter, path.
+    const std::string dir = resolve_path(o.dataset_dir, root, fs::current_path().string());
+    std::string sample = o.sample_id;
+    if (sample.empty()) {
+      const Dataset ds = read_dataset(dir);
+      if (ds.samples.empty()) throw InputError(ds.json_path(), "the dataset lists no samples");
+      sample = ds.samples.front().id;
+    }
+    const nlohmann::json j = {{"name", fs::path(dir).filename().string() + " / " + sample},
+                              {"dataset", {{"path", dir}, {"sample", sample}}}};
+    s.scene = parse_scene(j, "--dataset " + o.dataset_dir, root, fs::current_path().string());
+  } else if (!o.scene_path.empty()) {
+    s.scene = load_scene(o.scene_path, root);
+  } else if (const std::string def = default_scene_path(); !def.empty()) {
+    s.scene = load_scene(def, root);
+  } else {
+    s.scene = builtin_default_scene();
+  }
+  if (!o.indenter_mesh.empty()) {
+    // The mesh's lowest point is put where the scene's indenter had its lowest point, so the same path
+    // presses it in by the same depth.
+    const double old_bottom = s.scene.indenter_spec.shape == "sphere" ? -s.scene.indenter_spec.radius_m : 0.0;
+    s.scene.indenter_spec = IndenterSpec{};
+    s.scene.indenter_spec.shape = "mesh";
+    s.scene.indenter_spec.mesh_path = o.indenter_mesh;
+    s.scene.indenter_spec.scale = o.indenter_scale;
+    s.scene.indenter_spec.allow_open = true;
+    s.scene.name += " [indenter: " + o.indenter_mesh + "]";
+    indenter_bottom_shift = old_bottom;
+  }
+  const std::string base_dir = s.scene.path.empty() ? std::string() : fs::path(s.scene.path).parent_path().string();
+  Warnings warnings;
+  auto indenter = std::make_shared<const Indenter>(build_indenter(s.scene.indenter_spec, root, base_dir, &warnings));
+  if (!o.indenter_mesh.empty()) {
+    const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
+    for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
+  }
+  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, indenter), s.scene.X_EI,
+                                       s.scene.dt_s);
+  if (!s.scene.dataset_dir.empty()) load_measured(s);
+  if (s.title.empty())
+    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;
+  return s;
+}
+
+ui::MetricsFn field_metrics() {
+  return [](const std::vector<Vec2>& sim, const std::vector<Vec2>& measured) -> std::optional<ui::FieldMetrics> {
+    if (sim.size() != measured.size()) return std::nullopt;
+    const MetricsResult r = frame_metrics(sim, measured);
+    // A frame where nothing measured moves is not counted (core/metrics.hpp): no readout then.
+    if (r.n == 0) return std::nullopt;
+    return ui::FieldMetrics{r.rmse_px, r.n_cs > 0 ? r.cs : std::nan("")};
+  };
+}
+
+void load_params_file(AppState& state, const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open the parameter file");
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(path, std::string("not valid JSON: ") + e.what());
+  }
+  if (!j.is_object()) throw InputError(path, "expected an object {model id: {name: value}}");
+  const AppSnapshot snap = state.snapshot();
+  for (std::size_t m = 0; m < snap.models.size(); ++m) {
+    if (!j.contains(snap.models[m].id)) continue;
+    ParamSet p = snap.models[m].params;
+    p.update_from_json(j[snap.models[m].id], path + ": /" + snap.models[m].id);
+    state.request_params(m, p);
+  }
+}
+
+void save_params_file(const AppSnapshot& snap, const std::string& path) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& m : snap.models) j[m.id] = m.params.to_json();
+  const fs::path target(path);
+  const fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp");
+  {
+    std::ofstream out(tmp);
+    if (!out) throw InputError(path, "cannot write the parameter file");
+    out << j.dump(2) << "\n";
+  }
+  fs::rename(tmp, target);
+}
+
+std::pair<int, int> parse_size(const std::string& text) {
+  static const std::regex re(R"((\d{2,5})x(\d{2,5}))");
+  std::smatch m;
+  if (!std::regex_match(text, m, re)) throw InputError("--size", "expected WIDTHxHEIGHT such as 1600x900, got '" + text + "'");
+  return {std::stoi(m[1]), std::stoi(m[2])};
+}
+
+}  // namespace sb::app

@@ -1,0 +1,157 @@
+#include "widgets/field_panel.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+
+namespace sb::ui {
+
+namespace {
+struct Stop { float t, r, g, b; };
+// Viridis-like, readable over a light gel image and a dark background.
+constexpr std::array<Stop, 5> kStops{{{0.00f, 0.27f, 0.00f, 0.33f},
+                                      {0.25f, 0.23f, 0.32f, 0.55f},
+                                      {0.50f, 0.13f, 0.57f, 0.55f},
+                                      {0.75f, 0.37f, 0.79f, 0.38f},
+                                      {1.00f, 0.99f, 0.91f, 0.14f}}};
+constexpr ImU32 kRestColour = IM_COL32(30, 30, 30, 200);
+constexpr ImU32 kContactColour = IM_COL32(230, 40, 40, 255);
+constexpr ImU32 kFrameColour = IM_COL32(90, 90, 100, 255);
+constexpr ImU32 kGelColour = IM_COL32(196, 188, 170, 255);
+// Below this magnitude (image px) an arrow is drawn as a dot only.
+constexpr double kMinArrowPx = 0.02;
+
+void draw_arrow(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float thickness) {
+  const float dx = b.x - a.x, dy = b.y - a.y;
+  const float len = std::sqrt(dx * dx + dy * dy);
+  dl->AddLine(a, b, col, thickness);
+  if (len < 3.0f) return;
+  const float head = std::min(7.0f, 0.4f * len);
+  const float ux = dx / len, uy = dy / len;
+  const ImVec2 left(b.x - head * (ux * 0.87f - uy * 0.5f), b.y - head * (uy * 0.87f + ux * 0.5f));
+  const ImVec2 right(b.x - head * (ux * 0.87f + uy * 0.5f), b.y - head * (uy * 0.87f - ux * 0.5f));
+  dl->AddTriangleFilled(b, left, right, col);
+}
+}  // namespace
+
+ImU32 colour_map(float t) {
+  t = std::clamp(t, 0.0f, 1.0f);
+  std::size_t i = 1;
+  while (i + 1 < kStops.size() && t > kStops[i].t) ++i;
+  const Stop& a = kStops[i - 1];
+  const Stop& b = kStops[i];
+  const float s = (t - a.t) / (b.t - a.t);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(a.r + s * (b.r - a.r), a.g + s * (b.g - a.g), a.b + s * (b.b - a.b), 1));
+}
+
+double nice_floor(double x) {
+  const double p = std::pow(10.0, std::floor(std::log10(x)));
+  for (double m : {5.0, 2.0, 1.0})
+    if (m * p <= x) return m * p;
+  return p;
+}
+
+float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width) {
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 top = ImGui::GetCursorScreenPos();
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  ImGui::TextUnformatted(in.title.c_str());
+  if (in.metrics) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "RMSE %.2f px  CS %.2f", in.metrics->rmse_px, in.metrics->cs);
+    dl->AddText(ImVec2(top.x + width - ImGui::CalcTextSize(buf).x, top.y), IM_COL32(255, 220, 120, 255), buf);
+  }
+  const float zoom = width / static_cast<float>(in.image_width_px);
+  const float height = in.image_height_px * zoom;
+  const ImVec2 p0(top.x, top.y + line);
+  const ImVec2 p1(p0.x + width, p0.y + height);
+  if (in.background != nullptr)
+    dl->AddImage(in.background, p0, p1);
+  else
+    dl->AddRectFilled(p0, p1, kGelColour);
+  dl->AddRect(p0, p1, kFrameColour);
+  dl->PushClipRect(p0, p1, true);
+
+  const auto to_screen = [&](const Vec2& uv) { return ImVec2(p0.x + float(uv.x()) * zoom, p0.y + float(uv.y()) * zoom); };
+  const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
+  const float dot = std::max(1.5f, 2.2f * zoom);
+  if (in.rest_px != nullptr) {
+    for (std::size_t m = 0; m < in.rest_px->size(); ++m) {
+      const ImVec2 r = to_screen((*in.rest_px)[m]);
+      const bool contact = in.in_contact != nullptr && m < in.in_contact->size() && (*in.in_contact)[m] != 0;
+      dl->AddCircleFilled(r, dot, contact ? kContactColour : kRestColour);
+      if (!have_field || m >= in.disp_px->size()) continue;
+      const Vec2 d = (*in.disp_px)[m];
+      if (!std::isfinite(d.x()) || !std::isfinite(d.y())) continue;  // a marker the tracker lost
+      const double mag = d.norm();
+      if (mag < kMinArrowPx) continue;
+      const ImU32 col = colour_map(float(mag / scale.colour_max_px));
+      const ImVec2 tip(r.x + float(d.x()) * scale.arrow_gain * zoom, r.y + float(d.y()) * scale.arrow_gain * zoom);
+      draw_arrow(dl, r, tip, col, std::max(1.5f, 0.9f * zoom));
+    }
+  }
+  if (have_field) {
+    // The panel's own largest displacement, bottom left: the shared arrow scale can make a small field
+    // look empty.
+    double max_px = 0;
+    for (const Vec2& d : *in.disp_px)
+      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
+    const ImVec2 ts = ImGui::CalcTextSize(buf);
+    const ImVec2 c(p0.x + 3, p1.y - ts.y - 3);
+    dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
+    dl->AddText(c, IM_COL32(255, 255, 255, 255), buf);
+  }
+  if (!have_field && !in.note.empty()) {
+    const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());
+    const ImVec2 c((p0.x + p1.x - ts.x) / 2, (p0.y + p1.y - ts.y) / 2);
+    dl->AddRectFilled(ImVec2(c.x - 4, c.y - 2), ImVec2(c.x + ts.x + 4, c.y + ts.y + 2), IM_COL32(0, 0, 0, 160));
+    dl->AddText(c, IM_COL32(255, 255, 255, 255), in.note.c_str());
+  }
+  dl->PopClipRect();
+  ImGui::SetCursorScreenPos(ImVec2(top.x, p1.y + 4));
+  ImGui::Dummy(ImVec2(width, 0));
+  return line + height + 4;
+}
+
+float draw_field_legend(const FieldScale& scale, float image_zoom, float width) {
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImVec2 top = ImGui::GetCursorScreenPos();
+  const float bar_h = 12.0f;
+  const float label_w = 60.0f;
+  // Colour bar: 0 .. colour_max_px.
+  const float bar_w = std::max(60.0f, 0.45f * width - label_w);
+  constexpr int kSegments = 48;
+  for (int i = 0; i < kSegments; ++i) {
+    const float x0 = top.x + label_w + bar_w * i / kSegments, x1 = top.x + label_w + bar_w * (i + 1) / kSegments;
+    dl->AddRectFilled(ImVec2(x0, top.y + 3), ImVec2(x1 + 0.5f, top.y + 3 + bar_h), colour_map((i + 0.5f) / kSegments));
+  }
+  const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
+  dl->AddText(ImVec2(top.x, top.y), text, "|d|");
+  char buf[64];
+  dl->AddText(ImVec2(top.x + label_w, top.y + bar_h + 4), text, "0");
+  std::snprintf(buf, sizeof buf, "%.3g px", double(scale.colour_max_px));
+  dl->AddText(ImVec2(top.x + label_w + bar_w - ImGui::CalcTextSize(buf).x, top.y + bar_h + 4), text, buf);
+
+  // Arrow scale bar: the drawn length of a nice round displacement.
+  const float x_bar = top.x + label_w + bar_w + 30.0f;
+  const float avail = top.x + width - x_bar - 90.0f;
+  const double px_per_disp = double(scale.arrow_gain) * image_zoom;
+  // A round displacement near the top of the colour map, shortened until it fits.
+  double disp = nice_floor(std::max(1e-3, double(scale.colour_max_px)));
+  while (disp * px_per_disp > avail && disp > 1e-3) disp = nice_floor(disp * 0.99);
+  const float len = float(disp * px_per_disp);
+  const float y = top.y + 3 + bar_h / 2;
+  dl->AddLine(ImVec2(x_bar, y), ImVec2(x_bar + len, y), text, 2.0f);
+  dl->AddLine(ImVec2(x_bar, y - 5), ImVec2(x_bar, y + 5), text, 2.0f);
+  dl->AddLine(ImVec2(x_bar + len, y - 5), ImVec2(x_bar + len, y + 5), text, 2.0f);
+  std::snprintf(buf, sizeof buf, "arrow of %g px", disp);
+  dl->AddText(ImVec2(x_bar + len + 6, y - ImGui::GetTextLineHeight() / 2), text, buf);
+  const float h = bar_h + 6 + ImGui::GetTextLineHeight();
+  ImGui::Dummy(ImVec2(width, h));
+  return h;
+}
+
+}  // namespace sb::ui

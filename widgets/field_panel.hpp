@@ -1,0 +1,49 @@
+#pragma once
+// One marker-field panel (HydroShear | FOTS | TacSL | Measured): the sensor image (a real frame, else a
+// neutral gel image), the marker grid, displacement arrows on one shared scale coloured by magnitude,
+// a colour legend, a pixel scale bar, and when a measurement exists that frame's RMSE and CS.
+// Drawn with ImGui draw lists, so the GUI and the headless render draw the same pixels.
+#include <imgui.h>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/pose.hpp"
+
+namespace sb::ui {
+
+struct FieldScale {
+  float arrow_gain = 4.0f;   // drawn arrow length / displacement (both in image pixels)
+  float colour_max_px = 2.0f;  // displacement magnitude at the top of the colour map
+};
+
+struct FieldMetrics {
+  double rmse_px = 0;
+  double cs = 0;   // cosine similarity of the fields
+};
+
+struct FieldPanelInput {
+  std::string title;
+  const std::vector<Vec2>* rest_px = nullptr;      // marker rest positions (image pixels)
+  const std::vector<Vec2>* disp_px = nullptr;      // null or empty: nothing to draw
+  const std::vector<std::uint8_t>* in_contact = nullptr;
+  ImTextureID background = nullptr;
+  int image_width_px = 320;
+  int image_height_px = 240;
+  std::optional<FieldMetrics> metrics;
+  std::string note;                                // shown when there is no field
+};
+
+// RGBA of a magnitude on the colour map (t in [0, 1], clamped): dark blue, teal, green, yellow.
+ImU32 colour_map(float t);
+// The largest of 1, 2, 5 x 10^k not above `x` (scale bar lengths). x > 0.
+double nice_floor(double x);
+
+// Draws at the cursor into a box of `width` pixels; returns the height used.
+float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width);
+// The shared legend: colour bar 0..colour_max_px and the arrow scale bar. Returns the height used.
+float draw_field_legend(const FieldScale& scale, float image_zoom, float width);
+
+}  // namespace sb::ui

@@ -1,0 +1,141 @@
+#include "widgets/gl_window.hpp"
+
+#include <GL/glew.h>
+// GLEW before GLFW: GLFW must not pull in the system GL header first.
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+namespace sb::ui {
+
+namespace {
+// DejaVu Sans at this size stays readable in 245 px wide field panels and in screenshots.
+constexpr float kFontSizePx = 15.0f;
+const char* const kFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+void glfw_error(int code, const char* what) { (void)code; (void)what; }
+}  // namespace
+
+bool display_available() {
+  const char* d = std::getenv("DISPLAY");
+  return d != nullptr && *d != '\0';
+}
+
+GlWindow::GlWindow(const WindowOptions& options) {
+  glfwSetErrorCallback(glfw_error);
+  if (!display_available() || !glfwInit())
+    throw std::runtime_error("cannot open a window: no X display (DISPLAY is not set or unreachable)");
+  // VTK's GLEW is the GLX build: keep GLFW's default GLX context, 3.2 core forward-compatible.
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 2);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GL_TRUE);
+  glfwWindowHint(GLFW_VISIBLE, options.visible ? GLFW_TRUE : GLFW_FALSE);
+  glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 0);
+  window_ = glfwCreateWindow(options.width, options.height, options.title.c_str(), nullptr, nullptr);
+  if (window_ == nullptr) {
+    glfwTerminate();
+    throw std::runtime_error("cannot create an OpenGL 3.2 core window on this display");
+  }
+  glfwMakeContextCurrent(window_);
+  glfwSwapInterval(options.vsync ? 1 : 0);
+  glewExperimental = GL_TRUE;
+  glewInit();
+  glGetError();  // GLEW's probe of a core context leaves GL_INVALID_ENUM behind
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // a fixed layout, the same in every run and in the render tests
+  if (std::filesystem::exists(kFontPath)) io.Fonts->AddFontFromFileTTF(kFontPath, kFontSizePx);
+  ImGui::StyleColorsDark();
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.WindowRounding = 0;
+  style.FrameRounding = 2;
+  style.WindowBorderSize = 1;
+  ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  ImGui_ImplOpenGL3_Init("#version 150");
+}
+
+GlWindow::~GlWindow() {
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window_);
+  glfwTerminate();
+}
+
+bool GlWindow::should_close() const { return glfwWindowShouldClose(window_); }
+void GlWindow::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
+
+void GlWindow::begin_frame(double wait_s) {
+  if (wait_s > 0)
+    glfwWaitEventsTimeout(wait_s);
+  else
+    glfwPollEvents();
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  ImGui::NewFrame();
+}
+
+void GlWindow::render() {
+  ImGui::Render();
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, framebuffer_width(), framebuffer_height());
+  glDisable(GL_SCISSOR_TEST);
+  glClearColor(0.10f, 0.10f, 0.11f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+void GlWindow::present() { glfwSwapBuffers(window_); }
+
+int GlWindow::framebuffer_width() const {
+  int w = 0, h = 0;
+  glfwGetFramebufferSize(window_, &w, &h);
+  return w;
+}
+int GlWindow::framebuffer_height() const {
+  int w = 0, h = 0;
+  glfwGetFramebufferSize(window_, &w, &h);
+  return h;
+}
+
+Image GlWindow::read_back_buffer() const {
+  Image img;
+  img.width = framebuffer_width();
+  img.height = framebuffer_height();
+  img.rgb.resize(static_cast<std::size_t>(img.width) * img.height * 3);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadBuffer(GL_BACK);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, img.width, img.height, GL_RGB, GL_UNSIGNED_BYTE, img.rgb.data());
+  // OpenGL rows start at the bottom.
+  const std::size_t row = static_cast<std::size_t>(img.width) * 3;
+  for (int y = 0; y < img.height / 2; ++y)
+    std::swap_ranges(img.rgb.begin() + y * row, img.rgb.begin() + (y + 1) * row,
+                     img.rgb.begin() + (img.height - 1 - y) * row);
+  return img;
+}
+
+void write_png_atomic(const Image& image, const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path target(path);
+  if (target.has_parent_path()) fs::create_directories(target.parent_path());
+  cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<std::uint8_t*>(image.rgb.data()));
+  cv::Mat bgr;
+  cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
+  const fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp.png");
+  if (!cv::imwrite(tmp.string(), bgr)) throw std::runtime_error("cannot write " + tmp.string());
+  fs::rename(tmp, target);
+}
+
+}  // namespace sb::ui

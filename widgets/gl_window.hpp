@@ -1,0 +1,56 @@
+#pragma once
+// The GLFW window with its GLX context (VTK's GLEW needs GLX), Dear ImGui on top (OpenGL3 backend,
+// "#version 150"), and reading the back buffer for screenshots. One per process.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+struct GLFWwindow;
+
+namespace sb::ui {
+
+struct WindowOptions {
+  int width = 1280;
+  int height = 800;
+  bool visible = true;
+  bool vsync = false;
+  std::string title = "shearbench";
+};
+
+// RGB pixels, top row first.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+};
+
+class GlWindow {
+ public:
+  explicit GlWindow(const WindowOptions& options);  // throws std::runtime_error without a display
+  ~GlWindow();
+  GlWindow(const GlWindow&) = delete;
+  GlWindow& operator=(const GlWindow&) = delete;
+
+  bool should_close() const;
+  void request_close();
+  // Polls events (or waits up to `wait_s` when > 0) and starts an ImGui frame.
+  void begin_frame(double wait_s = 0.0);
+  // Renders ImGui into the back buffer. Call read_back_buffer() after this and before present().
+  void render();
+  void present();
+  Image read_back_buffer() const;
+  int framebuffer_width() const;
+  int framebuffer_height() const;
+  GLFWwindow* handle() const { return window_; }
+
+ private:
+  GLFWwindow* window_ = nullptr;
+};
+
+// Writes a PNG atomically (temporary file in the same folder, then rename). Throws std::runtime_error.
+void write_png_atomic(const Image& image, const std::string& path);
+
+// True when an X display is reachable (GLFW can open a window).
+bool display_available();
+
+}  // namespace sb::ui

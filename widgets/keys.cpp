@@ -1,0 +1,80 @@
+#include "widgets/keys.hpp"
+
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+
+namespace sb::ui {
+
+const std::vector<KeyBinding>& key_table() {
+  static const std::vector<KeyBinding> table = {
+      {GLFW_KEY_SPACE, false, Action::PlayPause, "Space", "play / pause the replay"},
+      {GLFW_KEY_PERIOD, false, Action::StepForward, ".", "one step forward"},
+      {GLFW_KEY_COMMA, false, Action::StepBack, ",", "one step back"},
+      {GLFW_KEY_HOME, false, Action::Rewind, "Home", "back to the start"},
+      {GLFW_KEY_END, false, Action::End, "End", "to the last step"},
+      {GLFW_KEY_RIGHT, false, Action::NudgeXPlus, "Right", "nudge the indenter +x (0.1 mm)"},
+      {GLFW_KEY_LEFT, false, Action::NudgeXMinus, "Left", "nudge the indenter -x"},
+      {GLFW_KEY_UP, false, Action::NudgeYPlus, "Up", "nudge the indenter +y"},
+      {GLFW_KEY_DOWN, false, Action::NudgeYMinus, "Down", "nudge the indenter -y"},
+      {GLFW_KEY_PAGE_DOWN, false, Action::PushIn, "PgDn", "push the indenter in (0.05 mm)"},
+      {GLFW_KEY_PAGE_UP, false, Action::PullOut, "PgUp", "pull the indenter out"},
+      {GLFW_KEY_E, false, Action::TwistPlus, "E", "twist +2 deg about the pad normal"},
+      {GLFW_KEY_Q, false, Action::TwistMinus, "Q", "twist -2 deg"},
+      {GLFW_KEY_R, false, Action::CameraReset, "R", "reset the camera"},
+      {GLFW_KEY_1, false, Action::CameraTop, "1", "camera: top"},
+      {GLFW_KEY_2, false, Action::CameraSide, "2", "camera: side"},
+      {GLFW_KEY_3, false, Action::CameraIso, "3", "camera: iso"},
+      {GLFW_KEY_EQUAL, false, Action::ArrowsLonger, "+", "longer arrows (all panels)"},
+      {GLFW_KEY_MINUS, false, Action::ArrowsShorter, "-", "shorter arrows"},
+      {GLFW_KEY_M, false, Action::NextMarkerModel, "M", "which model moves the 3D markers"},
+      {GLFW_KEY_P, false, Action::Screenshot, "P", "screenshot (PNG)"},
+      {GLFW_KEY_F1, false, Action::ToggleHelp, "F1 / H", "this help"},
+      {GLFW_KEY_H, false, Action::ToggleHelp, "", ""},
+      {GLFW_KEY_ESCAPE, true, Action::Quit, "Shift+Esc", "quit"},
+  };
+  return table;
+}
+
+std::vector<Action> pressed_actions() {
+  std::vector<Action> actions;
+  const ImGuiIO& io = ImGui::GetIO();
+  if (io.WantTextInput) return actions;
+  for (const KeyBinding& k : key_table())
+    if (ImGui::IsKeyPressed(k.key, /*repeat=*/true) && (!k.shift || io.KeyShift)) actions.push_back(k.action);
+  return actions;
+}
+
+void draw_help_overlay(bool* open) {
+  if (!*open) return;
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x / 2, vp->Pos.y + vp->Size.y / 2), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowBgAlpha(0.92f);
+  if (ImGui::Begin("Keys and mouse", open, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) {
+    if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {
+      for (const KeyBinding& k : key_table()) {
+        if (k.help[0] == '\0') continue;  // an alias shown with its main key
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(k.keys);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(k.help);
+      }
+      const char* mouse[][2] = {{"drag indenter", "move it in the pad plane"},
+                                {"Shift+drag", "push in / pull out"},
+                                {"Ctrl+drag", "twist about the pad normal"},
+                                {"Alt+drag", "tilt (x) and roll (y)"},
+                                {"drag elsewhere", "orbit; middle: pan; right / wheel: zoom"}};
+      for (auto& m : mouse) {
+        ImGui::TableNextRow();
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(m[0]);
+        ImGui::TableNextColumn();
+        ImGui::TextUnformatted(m[1]);
+      }
+      ImGui::EndTable();
+    }
+  }
+  ImGui::End();
+}
+
+}  // namespace sb::ui

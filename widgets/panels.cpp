@@ -1,0 +1,142 @@
+#include "widgets/panels.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace sb::ui {
+
+std::string display_name(const std::string& id) {
+  if (id == "hydroshear") return "HydroShear";
+  if (id == "fots") return "FOTS";
+  if (id == "fots-reimpl") return "FOTS (reimpl)";
+  if (id == "tacsl") return "TacSL";
+  if (id == "tacsl-normalized") return "TacSL (normalized)";
+  return id;
+}
+
+bool param_panel(const std::string& model_id, ParamSet& params) {
+  bool changed = false;
+  ImGui::PushID(model_id.c_str());
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const ParamSpec& spec = params.specs()[i];
+    ImGui::PushID(static_cast<int>(i));
+    float v = static_cast<float>(params[i]);
+    const std::string format = spec.unit.empty() ? "%.4g" : "%.4g " + spec.unit;
+    const bool log = spec.log_scale && spec.min > 0;
+    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - 95.0f);
+    if (ImGui::SliderFloat("##v", &v, static_cast<float>(spec.min), static_cast<float>(spec.max), format.c_str(),
+                           (log ? ImGuiSliderFlags_Logarithmic : 0) | ImGuiSliderFlags_AlwaysClamp)) {
+      const double clamped = std::clamp(static_cast<double>(v), spec.min, spec.max);
+      if (clamped != params[i]) {
+        params.set(i, clamped);
+        changed = true;
+      }
+    }
+    if (ImGui::IsItemHovered() && !spec.help.empty()) ImGui::SetTooltip("%s", spec.help.c_str());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("R") && params[i] != spec.default_value) {
+      params.set(i, spec.default_value);
+      changed = true;
+    }
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset to %g", spec.default_value);
+    ImGui::SameLine();
+    ImGui::TextUnformatted(spec.name.c_str());
+    ImGui::PopID();
+  }
+  ImGui::PopID();
+  return changed;
+}
+
+Vec3 rpy_deg_of(const Mat3& R) {
+  // Extrinsic x-y-z (roll, pitch, yaw) = intrinsic z-y'-x'': R = Rz(yaw) Ry(pitch) Rx(roll).
+  const Vec3 ypr = R.eulerAngles(2, 1, 0);
+  Vec3 rpy(ypr[2], ypr[1], ypr[0]);
+  // eulerAngles puts yaw in [0, pi]; prefer the equivalent triple with |pitch| <= pi/2, small angles near 0.
+  if (std::abs(rpy[1]) > M_PI / 2) rpy = Vec3(rpy[0] - M_PI, M_PI - rpy[1], rpy[2] - M_PI);
+  for (int i = 0; i < 3; ++i) rpy[i] = std::remainder(rpy[i], 2 * M_PI);
+  return rpy * 180.0 / M_PI;
+}
+
+Mat3 rotation_from_rpy_deg(const Vec3& rpy_deg) {
+  const Vec3 r = rpy_deg * M_PI / 180.0;
+  return Rz(r.z()) * Ry(r.y()) * Rx(r.x());
+}
+
+bool pose_panel(Pose& X) {
+  float xyz[3] = {float(X.translation().x() * 1e3), float(X.translation().y() * 1e3), float(X.translation().z() * 1e3)};
+  const Vec3 rpy = rpy_deg_of(X.linear());
+  float ang[3] = {float(rpy.x()), float(rpy.y()), float(rpy.z())};
+  bool changed = false;
+  ImGui::SetNextItemWidth(-70);
+  if (ImGui::DragFloat3("xyz mm", xyz, 0.01f, -40.f, 40.f, "%.3f")) changed = true;
+  ImGui::SetNextItemWidth(-70);
+  if (ImGui::DragFloat3("rpy deg", ang, 0.1f, -180.f, 180.f, "%.2f")) changed = true;
+  if (changed) {
+    X.translation() = Vec3(xyz[0], xyz[1], xyz[2]) * 1e-3;
+    X.linear() = rotation_from_rpy_deg(Vec3(ang[0], ang[1], ang[2]));
+  }
+  return changed;
+}
+
+ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
+  ReplayRequest req;
+  ImGui::SetNextItemWidth(-60);
+  ImGui::InputTextWithHint("##dataset", "tsd/1 dataset folder", ui.dataset_buf, sizeof ui.dataset_buf);
+  ImGui::SameLine();
+  if (ImGui::Button("Open", ImVec2(-1, 0))) req.open_dataset = true;
+  if (!ui.samples.empty()) {
+    ImGui::SetNextItemWidth(-60);
+    const char* current = ui.samples[std::clamp(ui.sample_index, 0, int(ui.samples.size()) - 1)].c_str();
+    if (ImGui::BeginCombo("sample", current)) {
+      for (int i = 0; i < int(ui.samples.size()); ++i)
+        if (ImGui::Selectable(ui.samples[i].c_str(), i == ui.sample_index)) {
+          ui.sample_index = i;
+          req.open_sample = true;
+        }
+      ImGui::EndCombo();
+    }
+  }
+  if (ImGui::Button(snap.playing ? "Pause" : "Play", ImVec2(60, 0))) req.toggle_play = true;
+  ImGui::SameLine();
+  if (ImGui::Button("|<")) req.seek_to = -1;
+  ImGui::SameLine();
+  if (ImGui::Button("<")) req.seek_to = std::max(-1, snap.step - 1);
+  ImGui::SameLine();
+  if (ImGui::Button(">")) req.seek_to = snap.step + 1;
+  ImGui::SameLine();
+  if (ImGui::Button(">|")) req.seek_to = snap.num_steps - 1;
+  ImGui::SameLine();
+  float speed = float(snap.speed);
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::SliderFloat("##speed", &speed, 0.05f, 20.0f, "speed %.2gx", ImGuiSliderFlags_Logarithmic))
+    req.speed = speed;
+  int step = snap.step;
+  ImGui::SetNextItemWidth(-1);
+  char label[64];
+  std::snprintf(label, sizeof label, "step %%d / %d  (t = %.2f s)", snap.num_steps - 1,
+                std::max(0, snap.step) * snap.dt_s);
+  if (ImGui::SliderInt("##timeline", &step, -1, std::max(0, snap.num_steps - 1), label)) req.seek_to = step;
+  return req;
+}
+
+void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
+  std::string text;
+  char buf[128];
+  std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
+  text += buf;
+  if (show_timings) {
+    for (const auto& m : snap.models) {
+      std::snprintf(buf, sizeof buf, "  |  %s %.2f ms", display_name(m.id).c_str(), m.timing.mean_ms);
+      text += buf;
+    }
+    std::snprintf(buf, sizeof buf, "  |  frame %.1f ms (%.0f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
+    text += buf;
+  }
+  if (!message.empty()) text += "  |  " + message;
+  ImGui::TextUnformatted(text.c_str());
+}
+
+}  // namespace sb::ui

@@ -1,0 +1,44 @@
+#pragma once
+// The workbench's control panels. Each is a function that draws into the current ImGui window and
+// returns whether the user changed something (and what, through its arguments).
+#include <string>
+#include <vector>
+
+#include "core/app_state.hpp"
+#include "core/params.hpp"
+
+namespace sb::ui {
+
+// One slider per ParamSpec (unit in the format, logarithmic where spec.log_scale, hover for help) and
+// a reset-to-default button. Returns true when a value changed.
+bool param_panel(const std::string& model_id, ParamSet& params);
+
+// Numeric entry of the indenter pose: position in mm and roll-pitch-yaw (extrinsic xyz) in degrees.
+bool pose_panel(Pose& X_EI);
+Vec3 rpy_deg_of(const Mat3& R);
+Mat3 rotation_from_rpy_deg(const Vec3& rpy_deg);
+
+struct ReplayRequest {
+  bool toggle_play = false;
+  int seek_to = -2;          // -2: none
+  double speed = -1;         // < 0: unchanged
+  bool open_sample = false;  // open samples[sample_index] of dataset_dir
+  bool open_dataset = false; // open the folder typed in dataset_buf (its first sample)
+};
+
+// Dataset/sample chooser (the caller lists the samples), play/pause, speed, step buttons and a timeline.
+struct ReplayUi {
+  std::string dataset_dir;
+  std::vector<std::string> samples;
+  int sample_index = 0;
+  char dataset_buf[512] = {};
+};
+ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui);
+
+// "HydroShear 3.1 ms | FOTS 0.2 ms | ..." plus frame time; without timings (tests) only the step.
+void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message);
+
+// Pretty model names for the panels.
+std::string display_name(const std::string& model_id);
+
+}  // namespace sb::ui

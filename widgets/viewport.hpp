@@ -1,0 +1,43 @@
+#pragma once
+// The 3D view (VTK in ImGui): the elastomer pad at its real size (semi-transparent), its markers (red
+// where in contact), the indenter mesh with its contact patch highlighted, and the tracked surface points
+// of a model coloured by Stick / Slip / Free with lines to their anchors. VTK renders into its own
+// framebuffer (vtkGenericOpenGLRenderWindow); the colour texture is shown with ImGui::Image.
+//
+// Mouse: left-drag on the indenter moves it in the pad plane; Shift+drag pushes it in/out; Ctrl+drag
+// twists it about the pad normal; Alt+drag tilts (x) and rolls (y). Elsewhere left-drag orbits,
+// middle-drag pans, right-drag and the wheel zoom (VTK's trackball camera).
+#include <memory>
+#include <optional>
+
+#include "core/app_state.hpp"
+
+namespace sb::ui {
+
+enum class CameraPreset { Iso, Top, Side };
+
+class Viewport3D {
+ public:
+  Viewport3D();
+  ~Viewport3D();
+  Viewport3D(const Viewport3D&) = delete;
+  Viewport3D& operator=(const Viewport3D&) = delete;
+
+  // Builds the actors for a sensor and an indenter (call again when the scene changes).
+  void set_scene(const Sensor& sensor, const Indenter& indenter);
+  // Moves the indenter and updates markers and tracked points from one model's output of the snapshot.
+  void update(const AppSnapshot& snapshot, int model_index);
+  void set_camera(CameraPreset preset);
+  // Renders at `size` pixels and places the image in the current ImGui window. Returns the pose the user
+  // drags the indenter to, when `interactive` and a drag is under way.
+  std::optional<Pose> draw(float width, float height, const Pose& X_EI_now, bool interactive);
+  bool dragging() const;
+  // Something is moving (a drag, a camera gesture, a pending re-render): keep drawing frames.
+  bool busy() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sb::ui

@@ -1,0 +1,365 @@
+#include "widgets/workbench.hpp"
+
+#include <GL/glew.h>
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "widgets/keys.hpp"
+
+namespace sb::ui {
+
+namespace {
+// Keyboard nudges.
+constexpr double kNudgeM = 0.1e-3;
+constexpr double kPushM = 0.05e-3;
+constexpr double kTwistRad = 2.0 * M_PI / 180.0;
+// Auto scale: the largest displacement is drawn as this fraction of the marker pitch.
+constexpr double kAutoArrowFractionOfPitch = 0.9;
+constexpr float kPad = 6.0f;
+constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
+                                    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
+                                    ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoSavedSettings;
+
+GLuint upload_rgba(const cv::Mat& rgba, GLuint tex) {
+  if (tex == 0) glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, rgba.cols, rgba.rows, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data);
+  return tex;
+}
+
+// A neutral gel: warm grey, lit from the top left, as a GelSight image without contact looks.
+cv::Mat neutral_gel_image(int w, int h) {
+  cv::Mat img(h, w, CV_8UC4);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double s = 0.93 + 0.07 * (1.0 - (0.6 * x / w + 0.4 * y / h));
+      img.at<cv::Vec4b>(y, x) = cv::Vec4b(cv::saturate_cast<uchar>(205 * s), cv::saturate_cast<uchar>(196 * s),
+                                          cv::saturate_cast<uchar>(178 * s), 255);
+    }
+  return img;
+}
+
+ImTextureID as_texture_id(GLuint t) { return reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(t)); }
+}  // namespace
+
+struct Workbench::Textures {
+  GLuint neutral = 0;
+  GLuint frame = 0;
+  std::string frame_path;
+  bool frame_ok = false;
+  int neutral_w = 0, neutral_h = 0;
+  ~Textures() {
+    if (neutral) glDeleteTextures(1, &neutral);
+    if (frame) glDeleteTextures(1, &frame);
+  }
+  ImTextureID neutral_for(int w, int h) {
+    if (neutral == 0 || w != neutral_w || h != neutral_h) {
+      neutral = upload_rgba(neutral_gel_image(w, h), neutral);
+      neutral_w = w;
+      neutral_h = h;
+    }
+    return as_texture_id(neutral);
+  }
+  ImTextureID frame_for(const std::string& path) {
+    if (path != frame_path) {
+      frame_path = path;
+      const cv::Mat bgr = cv::imread(path, cv::IMREAD_COLOR);
+      frame_ok = !bgr.empty();
+      if (frame_ok) {
+        cv::Mat rgba;
+        cv::cvtColor(bgr, rgba, cv::COLOR_BGR2RGBA);
+        frame = upload_rgba(rgba, frame);
+      }
+    }
+    return frame_ok ? as_texture_id(frame) : nullptr;
+  }
+};
+
+Workbench::Workbench(WorkbenchOptions options) : options_(options), textures_(std::make_unique<Textures>()) {}
+Workbench::~Workbench() = default;
+
+void Workbench::set_session(AppState* state, MeasuredData measured, std::string title, ReplayUi replay) {
+  state_ = state;
+  measured_ = std::move(measured);
+  title_ = std::move(title);
+  replay_ = std::move(replay);
+  std::snprintf(replay_.dataset_buf, sizeof replay_.dataset_buf, "%s", replay_.dataset_dir.c_str());
+  snap_ = state_->snapshot();
+  edit_params_.clear();
+  for (const auto& m : snap_.models) edit_params_.push_back(m.params);
+  viewport_.set_scene(*state_->sensor(), *state_->indenter());
+  // Marker pitch: the smallest distance between two rest markers (for the automatic arrow scale).
+  const auto& rest = state_->sensor()->markers_rest_px;
+  double pitch = 1e9;
+  for (std::size_t i = 0; i < rest.size(); ++i)
+    for (std::size_t j = i + 1; j < rest.size(); ++j) pitch = std::min(pitch, (rest[i] - rest[j]).norm());
+  marker_pitch_px_ = pitch < 1e9 && pitch > 0 ? pitch : 33.0;
+  last_drag_.reset();
+}
+
+const std::vector<Vec2>* Workbench::measured_at_step() const {
+  const int k = snap_.step;
+  if (k < 0 || k >= snap_.measured_steps || k >= static_cast<int>(measured_.disp_px.size())) return nullptr;
+  return &measured_.disp_px[k];
+}
+
+void Workbench::auto_scale() {
+  const auto max_of = [](const std::vector<Vec2>& d) {
+    double m = 0;
+    for (const Vec2& v : d)
+      if (std::isfinite(v.x()) && std::isfinite(v.y())) m = std::max(m, v.norm());
+    return m;
+  };
+  // The reference field sets the scale: the measurement when there is one, else the median of the
+  // models' largest displacements (one model far off should not flatten the others).
+  double max_px = 0;
+  if (const auto* meas = measured_at_step()) {
+    max_px = max_of(*meas);
+  } else {
+    std::vector<double> maxes;
+    for (const auto& m : snap_.models) maxes.push_back(max_of(m.out.disp_px));
+    if (!maxes.empty()) {
+      std::sort(maxes.begin(), maxes.end());
+      max_px = maxes[maxes.size() / 2];
+    }
+  }
+  // Without a field yet keep the previous scale rather than blowing up the gain.
+  constexpr double kMinFieldPx = 0.05;
+  if (max_px < kMinFieldPx) return;
+  scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
+  // The colour map tops out at a round number just above the reference's largest displacement.
+  const double top = nice_floor(max_px);
+  scale_.colour_max_px = static_cast<float>(top >= max_px ? top : (top * 2 >= max_px ? top * 2 : top * 5));
+}
+
+void Workbench::nudge(const Pose& delta_E, bool rotate_about_origin) {
+  Pose X = last_drag_ ? *last_drag_ : snap_.X_EI;
+  if (rotate_about_origin)
+    X.linear() = delta_E.linear() * X.linear();  // about the indenter origin, axes of E
+  X.translation() += delta_E.translation();
+  state_->request_drag(X);
+  last_drag_ = X;
+}
+
+void Workbench::apply_actions(WorkbenchRequest& req) {
+  for (Action a : pressed_actions()) {
+    switch (a) {
+      case Action::PlayPause: state_->set_playing(!snap_.playing); break;
+      case Action::StepForward: state_->request_seek(snap_.step + 1); break;
+      case Action::StepBack: state_->request_seek(std::max(-1, snap_.step - 1)); break;
+      case Action::Rewind: state_->request_seek(-1); break;
+      case Action::End: state_->request_seek(snap_.num_steps - 1); break;
+      case Action::NudgeXPlus: nudge(make_pose(Vec3(kNudgeM, 0, 0), Quat::Identity()), false); break;
+      case Action::NudgeXMinus: nudge(make_pose(Vec3(-kNudgeM, 0, 0), Quat::Identity()), false); break;
+      case Action::NudgeYPlus: nudge(make_pose(Vec3(0, kNudgeM, 0), Quat::Identity()), false); break;
+      case Action::NudgeYMinus: nudge(make_pose(Vec3(0, -kNudgeM, 0), Quat::Identity()), false); break;
+      case Action::PushIn: nudge(make_pose(Vec3(0, 0, -kPushM), Quat::Identity()), false); break;
+      case Action::PullOut: nudge(make_pose(Vec3(0, 0, kPushM), Quat::Identity()), false); break;
+      case Action::TwistPlus: nudge(make_pose(Vec3::Zero(), Quat(Eigen::AngleAxisd(kTwistRad, Vec3::UnitZ()))), true); break;
+      case Action::TwistMinus: nudge(make_pose(Vec3::Zero(), Quat(Eigen::AngleAxisd(-kTwistRad, Vec3::UnitZ()))), true); break;
+      case Action::CameraReset:
+      case Action::CameraIso: viewport_.set_camera(CameraPreset::Iso); break;
+      case Action::CameraTop: viewport_.set_camera(CameraPreset::Top); break;
+      case Action::CameraSide: viewport_.set_camera(CameraPreset::Side); break;
+      case Action::ArrowsLonger: auto_scale_ = false; scale_.arrow_gain *= 1.25f; break;
+      case Action::ArrowsShorter: auto_scale_ = false; scale_.arrow_gain /= 1.25f; break;
+      case Action::NextMarkerModel: marker_model_ = (marker_model_ + 1) % std::max<int>(1, snap_.models.size()); break;
+      case Action::Screenshot: req.screenshot = true; break;
+      case Action::ToggleHelp: show_help_ = !show_help_; break;
+      case Action::Quit: req.quit = true; break;
+    }
+  }
+}
+
+void Workbench::draw_controls(WorkbenchRequest& req) {
+  ImGui::TextWrapped("%s", title_.c_str());
+  ImGui::Separator();
+  if (ImGui::CollapsingHeader("Replay", ImGuiTreeNodeFlags_DefaultOpen)) {
+    const ReplayRequest r = replay_panel(snap_, replay_);
+    if (r.toggle_play) {
+      if (!snap_.playing && snap_.step >= snap_.num_steps - 1) state_->request_seek(-1);
+      state_->set_playing(!snap_.playing);
+    }
+    if (r.seek_to != -2) state_->request_seek(r.seek_to);
+    if (r.speed > 0) state_->set_speed(r.speed);
+    if (r.open_sample) req.open_sample = replay_.sample_index;
+    if (r.open_dataset) req.open_dataset = std::string(replay_.dataset_buf);
+  }
+  if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen)) {
+    Pose X = last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI;
+    if (pose_panel(X)) {
+      state_->request_drag(X);
+      last_drag_ = X;
+    }
+    ImGui::TextDisabled("drag it in the 3D view; F1 for keys");
+  }
+  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::Checkbox("auto scale", &auto_scale_);
+    ImGui::SetNextItemWidth(-110);
+    if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
+      auto_scale_ = false;
+    ImGui::SetNextItemWidth(-110);
+    if (ImGui::SliderFloat("colour max", &scale_.colour_max_px, 0.05f, 50.0f, "%.3g px", ImGuiSliderFlags_Logarithmic))
+      auto_scale_ = false;
+    if (!snap_.models.empty()) {
+      ImGui::SetNextItemWidth(-110);
+      marker_model_ = std::clamp(marker_model_, 0, int(snap_.models.size()) - 1);
+      if (ImGui::BeginCombo("3D markers", display_name(snap_.models[marker_model_].id).c_str())) {
+        for (int i = 0; i < int(snap_.models.size()); ++i)
+          if (ImGui::Selectable(display_name(snap_.models[i].id).c_str(), i == marker_model_)) marker_model_ = i;
+        ImGui::EndCombo();
+      }
+    }
+    if (ImGui::SmallButton("Top")) viewport_.set_camera(CameraPreset::Top);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Side")) viewport_.set_camera(CameraPreset::Side);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Iso")) viewport_.set_camera(CameraPreset::Iso);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Screenshot")) req.screenshot = true;
+  }
+  if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SetNextItemWidth(-110);
+    ImGui::InputText("##params", params_path_, sizeof params_path_);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Load")) req.load_params = std::string(params_path_);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Save")) req.save_params = std::string(params_path_);
+    for (std::size_t m = 0; m < snap_.models.size() && m < edit_params_.size(); ++m) {
+      const std::string& id = snap_.models[m].id;
+      if (!ImGui::TreeNodeEx(id.c_str(), m == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", display_name(id).c_str()))
+        continue;
+      // Slider edits go to a local copy that is sent as a whole; the snapshot catches up after the replay.
+      if (param_panel(id, edit_params_[m])) state_->request_params(m, edit_params_[m]);
+      ImGui::TreePop();
+    }
+  }
+}
+
+void Workbench::draw_fields(float width) {
+  const auto* sensor = state_->sensor().get();
+  const int iw = sensor->camera.width_px, ih = sensor->camera.height_px;
+  const auto* measured = measured_at_step();
+  ImTextureID background = nullptr;
+  if (snap_.step >= 0 && snap_.step < int(measured_.frame_paths.size()) && snap_.step < snap_.measured_steps)
+    background = textures_->frame_for(measured_.frame_paths[snap_.step]);
+  if (background == nullptr) background = textures_->neutral_for(iw, ih);
+
+  const int n = static_cast<int>(snap_.models.size()) + 1;
+  const float pw = (width - kPad * (n - 1)) / n;
+  for (int i = 0; i < n; ++i) {
+    if (i > 0) ImGui::SameLine(0, kPad);
+    ImGui::BeginGroup();
+    FieldPanelInput in;
+    in.rest_px = &sensor->markers_rest_px;
+    in.background = background;
+    in.image_width_px = iw;
+    in.image_height_px = ih;
+    if (i < n - 1) {
+      const ModelView& m = snap_.models[i];
+      in.title = display_name(m.id);
+      in.disp_px = &m.out.disp_px;
+      in.in_contact = &m.out.marker_in_contact;
+      if (measured != nullptr && metrics_ && !m.out.disp_px.empty()) in.metrics = metrics_(m.out.disp_px, *measured);
+      in.note = snap_.step < 0 ? "before the first step" : "";
+    } else {
+      in.title = measured_.label;
+      in.disp_px = measured;
+      in.note = measured_.disp_px.empty() ? "no measurement (scene)"
+                : snap_.step >= snap_.measured_steps ? "path edited: no measurement"
+                                                     : "no measurement at this step";
+    }
+    ImGui::PushID(i);
+    draw_field_panel(in, scale_, pw);
+    ImGui::PopID();
+    ImGui::EndGroup();
+  }
+  draw_field_legend(scale_, pw / float(iw), width);
+}
+
+bool Workbench::animating() const {
+  return state_ != nullptr && (snap_.playing || viewport_.busy() || state_->version() != snap_.version ||
+                               state_->pending_edits() > 0);
+}
+
+WorkbenchRequest Workbench::draw(double frame_ms) {
+  WorkbenchRequest req;
+  if (state_ == nullptr) return req;
+  snap_ = state_->snapshot();
+  // Parameters changed elsewhere (loaded from a file) show up in the sliders.
+  for (std::size_t m = 0; m < snap_.models.size() && m < edit_params_.size(); ++m)
+    if (!ImGui::IsAnyItemActive() && edit_params_[m].values() != snap_.models[m].params.values() &&
+        state_->pending_edits() == 0)
+      edit_params_[m] = snap_.models[m].params;
+  if (auto_scale_) auto_scale();
+  if (options_.interactive) apply_actions(req);
+
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  const float W = vp->Size.x, H = vp->Size.y;
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  const float status_h = line + 8;
+  const float left_w = std::clamp(0.25f * W, 300.0f, 400.0f);
+  const float right_w = W - left_w;
+  const int n_panels = static_cast<int>(snap_.models.size()) + 1;
+  const float inner_w = right_w - 2 * ImGui::GetStyle().WindowPadding.x;
+  const float panel_w = (inner_w - kPad * (n_panels - 1)) / n_panels;
+  const float panel_h = line + panel_w * float(state_->sensor()->camera.height_px) / float(state_->sensor()->camera.width_px) + 4;
+  const float legend_h = 12 + 6 + ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
+  const float fields_h = panel_h + legend_h + 2 * ImGui::GetStyle().WindowPadding.y + ImGui::GetStyle().ItemSpacing.y;
+  const float view_h = H - status_h - fields_h;
+
+  ImGui::SetNextWindowPos(vp->Pos);
+  ImGui::SetNextWindowSize(ImVec2(left_w, H - status_h));
+  ImGui::Begin("Controls", nullptr, kFixed);
+  draw_controls(req);
+  ImGui::End();
+
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y));
+  ImGui::SetNextWindowSize(ImVec2(right_w, view_h));
+  ImGui::Begin("3D", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  viewport_.update(snap_, marker_model_);
+  const ImVec2 view_origin = ImGui::GetCursorScreenPos();
+  if (auto target = viewport_.draw(right_w, view_h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
+                                   options_.interactive)) {
+    if (!last_drag_ || !target->isApprox(*last_drag_, 1e-12)) {
+      state_->request_drag(*target);
+      last_drag_ = target;
+    }
+  }
+  {
+    const std::string label = "3D markers: " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
+                              "   tracked points: stick green, slip orange, free grey; contact patch orange";
+    ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
+    dl->AddRectFilled(ImVec2(view_origin.x + 4, view_origin.y + 4), ImVec2(view_origin.x + 12 + ts.x, view_origin.y + 8 + ts.y),
+                      IM_COL32(20, 20, 25, 170), 3.0f);
+    dl->AddText(ImVec2(view_origin.x + 8, view_origin.y + 6), IM_COL32(240, 240, 240, 255), label.c_str());
+  }
+  ImGui::End();
+  ImGui::PopStyleVar();
+
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y + view_h));
+  ImGui::SetNextWindowSize(ImVec2(right_w, fields_h));
+  ImGui::Begin("Fields", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar);
+  draw_fields(inner_w);
+  ImGui::End();
+
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x, vp->Pos.y + H - status_h));
+  ImGui::SetNextWindowSize(ImVec2(W, status_h));
+  ImGui::Begin("Status", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar);
+  status_bar(snap_, frame_ms, options_.show_timings, message_);
+  ImGui::End();
+
+  draw_help_overlay(&show_help_);
+  return req;
+}
+
+}  // namespace sb::ui

@@ -1,0 +1,92 @@
+#pragma once
+// The whole workbench window, drawn once per frame from an AppState snapshot: controls on the left
+// (replay, indenter pose, display scale, per-model parameters), the 3D view top right, the four field
+// panels (HydroShear | FOTS | TacSL | Measured) below it, and a status bar. `shearbench gui` and
+// `shearbench render` both call draw(), so a headless render shows exactly what the GUI shows.
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/app_state.hpp"
+#include "widgets/field_panel.hpp"
+#include "widgets/panels.hpp"
+#include "widgets/viewport.hpp"
+
+namespace sb::ui {
+
+// Measured marker data of the replayed sample, frame by frame (frame k goes with step k).
+struct MeasuredData {
+  std::vector<std::vector<Vec2>> disp_px;   // per frame, per marker; NaN for a marker the tracker lost
+  std::vector<std::string> frame_paths;     // per frame PNG; empty when the dataset has no frames
+  std::string label = "Measured";
+};
+
+// Error metrics of a simulated field against a measured one (supplied by the app: core/metrics.hpp).
+using MetricsFn = std::function<std::optional<FieldMetrics>(const std::vector<Vec2>& sim,
+                                                            const std::vector<Vec2>& measured)>;
+
+struct WorkbenchOptions {
+  bool show_timings = true;   // off in render tests: no timing text in the image
+  bool interactive = true;
+};
+
+// What the workbench asks of the app (things it cannot do from a snapshot).
+struct WorkbenchRequest {
+  bool quit = false;
+  bool screenshot = false;
+  std::optional<int> open_sample;           // index into ReplayUi::samples
+  std::optional<std::string> open_dataset;  // a dataset folder (its first sample)
+  std::optional<std::string> load_params;   // params.json path
+  std::optional<std::string> save_params;
+};
+
+class Workbench {
+ public:
+  explicit Workbench(WorkbenchOptions options);
+  ~Workbench();
+
+  // A new session (scene or sample). `state` must outlive the next set_session / the workbench.
+  void set_session(AppState* state, MeasuredData measured, std::string title, ReplayUi replay);
+  void set_metrics(MetricsFn fn) { metrics_ = std::move(fn); }
+  // Draws one frame of windows (between GlWindow::begin_frame and render).
+  WorkbenchRequest draw(double frame_ms);
+  void set_message(std::string m) { message_ = std::move(m); }
+  void set_camera(CameraPreset preset) { viewport_.set_camera(preset); }
+  const AppSnapshot& last_snapshot() const { return snap_; }
+  // True while anything on screen may change without input (play-back, a drag, physics catching up).
+  bool animating() const;
+  FieldScale& scale() { return scale_; }
+  ReplayUi& replay_ui() { return replay_; }
+
+ private:
+  struct Textures;
+  void apply_actions(WorkbenchRequest& req);
+  void draw_controls(WorkbenchRequest& req);
+  void draw_fields(float width);
+  void auto_scale();
+  void nudge(const Pose& delta_E, bool rotate_about_origin);
+  const std::vector<Vec2>* measured_at_step() const;
+
+  WorkbenchOptions options_;
+  AppState* state_ = nullptr;
+  MeasuredData measured_;
+  std::string title_;
+  ReplayUi replay_;
+  MetricsFn metrics_;
+  Viewport3D viewport_;
+  std::unique_ptr<Textures> textures_;
+  AppSnapshot snap_;
+  FieldScale scale_;
+  bool auto_scale_ = true;
+  double marker_pitch_px_ = 33.0;
+  int marker_model_ = 0;
+  bool show_help_ = false;
+  std::vector<ParamSet> edit_params_;
+  std::optional<Pose> last_drag_;
+  char params_path_[512] = "params.json";
+  std::string message_;
+};
+
+}  // namespace sb::ui
