@@ -1,17 +1,14 @@
 // Shear-model step costs: one sensor with a 4 mm sphere (single-instance ShearModel), and the batched
 // peg workload of BENCH_WORKLOAD.md (steps 3..22 timed, state carried from step 0; manual time is the
-// mean per batched step). Run: ./build/shearbench_bench --benchmark_filter=Models
+// median batched step). Run: ./build/shearbench_bench --benchmark_filter='Models|Workload'
+
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cmath>
 #include <numbers>
 
-#include "core/bench_workload.hpp"
-#include "core/fots.hpp"
-#include "core/hydroshear.hpp"
+#include "core/bench_run.hpp"
 #include "core/model.hpp"
-#include "core/tacsl.hpp"
 
 namespace {
 
@@ -61,44 +58,31 @@ BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots, std::string("fots"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots_reimpl, std::string("fots-reimpl"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, tacsl, std::string("tacsl"));
 
-template <class Batch, class Make>
-void run_workload(benchmark::State& state, Make make) {
-  sb::BenchWorkloadSpec spec;
-  spec.envs = static_cast<int>(state.range(0));
-  const auto traj = sb::bench_trajectory(spec);
-  auto peg = std::make_shared<sb::Indenter>();
-  peg->sdf = sb::make_capped_cylinder_sdf(sb::kPegRadius, sb::kPegLength);
-  peg->samples = sb::bench_peg_points();
-  const int slots = spec.envs * sb::kBenchSensors;
-  Batch batch = make(mini_sensor(), peg, slots);
-  std::vector<sb::Vec2> disp(static_cast<std::size_t>(slots) * 63);
+// BENCH_WORKLOAD.md through the same code as `shearbench bench` (core/bench_run): each iteration resets
+// the batch and runs steps k = 0..22; the manual time is the median batched step over k = 3..22
+// (counters: that run's min and max, and sensor-steps per second). BM_Workload/<model>/<envs>.
+void BM_Workload(benchmark::State& state, const std::string& model, int envs) {
+  sb::BenchWorkload w(model, envs);
+  sb::BenchResult last;
   for (auto _ : state) {
-    batch.reset();
-    for (int k = 0; k < 3; ++k) batch.step(traj[k], 1.0 / 60, disp, {});
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int k = 3; k < 23; ++k) batch.step(traj[k], 1.0 / 60, disp, {});
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    state.SetIterationTime(s / 20);
+    last = w.run(false);
+    state.SetIterationTime(1e-3 * last.median_ms);
   }
+  state.counters["min_ms"] = last.min_ms;
+  state.counters["max_ms"] = last.max_ms;
+  state.counters["sensor_steps_per_s"] = last.sensor_steps_per_s;
 }
 
-void BM_Models_Workload_HydroShear(benchmark::State& st) {
-  run_workload<sb::HydroShearBatch>(st, [](auto s, auto i, int n) {
-    return sb::HydroShearBatch(s, i, n, sb::default_params("hydroshear"));
-  });
-}
-void BM_Models_Workload_FotsReimpl(benchmark::State& st) {
-  run_workload<sb::FotsBatch>(st, [](auto s, auto i, int n) {
-    return sb::FotsBatch(sb::FotsVariant::Reimpl, s, i, n, sb::default_params("fots-reimpl"));
-  });
-}
-void BM_Models_Workload_Tacsl(benchmark::State& st) {
-  run_workload<sb::TacslBatch>(st, [](auto s, auto i, int n) {
-    return sb::TacslBatch(false, s, i, n, sb::default_params("tacsl"));
-  });
-}
-BENCHMARK(BM_Models_Workload_HydroShear)->Arg(1024)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Models_Workload_FotsReimpl)->Arg(1024)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK(BM_Models_Workload_Tacsl)->Arg(1024)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(3);
+// Registered at start-up: one case per model and env count.
+const bool kWorkloadRegistered = [] {
+  for (const std::string& model : sb::bench_model_ids())
+    for (int envs : {256, 512, 1024})
+      benchmark::RegisterBenchmark(("BM_Workload/" + model + "/" + std::to_string(envs)).c_str(),
+                                   [model, envs](benchmark::State& st) { BM_Workload(st, model, envs); })
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(5);
+  return true;
+}();
 
 }  // namespace

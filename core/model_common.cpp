@@ -1,5 +1,6 @@
 #include "core/model_common.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -51,6 +52,37 @@ MarkerGridLayout detect_marker_grid(const std::vector<Vec3>& p_EM) {
   g.cols = static_cast<int>(cols);
   g.is_grid = true;
   return g;
+}
+
+GaussianAxis::GaussianAxis(std::vector<double> coords, double lambda) : x_(std::move(coords)), lambda_(lambda) {
+  // A pitch is uniform when every step equals the first to 1e-12 relative: the exponent error of
+  // treating it as exact is then 2 lambda |d| |dh| ~ 1e-16 for the workload's sizes.
+  constexpr double kPitchTolerance = 1e-12;
+  const std::size_t n = x_.size();
+  uniform_ = n >= 2;
+  if (uniform_) {
+    h_ = x_[1] - x_[0];
+    for (std::size_t c = 1; c + 1 < n && uniform_; ++c)
+      uniform_ = std::abs((x_[c + 1] - x_[c]) - h_) <= kPitchTolerance * std::abs(h_);
+  }
+  q_ = std::exp(-2 * lambda_ * h_ * h_);
+}
+
+void GaussianAxis::eval(double a, double* e) const {
+  const int n = size();
+  const double d0 = x_.empty() ? 0 : x_.front() - a;
+  const double dn = x_.empty() ? 0 : x_.back() - a;
+  if (!uniform_ || lambda_ * std::max(d0 * d0, dn * dn) > kMaxExponent) {
+    for (int c = 0; c < n; ++c) e[c] = std::exp(-lambda_ * (x_[c] - a) * (x_[c] - a));
+    return;
+  }
+  double ec = std::exp(-lambda_ * d0 * d0);
+  double r = std::exp(-lambda_ * (h_ * h_ + 2 * h_ * d0));
+  for (int c = 0; c < n; ++c) {
+    e[c] = ec;
+    ec *= r;
+    r *= q_;
+  }
 }
 
 void require_finite_pose(const Pose& X_EI, const std::string& model_id) {
