@@ -80,6 +80,9 @@ struct HydroShearBatch::Scratch {
   std::vector<double> phi_I;
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
+  // Batched shear: per fast point its (vx, vy), 3 exponents then exps, and the GEMM operands.
+  std::vector<Vec2> v;
+  std::vector<double> args, w_rows, ex_rows, s_mat;
 };
 struct HydroShearBatch::ScratchPool {
   tbb::enumerable_thread_specific<Scratch> local;
@@ -331,19 +334,32 @@ const std::vector<HydroShearPoint>& HydroShearBatch::augmented_state(const Slot&
 
 // M_s(m_j) = sum_i w_i (-f_i^xy) exp(-lambda_s |m_j - a_i|^2), anchor a_i = o_i + u_i at the real (not
 // shifted) point, as the authors' code; the 3-D distance (code). Unscaled (kappa_s applied on output).
+//
+// On a uniform marker grid the Gaussian of point i at marker (r, c) is
+//   exp(-l |m_rc - a_i|^2) = E_i * X_i[c] * Y_i[r],  E_i = exp(-l (d0x^2 + d0y^2 + dz^2)),
+// with X_i, Y_i the per-axis ratio recurrences (GaussianAxis): 3 exps per point, batched through
+// exp_in_place. The sum over points is then one small matrix product
+//   S (2 rows x cols) = W^T X,  W_i = (vx_i E_i Y_i[r], vy_i E_i Y_i[r]),  X_i = (X_i[c]).
 void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const {
+  // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
+  // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
+  constexpr double kMaxTotalExponent = 650;
   const Mat3 R = X_EI.linear();
   const auto& M = sensor_->p_EM;
   const int nm = static_cast<int>(M.size());
   sc.shear_x.assign(nm, 0.0);
   sc.shear_y.assign(nm, 0.0);
   const double ls = k_.lambda_s;
-  if (grid_.is_grid) {
-    sc.ex.resize(grid_.cols);
-    sc.ey.resize(grid_.rows);
-  }
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
+  const bool factored = grid_.is_grid && gauss_x_.uniform() && gauss_y_.uniform();
+  const int rows = grid_.rows, cols = grid_.cols;
+  if (grid_.is_grid) {
+    sc.ex.resize(cols);
+    sc.ey.resize(rows);
+  }
+  sc.v.clear();
+  sc.args.clear();
   for (std::size_t i = 0; i < points.size(); ++i) {
     const HydroShearPoint& q = points[i];
     const Vec3 n_hat = n_hat_at(pos_of_[q.index], R);
@@ -353,22 +369,26 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
     const double vx = -w * f.x(), vy = -w * f.y();
     if (vx == 0 && vy == 0) continue;
     const Vec3 a = sc.p_of_field[i] + q.u_E;
+    if (factored) {
+      const double lz = ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z());
+      if (gauss_x_.max_exponent(a.x()) + gauss_y_.max_exponent(a.y()) + lz <= kMaxTotalExponent) {
+        sc.v.emplace_back(vx, vy);
+        sc.args.push_back(gauss_x_.lead_exponent(a.x()) + gauss_y_.lead_exponent(a.y()) - lz);
+        sc.args.push_back(gauss_x_.ratio_exponent(a.x()));
+        sc.args.push_back(gauss_y_.ratio_exponent(a.y()));
+        continue;
+      }
+    }
     if (grid_.is_grid) {
       gauss_x_.eval(a.x(), sc.ex.data());
       gauss_y_.eval(a.y(), sc.ey.data());
       const double ez = std::exp(-ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z()));
-      const int cols = grid_.cols;
-      const double* ex = sc.ex.data();
-      for (int r = 0; r < grid_.rows; ++r) {
-        const double g = ez * sc.ey[r];
-        const double wx = vx * g, wy = vy * g;
-        double* rx = sx + r * cols;
-        double* ry = sy + r * cols;
+      for (int r = 0; r < rows; ++r)
         for (int c = 0; c < cols; ++c) {
-          rx[c] += wx * ex[c];
-          ry[c] += wy * ex[c];
+          const double e = ez * sc.ey[r] * sc.ex[c];
+          sx[r * cols + c] += vx * e;
+          sy[r * cols + c] += vy * e;
         }
-      }
     } else {
       for (int j = 0; j < nm; ++j) {
         const double e = std::exp(-ls * (M[j] - a).squaredNorm());
@@ -377,6 +397,33 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
       }
     }
   }
+  const int m = static_cast<int>(sc.v.size());
+  if (m == 0) return;
+  exp_in_place(sc.args.data(), 3 * m);
+  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows);
+  sc.ex_rows.resize(static_cast<std::size_t>(m) * cols);
+  sc.s_mat.resize(static_cast<std::size_t>(2 * rows) * cols);
+  for (int i = 0; i < m; ++i) {
+    const double E = sc.args[3 * i];
+    gauss_x_.ratios(sc.args[3 * i + 1], &sc.ex_rows[static_cast<std::size_t>(i) * cols]);
+    gauss_y_.ratios(sc.args[3 * i + 2], sc.ey.data());
+    double* wr = &sc.w_rows[static_cast<std::size_t>(i) * 2 * rows];
+    for (int r = 0; r < rows; ++r) {
+      const double g = E * sc.ey[r];
+      wr[r] = sc.v[i].x() * g;
+      wr[rows + r] = sc.v[i].y() * g;
+    }
+  }
+  const Eigen::Map<const RowMajor> W(sc.w_rows.data(), m, 2 * rows);
+  const Eigen::Map<const RowMajor> X(sc.ex_rows.data(), m, cols);
+  Eigen::Map<RowMajor> S(sc.s_mat.data(), 2 * rows, cols);
+  S.noalias() = W.transpose() * X;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      sx[r * cols + c] += S(r, c);
+      sy[r * cols + c] += S(rows + r, c);
+    }
 }
 
 // Output: kappa_s M_s plus the dilation from markers inside the indenter, h_k = relu(-phi_I(X_IE m_k)).

@@ -1,7 +1,9 @@
 #include "core/model_common.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 namespace sb {
@@ -82,6 +84,37 @@ void GaussianAxis::eval(double a, double* e) const {
     e[c] = ec;
     ec *= r;
     r *= q_;
+  }
+}
+
+void exp_in_place(double* x, int n) {
+  constexpr double kLog2e = 1.4426950408889634;
+  // ln 2 in two parts: the first has few enough bits that k * kLn2Hi is exact for |k| < 2^11.
+  constexpr double kLn2Hi = 0.693145751953125;
+  constexpr double kLn2Lo = 1.42860682030941723212e-6;
+  constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer held in the low mantissa bits
+  for (int i = 0; i < n; ++i) {
+    const double v = std::clamp(x[i], -700.0, 700.0);
+    const double t = v * kLog2e + kShifter;
+    const double k = t - kShifter;
+    const double r = (v - k * kLn2Hi) - k * kLn2Lo;
+    // Taylor coefficients 1/j!, Horner from degree 12.
+    double p = 1.0 / 479001600;
+    p = p * r + 1.0 / 39916800;
+    p = p * r + 1.0 / 3628800;
+    p = p * r + 1.0 / 362880;
+    p = p * r + 1.0 / 40320;
+    p = p * r + 1.0 / 5040;
+    p = p * r + 1.0 / 720;
+    p = p * r + 1.0 / 120;
+    p = p * r + 1.0 / 24;
+    p = p * r + 1.0 / 6;
+    p = p * r + 0.5;
+    p = p * r + 1.0;
+    p = p * r + 1.0;
+    // 2^k: k + 1023 in the exponent field (the low bits of t hold k in two's complement).
+    const std::uint64_t bits = (std::bit_cast<std::uint64_t>(t) + 1023) << 52;
+    x[i] = p * std::bit_cast<double>(bits);
   }
 }
 

@@ -431,3 +431,17 @@ TEST_CASE("bench run: statistics over k = 3..S-1 and one result per model", "[be
     CHECK(w.run(false).checksum == r.checksum);
   }
 }
+
+TEST_CASE("exp_in_place equals std::exp to a few ulp over the exponent range", "[bench][models]") {
+  // Relative agreement: the reduction and a degree-12 Taylor polynomial round a few times (~1e-15).
+  constexpr double kExpTol = 1e-14;
+  std::vector<double> x;
+  for (double v = -700; v <= 700; v += 0.37) x.push_back(v);
+  for (double v : {0.0, -1e-300, 1e-12, -0.5 * std::numbers::ln2, 0.5 * std::numbers::ln2}) x.push_back(v);
+  std::vector<double> e = x;
+  exp_in_place(e.data(), static_cast<int>(e.size()));
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    INFO("x = " << x[i]);
+    CHECK(std::abs(e[i] - std::exp(x[i])) <= kExpTol * std::exp(x[i]));
+  }
+}
