@@ -265,6 +265,8 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
   for (const Cluster& c : clusters_) {
     if (cull_ && r_z.dot(c.centre_I) + t.z() + z_shift_down - c.radius > cull_z_ + kCullMargin) continue;
     for (int pos = c.begin; pos < c.end; ++pos) {
+      // Most points of a kept cluster are still above the pad: z_E >= 0 means phi_E >= 0.
+      if (cull_ && !aug && r_z.dot(p_I_[pos]) + t.z() >= cull_z_) continue;
       const Vec3 p = R * p_I_[pos] + t;
       const double s = phi_E(p);
       const double s_aug = aug ? phi_E(p + shift) : kInf;
@@ -338,7 +340,7 @@ const std::vector<HydroShearPoint>& HydroShearBatch::augmented_state(const Slot&
 // On a uniform marker grid the Gaussian of point i at marker (r, c) is
 //   exp(-l |m_rc - a_i|^2) = E_i * X_i[c] * Y_i[r],  E_i = exp(-l (d0x^2 + d0y^2 + dz^2)),
 // with X_i, Y_i the per-axis ratio recurrences (GaussianAxis): 3 exps per point, batched through
-// exp_in_place. The sum over points is then one small matrix product
+// exp_in_place. The sum over points is then one small matrix product (add_outer_products)
 //   S (2 rows x cols) = W^T X,  W_i = (vx_i E_i Y_i[r], vy_i E_i Y_i[r]),  X_i = (X_i[c]).
 void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const {
   // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
@@ -400,13 +402,13 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
   const int m = static_cast<int>(sc.v.size());
   if (m == 0) return;
   exp_in_place(sc.args.data(), 3 * m);
-  using RowMajor = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  const int stride = (cols + 3) / 4 * 4;  // whole 4-double vectors per row
   sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows);
-  sc.ex_rows.resize(static_cast<std::size_t>(m) * cols);
-  sc.s_mat.resize(static_cast<std::size_t>(2 * rows) * cols);
+  sc.ex_rows.assign(static_cast<std::size_t>(m) * stride, 0.0);
+  sc.s_mat.assign(static_cast<std::size_t>(2 * rows) * stride, 0.0);
   for (int i = 0; i < m; ++i) {
     const double E = sc.args[3 * i];
-    gauss_x_.ratios(sc.args[3 * i + 1], &sc.ex_rows[static_cast<std::size_t>(i) * cols]);
+    gauss_x_.ratios(sc.args[3 * i + 1], &sc.ex_rows[static_cast<std::size_t>(i) * stride]);
     gauss_y_.ratios(sc.args[3 * i + 2], sc.ey.data());
     double* wr = &sc.w_rows[static_cast<std::size_t>(i) * 2 * rows];
     for (int r = 0; r < rows; ++r) {
@@ -415,14 +417,11 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
       wr[rows + r] = sc.v[i].y() * g;
     }
   }
-  const Eigen::Map<const RowMajor> W(sc.w_rows.data(), m, 2 * rows);
-  const Eigen::Map<const RowMajor> X(sc.ex_rows.data(), m, cols);
-  Eigen::Map<RowMajor> S(sc.s_mat.data(), 2 * rows, cols);
-  S.noalias() = W.transpose() * X;
+  add_outer_products(sc.w_rows.data(), 2 * rows, sc.ex_rows.data(), stride, m, sc.s_mat.data());
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      sx[r * cols + c] += S(r, c);
-      sy[r * cols + c] += S(rows + r, c);
+      sx[r * cols + c] += sc.s_mat[r * stride + c];
+      sy[r * cols + c] += sc.s_mat[(rows + r) * stride + c];
     }
 }
 

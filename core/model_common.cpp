@@ -8,18 +8,6 @@
 
 namespace sb {
 
-double FlatPad::value(const Vec3& p) const {
-  // Box centred at (0, 0, -thickness/2) with half sizes (hx, hy, thickness/2), as make_pad_sdf.
-  const double hz = 0.5 * thickness;
-  const double qx = std::abs(p.x()) - hx;
-  const double qy = std::abs(p.y()) - hy;
-  const double qz = std::abs(p.z() + hz) - hz;
-  const double ox = std::max(qx, 0.0), oy = std::max(qy, 0.0), oz = std::max(qz, 0.0);
-  const double outside2 = ox * ox + oy * oy + oz * oz;
-  if (outside2 > 0) return std::sqrt(outside2);
-  return std::max(qx, std::max(qy, qz));
-}
-
 bool flat_pad_of(const Sensor& sensor, FlatPad* pad) {
   if (sensor.gel.surface != "flat") return false;
   pad->hx = 0.5 * sensor.gel.size_m.x();
@@ -87,14 +75,38 @@ void GaussianAxis::eval(double a, double* e) const {
   }
 }
 
+// Both loops are compiled twice, for AVX2/FMA (x86-64-v3) and the baseline, and picked at load time
+// (GCC target_clones), so the binary stays portable.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SB_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define SB_VECTOR_CLONES
+#endif
+
+SB_VECTOR_CLONES
+void add_outer_products(const double* W, int nw, const double* X, int stride, int m, double* S) {
+  for (int i = 0; i < m; ++i) {
+    const double* x = X + static_cast<std::ptrdiff_t>(i) * stride;
+    const double* w = W + static_cast<std::ptrdiff_t>(i) * nw;
+    for (int a = 0; a < nw; ++a) {
+      const double wa = w[a];
+      double* s = S + static_cast<std::ptrdiff_t>(a) * stride;
+#pragma GCC ivdep
+      for (int c = 0; c < stride; ++c) s[c] += wa * x[c];
+    }
+  }
+}
+
+SB_VECTOR_CLONES
 void exp_in_place(double* x, int n) {
   constexpr double kLog2e = 1.4426950408889634;
   // ln 2 in two parts: the first has few enough bits that k * kLn2Hi is exact for |k| < 2^11.
   constexpr double kLn2Hi = 0.693145751953125;
   constexpr double kLn2Lo = 1.42860682030941723212e-6;
   constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer held in the low mantissa bits
+#pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
-    const double v = std::clamp(x[i], -700.0, 700.0);
+    const double v = x[i];  // the caller keeps it in [-700, 700]
     const double t = v * kLog2e + kShifter;
     const double k = t - kShifter;
     const double r = (v - k * kLn2Hi) - k * kLn2Lo;

@@ -3,6 +3,7 @@
 // path, the marker-grid structure used by separable Gaussian sums, and the adapter that turns a batch
 // of one into a ShearModel.
 #include <algorithm>
+#include <cmath>
 #include <memory>
 #include <span>
 #include <string>
@@ -16,7 +17,18 @@ namespace sb {
 // call: the same box distance as make_pad_sdf.
 struct FlatPad {
   double hx = 0, hy = 0, thickness = 0;
-  double value(const Vec3& p) const;
+  // Inline: HydroShear calls it for every candidate point.
+  double value(const Vec3& p) const {
+    // Box centred at (0, 0, -thickness/2) with half sizes (hx, hy, thickness/2), as make_pad_sdf.
+    const double hz = 0.5 * thickness;
+    const double qx = std::abs(p.x()) - hx;
+    const double qy = std::abs(p.y()) - hy;
+    const double qz = std::abs(p.z() + hz) - hz;
+    const double ox = std::max(qx, 0.0), oy = std::max(qy, 0.0), oz = std::max(qz, 0.0);
+    const double outside2 = ox * ox + oy * oy + oz * oz;
+    if (outside2 > 0) return std::sqrt(outside2);
+    return std::max(qx, std::max(qy, qz));
+  }
 };
 // The flat pad of a sensor whose gel is "flat"; false otherwise.
 bool flat_pad_of(const Sensor& sensor, FlatPad* pad);
@@ -73,11 +85,16 @@ class GaussianAxis {
   bool uniform_ = false;
 };
 
-// exp(x[i]) in place for x in [-700, 700], branch-free so the loop vectorises: x = k ln2 + r with
+// exp(x[i]) in place for x in [-700, 700] (outside: undefined; callers guarantee it), branch-free so the loop vectorises: x = k ln2 + r with
 // |r| <= ln2/2, exp(r) by its Taylor series to degree 12 (truncation < 3e-16 relative), times 2^k built
 // in the exponent bits. Relative error a few ulp (tested against std::exp); the shear models call it on
 // a few exponents per point instead of std::exp per marker.
 void exp_in_place(double* x, int n);
+
+// S[a * stride + c] += sum_{i < m} W[i * nw + a] X[i * stride + c] for a < nw, c < stride: the sum of m
+// outer products (a small matrix product W^T X). X rows are padded to `stride` (a multiple of 4, zeros
+// past the real columns) so the inner loop is whole vectors.
+void add_outer_products(const double* W, int nw, const double* X, int stride, int m, double* S);
 
 // A parameter that is really a switch: true when the value is >= 0.5.
 inline bool param_flag(const ParamSet& p, std::string_view name) { return p.get(name) >= 0.5; }
