@@ -17,6 +17,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Points per cluster of the cull: small enough that a cluster's sphere hugs the surface (about 1.3 mm
 // for 0.75 mm spacing), large enough that the per-cluster test is cheap next to the points it skips.
 constexpr int kClusterLeaf = 8;
+constexpr int kClusterGroup = 8;  // clusters per group of the two-level cull
 // Metres added to the cull bound so rounding of the cluster test can never drop a point whose own
 // transform would give z_E < cull_z_.
 constexpr double kCullMargin = 1e-9;
@@ -110,7 +111,7 @@ HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
       grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), dil_x_(o.dil_x_), dil_y_(o.dil_y_),
       marker_z_max_(o.marker_z_max_), perm_(o.perm_), pos_of_(o.pos_of_), p_I_(o.p_I_), n_I_(o.n_I_),
-      clusters_(o.clusters_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
+      clusters_(o.clusters_), groups_(o.groups_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
       pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}
 
 // Recursive median split along the longest axis of the bounding box until kClusterLeaf points remain:
@@ -142,6 +143,18 @@ void HydroShearBatch::build_clusters() {
     self(self, mid, end);
   };
   split(split, 0, n);
+  groups_.clear();
+  const int nc = static_cast<int>(clusters_.size());
+  for (int g = 0; g < nc; g += kClusterGroup) {
+    const int g_end = std::min(g + kClusterGroup, nc);
+    const int p_begin = clusters_[g].begin, p_end = clusters_[g_end - 1].end;
+    Vec3 c = Vec3::Zero();
+    for (int i = p_begin; i < p_end; ++i) c += P[perm_[i]];
+    c /= p_end - p_begin;
+    double r = 0;
+    for (int i = p_begin; i < p_end; ++i) r = std::max(r, (P[perm_[i]] - c).norm());
+    groups_.push_back({g, g_end, c, r});
+  }
   pos_of_.resize(n);
   p_I_.resize(n);
   n_I_.resize(n);
@@ -262,8 +275,11 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
   sc.p.clear();
   sc.s.clear();
   sc.s_aug.clear();
-  for (const Cluster& c : clusters_) {
-    if (cull_ && r_z.dot(c.centre_I) + t.z() + z_shift_down - c.radius > cull_z_ + kCullMargin) continue;
+  // A sphere (centre c, radius r in I) is entirely above the cull plane, also after the shift.
+  auto above = [&](const Cluster& c) {
+    return cull_ && r_z.dot(c.centre_I) + t.z() + z_shift_down - c.radius > cull_z_ + kCullMargin;
+  };
+  auto gather = [&](const Cluster& c) {
     for (int pos = c.begin; pos < c.end; ++pos) {
       // Most points of a kept cluster are still above the pad: z_E >= 0 means phi_E >= 0.
       if (cull_ && !aug && r_z.dot(p_I_[pos]) + t.z() >= cull_z_) continue;
@@ -276,6 +292,11 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
       sc.s.push_back(s);
       if (aug) sc.s_aug.push_back(s_aug);
     }
+  };
+  for (const Cluster& g : groups_) {
+    if (above(g)) continue;
+    for (int ci = g.begin; ci < g.end; ++ci)
+      if (!above(clusters_[ci])) gather(clusters_[ci]);
   }
 }
 
@@ -287,6 +308,7 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   // is lost (BASELINES §3.5).
   if (slot.first) slot.X_prev = X_EI;
   sc.next.clear();
+  sc.p_of_field.clear();  // the real point of each committed point, for the anchors
   std::size_t k = 0;
   const std::size_t nc = sc.pos.size();
   for (std::size_t c = 0; c < nc; ++c) {
@@ -300,17 +322,11 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
     // A point not tracked last step was outside then; its exact phi_E is needed for alpha.
     const double s_prev = slot.first ? sc.s[c] : old ? old->phi_E : phi_E(p_prev);
     sc.next.push_back(advance(old, perm_[pos], n_hat_at(pos, R), s_prev, p_prev, sc.s[c], p));
+    sc.p_of_field.push_back(p);
   }
   slot.points.swap(sc.next);
   slot.X_prev = X_EI;
   slot.first = false;
-  // The real point of each committed point, for the anchors.
-  sc.p_of_field.clear();
-  std::size_t c = 0;
-  for (const HydroShearPoint& q : slot.points) {
-    while (sc.pos[c] != pos_of_[q.index]) ++c;
-    sc.p_of_field.push_back(sc.p[c]);
-  }
 }
 
 // The state the field uses with the augmentation: one virtual, uncommitted step from the committed

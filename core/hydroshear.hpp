@@ -115,6 +115,9 @@ class HydroShearBatch {
   std::vector<int> perm_, pos_of_;
   std::vector<Vec3> p_I_, n_I_;
   std::vector<Cluster> clusters_;
+  // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
+  // their points: one test skips the whole group. begin/end index clusters_ here.
+  std::vector<Cluster> groups_;
   double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
   bool cull_ = false;
   std::vector<Slot> slots_;
