@@ -255,10 +255,18 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
   slot.have_prev = true;
   clock.lap(Phase::State);
   const double ct = std::cos(dtheta), st = std::sin(dtheta);
+  // Both kernels' exps in one vectorised batch (exp_in_place; exponents below -700 are clamped, which
+  // changes a weight of < 1e-304 by less than itself).
+  sc.args.resize(2 * static_cast<std::size_t>(nm));
+  for (int j = 0; j < nm; ++j) {
+    const double r = (M[j].head<2>() - G).norm();
+    sc.args[2 * j] = std::max(-lambda_s_ * r, -700.0);
+    sc.args[2 * j + 1] = std::max(-lambda_t_ * r, -700.0);
+  }
+  exp_in_place(sc.args.data(), 2 * nm);
   for (int j = 0; j < nm; ++j) {
     const Vec2 d = M[j].head<2>() - G;
-    const double r = d.norm();
-    disp[j] = kappa_s_ * dxy * std::exp(-lambda_s_ * r) + kappa_t_ * (rotate(d, ct, st) - d) * std::exp(-lambda_t_ * r);
+    disp[j] = kappa_s_ * dxy * sc.args[2 * j] + kappa_t_ * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
   }
   clock.lap(Phase::Shear);
   add_dilation(sc, kappa_d_, disp);

@@ -57,6 +57,7 @@ class FotsBatch {
     std::vector<Vec3> m_I;
     std::vector<double> phi_I;
     std::vector<Vec2> x_px;           // original: the deformed marker positions
+    std::vector<double> args;         // reimpl: the shear and twist kernel exponents, then their exps
   };
   void step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   void step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
