@@ -12,14 +12,13 @@ namespace sb {
 namespace {
 
 const double kCameraPxPerMetre = Camera{}.px_per_metre();  // GelSight Mini 1/0.0634 mm
+constexpr int kSlotGrain = 32;  // slots per parallel task (a slot costs about a microsecond)
 
 // Python's int(): truncation toward zero.
 double trunc_px(double v, bool integer) { return integer ? std::trunc(v) : v; }
 
-Vec2 rotate(const Vec2& d, double theta) {
-  const double c = std::cos(theta), s = std::sin(theta);
-  return {c * d.x() - s * d.y(), s * d.x() + c * d.y()};
-}
+// R(theta) d with c = cos(theta), s = sin(theta) computed once per slot.
+Vec2 rotate(const Vec2& d, double c, double s) { return {c * d.x() - s * d.y(), s * d.x() + c * d.y()}; }
 
 // Rotation vector z of a quaternion as torch's quaternion_to_axis_angle computes it: angle
 // 2 atan2(|v|, w) in [0, 2 pi] along v/|v| (no wrapping, so the hemisphere of q matters).
@@ -79,7 +78,12 @@ void FotsBatch::set_params(const ParamSet& p) {
   lambda_t_ = p.get("lambda_t");
   const auto& M = sensor_->p_EM;
   const int n = static_cast<int>(M.size());
-  dilation_w_.resize(n, n);
+  dil_x_.resize(static_cast<std::size_t>(n) * n);
+  dil_y_.resize(static_cast<std::size_t>(n) * n);
+  auto set_dil = [&](int j, int k, double w, const Vec2& d) {
+    dil_x_[static_cast<std::size_t>(k) * n + j] = w * d.x();
+    dil_y_[static_cast<std::size_t>(k) * n + j] = w * d.y();
+  };
   if (variant_ == FotsVariant::Original) {
     px_per_mm_ = p.get("px_per_mm");
     integer_px_ = param_flag(p, "integer_px");
@@ -88,13 +92,15 @@ void FotsBatch::set_params(const ParamSet& p) {
     m_px_.resize(n);
     for (int j = 0; j < n; ++j) m_px_[j] = sensor_->camera.principal_px + M[j].head<2>() * (px_per_mm_ * 1e3);
     for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) dilation_w_(j, k) = std::exp(-lambda_d_ * (m_px_[j] - m_px_[k]).squaredNorm());
+      for (int k = 0; k < n; ++k)
+        set_dil(j, k, std::exp(-lambda_d_ * (m_px_[j] - m_px_[k]).squaredNorm()), m_px_[j] - m_px_[k]);
   } else {
     kappa_d_ = p.get("kappa_d");
     kappa_s_ = p.get("kappa_s");
     kappa_t_ = p.get("kappa_t");
     for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) dilation_w_(j, k) = std::exp(-lambda_d_ * (M[j] - M[k]).norm());
+      for (int k = 0; k < n; ++k)
+        set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
   }
 }
 
@@ -115,12 +121,13 @@ void FotsBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp
     throw std::invalid_argument(std::string(id) + ": diagnostics must be empty or one per slot");
   for (const Pose& X : X_EI) require_finite_pose(X, id);
   auto body = [&](const tbb::blocked_range<int>& r) {
+    PhaseClock clock(profile_);
     for (int i = r.begin(); i < r.end(); ++i) {
       Vec2* d = &disp_px[i * nm];
       if (variant_ == FotsVariant::Original)
-        step_original(slots_[i], X_EI[i], d, scratch_[i]);
+        step_original(slots_[i], X_EI[i], d, scratch_[i], clock);
       else
-        step_reimpl(slots_[i], X_EI[i], d, scratch_[i]);
+        step_reimpl(slots_[i], X_EI[i], d, scratch_[i], clock);
       if (!diagnostics.empty()) {
         FieldOutput& o = diagnostics[i];
         o.disp_px.assign(d, d + nm);
@@ -135,10 +142,10 @@ void FotsBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp
   if (n == 1)
     body(tbb::blocked_range<int>(0, 1));
   else
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), body);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
 }
 
-void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc) const {
+void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& clock) const {
   const auto& M = sensor_->p_EM;
   const std::size_t nm = M.size();
   sc.m_I.resize(nm);
@@ -146,31 +153,43 @@ void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc) const {
   const Mat3 Rt = X_EI.linear().transpose();
   const Vec3 t = X_EI.translation();
   for (std::size_t j = 0; j < nm; ++j) sc.m_I[j] = Rt * (M[j] - t);
+  clock.lap(Phase::TransformCull);
   indenter_->sdf->values(sc.m_I, sc.phi_I);
+  clock.lap(Phase::Sdf);
 }
 
-void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc) const {
-  markers_in_indenter(X_EI, sc);
+void FotsBatch::add_dilation(const Scratch& sc, double g, Vec2* disp) const {
+  const int nm = static_cast<int>(sc.phi_I.size());
+  for (int k = 0; k < nm; ++k) {
+    if (sc.phi_I[k] >= 0) continue;
+    const double gh = g * -sc.phi_I[k];
+    const double* wx = &dil_x_[static_cast<std::size_t>(k) * nm];
+    const double* wy = &dil_y_[static_cast<std::size_t>(k) * nm];
+    for (int j = 0; j < nm; ++j) disp[j] += Vec2(gh * wx[j], gh * wy[j]);
+  }
+}
+
+void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const {
+  markers_in_indenter(X_EI, sc, clock);
   const int nm = static_cast<int>(sc.phi_I.size());
   bool any = false;
   for (double v : sc.phi_I) any = any || v < 0;
   for (int j = 0; j < nm; ++j) disp[j] = Vec2::Zero();
   if (!any) {  // contact lost: the trajectory history starts again at the next contact
     slot.in_contact = false;
+    clock.lap(Phase::State);
     return;
   }
   if (!slot.in_contact) {
     slot.in_contact = true;
     slot.X_ref = X_EI;
   }
+  clock.lap(Phase::State);
   // Dilate: x' = x + sum_C h_i (x - c_i) exp(-lambda_d |x - c_i|^2), h_i the marker's depth in mm.
   sc.x_px.assign(m_px_.begin(), m_px_.end());
   Vec2* xd = sc.x_px.data();
-  for (int k = 0; k < nm; ++k) {
-    if (sc.phi_I[k] >= 0) continue;
-    const double h_mm = -sc.phi_I[k] * 1e3;
-    for (int j = 0; j < nm; ++j) xd[j] += (h_mm * dilation_w_(j, k)) * (m_px_[j] - m_px_[k]);
-  }
+  add_dilation(sc, 1e3, xd);
+  clock.lap(Phase::Dilation);
   // Shear from the planar translation of the indenter origin since first contact (integer px as FOTS).
   const double px_per_m = px_per_mm_ * 1e3;
   const Vec3 t0 = slot.X_ref.translation(), t1 = X_EI.translation();
@@ -181,15 +200,17 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   // Twist about G by the in-plane rotation since first contact, clipped, at the sheared positions.
   const double raw = twist_about_z(X_EI.linear() * slot.X_ref.linear().transpose());
   const double theta = std::clamp(raw, -twist_clip_rad_, twist_clip_rad_);
+  const double ct = std::cos(theta), st = std::sin(theta);
   for (int j = 0; j < nm; ++j) {
     const Vec2 d = xd[j] - G;
-    xd[j] += (rotate(d, theta) - d) * std::exp(-lambda_t_ * d.squaredNorm());
+    xd[j] += (rotate(d, ct, st) - d) * std::exp(-lambda_t_ * d.squaredNorm());
   }
   for (int j = 0; j < nm; ++j) disp[j] = xd[j] - m_px_[j];
+  clock.lap(Phase::Shear);
 }
 
-void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc) const {
-  markers_in_indenter(X_EI, sc);
+void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const {
+  markers_in_indenter(X_EI, sc, clock);
   const auto& M = sensor_->p_EM;
   const int nm = static_cast<int>(M.size());
   int n_in = 0;
@@ -206,6 +227,7 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
     slot.in_contact = false;
     slot.have_prev = true;
     slot.X_prev = X_EI;
+    clock.lap(Phase::State);
     return;
   }
   auto se2_of = [&](const Pose& X, Quat* q_io, bool continuity) {
@@ -229,18 +251,26 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
   const Vec2 dxy = se2.head<2>() - slot.se2_ref.head<2>();
   const double dtheta = std::clamp(se2.z() - slot.se2_ref.z(), -std::numbers::pi, std::numbers::pi);
   const Vec2 G = slot.se2_ref.head<2>();
-  for (int j = 0; j < nm; ++j) {
-    const Vec2 d = M[j].head<2>() - G;
-    const double r = d.norm();
-    disp[j] = kappa_s_ * dxy * std::exp(-lambda_s_ * r) + kappa_t_ * (rotate(d, dtheta) - d) * std::exp(-lambda_t_ * r);
-  }
-  for (int k = 0; k < nm; ++k) {
-    const double h = std::max(-sc.phi_I[k], 0.0);
-    if (h == 0) continue;
-    for (int j = 0; j < nm; ++j) disp[j] += (kappa_d_ * h * dilation_w_(j, k)) * (M[j] - M[k]).head<2>();
-  }
   slot.X_prev = X_EI;
   slot.have_prev = true;
+  clock.lap(Phase::State);
+  const double ct = std::cos(dtheta), st = std::sin(dtheta);
+  // Both kernels' exps in one vectorised batch (exp_in_place; exponents below -700 are clamped, which
+  // changes a weight of < 1e-304 by less than itself).
+  sc.args.resize(2 * static_cast<std::size_t>(nm));
+  for (int j = 0; j < nm; ++j) {
+    const double r = (M[j].head<2>() - G).norm();
+    sc.args[2 * j] = std::max(-lambda_s_ * r, -700.0);
+    sc.args[2 * j + 1] = std::max(-lambda_t_ * r, -700.0);
+  }
+  exp_in_place(sc.args.data(), 2 * nm);
+  for (int j = 0; j < nm; ++j) {
+    const Vec2 d = M[j].head<2>() - G;
+    disp[j] = kappa_s_ * dxy * sc.args[2 * j] + kappa_t_ * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
+  }
+  clock.lap(Phase::Shear);
+  add_dilation(sc, kappa_d_, disp);
+  clock.lap(Phase::Dilation);
 }
 
 }  // namespace sb

@@ -18,6 +18,7 @@
 
 #include "core/model.hpp"
 #include "core/model_common.hpp"
+#include "core/phase_profile.hpp"
 
 namespace sb {
 
@@ -38,6 +39,8 @@ class FotsBatch {
   void reset();
   void reset_slot(int slot);
   void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
+  // Phase timing of later steps into `profile` (nullptr: off). Not owned.
+  void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
   struct Slot {
@@ -54,10 +57,13 @@ class FotsBatch {
     std::vector<Vec3> m_I;
     std::vector<double> phi_I;
     std::vector<Vec2> x_px;           // original: the deformed marker positions
+    std::vector<double> args;         // reimpl: the shear and twist kernel exponents, then their exps
   };
-  void step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc) const;
-  void step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc) const;
-  void markers_in_indenter(const Pose& X_EI, Scratch& sc) const;
+  void step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
+  void step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
+  void markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& clock) const;
+  // disp[j] += sum over markers k inside of g h_k dil_k(j), h_k = relu(-phi_I(m_k)).
+  void add_dilation(const Scratch& sc, double g, Vec2* disp) const;
 
   FotsVariant variant_;
   std::shared_ptr<const Sensor> sensor_;
@@ -68,7 +74,10 @@ class FotsBatch {
   bool integer_px_ = true;                        // original
   double kappa_d_ = 0, kappa_s_ = 0, kappa_t_ = 0; // reimpl
   std::vector<Vec2> m_px_;                         // markers in image pixels (original)
-  Eigen::MatrixXd dilation_w_;                     // constant marker-to-marker kernel
+  // Constant marker-to-marker dilation kernel, k-major: dil_x_[k * nm + j] = w(j, k) (x_j - x_k) (px
+  // for the original, metres for the reimpl.) and the same for y.
+  std::vector<double> dil_x_, dil_y_;
+  PhaseProfile* profile_ = nullptr;
   std::vector<Slot> slots_;
   std::vector<Scratch> scratch_;                   // one per slot (63 markers: small)
 };

@@ -19,6 +19,7 @@
 
 #include "core/model.hpp"
 #include "core/model_common.hpp"
+#include "core/phase_profile.hpp"
 
 namespace sb {
 
@@ -43,7 +44,15 @@ struct HydroShearPoint {
 };
 
 // E x S independent (environment, sensor) slots sharing one sensor and one indenter. Each slot keeps
-// only the points inside the gel (a sorted sparse list) and the previous pose, so memory is O(contact).
+// only the points inside the gel (a sparse list in the batch's point order) and the previous pose, so
+// memory is O(contact).
+//
+// Speed (docs/performance.md). The indenter points are grouped once into small spatial clusters with a
+// bounding sphere in I; for a flat pad (gel z_E <= 0) a cluster whose sphere lies above z_E = 0 cannot
+// have a point in the gel (phi_E >= z_E > 0), so it costs one dot product and its points are never
+// transformed: their state is zero and stays zero, exactly as the dense loop computes it. The shear
+// Gaussians factor per grid axis and use a two-exp recurrence (GaussianAxis); the dilation runs only
+// when the indenter's SDF bounds reach the marker plane, and only over the markers inside.
 class HydroShearBatch {
  public:
   HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
@@ -59,19 +68,35 @@ class HydroShearBatch {
   void reset_slot(int slot);
   // X_EI[slot]; disp_px[slot * markers() + j]; diagnostics empty or one per slot. Slots run in parallel.
   void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
-  // The committed tracked points of one slot (for tests and the GUI).
+  // The committed tracked points of one slot (for tests and the GUI), in the batch's point order
+  // (clusters), not sorted by index.
   const std::vector<HydroShearPoint>& tracked(int slot) const { return slots_[slot].points; }
+  // Phase timing of later steps into `profile` (nullptr: off). Not owned.
+  void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
   struct Slot {
-    std::vector<HydroShearPoint> points;   // sorted by index; exactly the points with phi_E < 0
+    std::vector<HydroShearPoint> points;   // in point order (pos_of_); exactly the points with phi_E < 0
     Pose X_prev = Pose::Identity();
     bool first = true;
   };
+  // Consecutive positions [begin, end) of the point order with a bounding sphere in I.
+  struct Cluster {
+    int begin, end;
+    Vec3 centre_I;
+    double radius;
+  };
   struct Scratch;
-  void step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag, Scratch& scratch) const;
+  void build_clusters();
+  void step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag, Scratch& scratch,
+                 PhaseClock& clock) const;
+  void gather_candidates(const Pose& X_EI, Scratch& sc) const;
+  void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
+  const std::vector<HydroShearPoint>& augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
+  void shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const;
+  void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   double phi_E(const Vec3& p) const;
-  void phi_E_all(std::span<const Vec3> p, std::span<double> phi) const;
+  Vec3 n_hat_at(int pos, const Mat3& R_EI) const;
   HydroShearPoint advance(const HydroShearPoint* old, int index, const Vec3& n_hat, double s_prev,
                           const Vec3& p_prev, double s, const Vec3& p) const;
 
@@ -82,10 +107,23 @@ class HydroShearBatch {
   bool flat_ = false;
   FlatPad pad_;
   MarkerGridLayout grid_;
-  Eigen::MatrixXd dilation_w_;             // exp(-lambda_d |m_j - m_k|^2), markers are fixed in E
+  GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
+  // Dilation kernel, k-major: dil_x_[k * nm + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and .y).
+  std::vector<double> dil_x_, dil_y_;
+  double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
+  // The point order: pos -> index into samples.p_IS (perm_) and back (pos_of_); p_I_/n_I_ in that order.
+  std::vector<int> perm_, pos_of_;
+  std::vector<Vec3> p_I_, n_I_;
+  std::vector<Cluster> clusters_;
+  // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
+  // their points: one test skips the whole group. begin/end index clusters_ here.
+  std::vector<Cluster> groups_;
+  double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
+  bool cull_ = false;
   std::vector<Slot> slots_;
   struct ScratchPool;
   std::unique_ptr<ScratchPool> pool_;
+  PhaseProfile* profile_ = nullptr;
 };
 
 }  // namespace sb

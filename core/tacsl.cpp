@@ -11,6 +11,7 @@ namespace sb {
 namespace {
 constexpr double kVelocityFloor = 1e-9;     // TacSL: vt / max(|vt|, 1e-9)
 constexpr double kNormalizeFloor = 1e-4;    // HydroShear's normalize_tacsl_shear_obs threshold
+constexpr int kSlotGrain = 32;              // slots per parallel task (a slot costs about a microsecond)
 }  // namespace
 
 std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
@@ -69,9 +70,10 @@ void TacslBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> dis
   if (!std::isfinite(dt)) throw std::invalid_argument(std::string(id) + ": dt is not finite");
   for (const Pose& X : X_EI) require_finite_pose(X, id);
   auto body = [&](const tbb::blocked_range<int>& r) {
+    PhaseClock clock(profile_);
     for (int i = r.begin(); i < r.end(); ++i) {
       Vec2* d = &disp_px[i * nm];
-      step_slot(slots_[i], X_EI[i], dt, d);
+      step_slot(slots_[i], X_EI[i], dt, d, clock);
       if (!diagnostics.empty()) {
         FieldOutput& o = diagnostics[i];
         o.disp_px.assign(d, d + nm);
@@ -86,10 +88,10 @@ void TacslBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> dis
   if (n == 1)
     body(tbb::blocked_range<int>(0, 1));
   else
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, 16), body);
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
 }
 
-void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp) const {
+void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, PhaseClock& clock) const {
   const auto& M = sensor_->p_EM;
   const std::size_t nm = M.size();
   slot.p_I.resize(nm);
@@ -98,8 +100,11 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp) 
   slot.shear.assign(nm, Vec2::Zero());
   const Mat3 R = X_EI.linear();
   const Vec3 t = X_EI.translation();
-  for (std::size_t j = 0; j < nm; ++j) slot.p_I[j] = R.transpose() * (M[j] - t);
+  const Mat3 Rt = R.transpose();
+  for (std::size_t j = 0; j < nm; ++j) slot.p_I[j] = Rt * (M[j] - t);
+  clock.lap(Phase::TransformCull);
   indenter_->sdf->values_and_gradients(slot.p_I, slot.phi_I, slot.grad_I);
+  clock.lap(Phase::Sdf);
   const bool moving = slot.have_prev && dt > 0;
   for (std::size_t j = 0; j < nm; ++j) {
     const double d = std::max(-slot.phi_I[j], 0.0);
@@ -119,6 +124,7 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp) 
     const Vec3 F = include_normal_ ? Vec3(kn_ * d * n_E + f_t) : f_t;
     slot.shear[j] = F.head<2>();
   }
+  clock.lap(Phase::State);
   for (std::size_t j = 0; j < nm; ++j) {
     const Vec2& s = slot.shear[j];
     if (normalized_)
@@ -128,6 +134,7 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp) 
   }
   slot.X_prev = X_EI;
   slot.have_prev = true;
+  clock.lap(Phase::Shear);
 }
 
 }  // namespace sb

@@ -14,6 +14,7 @@
 
 #include "core/model.hpp"
 #include "core/model_common.hpp"
+#include "core/phase_profile.hpp"
 
 namespace sb {
 
@@ -34,6 +35,8 @@ class TacslBatch {
   void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
   // The raw shear (F_x, F_y) of the last step, before gain and normalisation (for tests).
   const std::vector<Vec2>& last_shear(int slot) const { return slots_[slot].shear; }
+  // Phase timing of later steps into `profile` (nullptr: off). Not owned.
+  void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
   struct Slot {
@@ -43,7 +46,7 @@ class TacslBatch {
     std::vector<double> phi_I;
     std::vector<Vec2> shear;
   };
-  void step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp) const;
+  void step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, PhaseClock& clock) const;
 
   bool normalized_;
   std::shared_ptr<const Sensor> sensor_;
@@ -52,6 +55,7 @@ class TacslBatch {
   double kn_, kt_, mu_, gain_px_;
   bool include_normal_;
   std::vector<Slot> slots_;
+  PhaseProfile* profile_ = nullptr;
 };
 
 }  // namespace sb
