@@ -1,0 +1,117 @@
+// `shearbench fit --dataset DIR --model M [--stages a,b] [--joint] [--px-scale] [--robust huber] --out P.json`:
+// staged least-squares calibration of one model (or 'all') on the dataset's calibration split
+// (core/fit.hpp). The parameter file is rewritten atomically after every stage, so Ctrl-C (which
+// cancels the running stage) leaves the last completed stage's parameters on disk.
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/command.hpp"
+#include "core/data_root.hpp"
+#include "core/evaluate.hpp"
+#include "core/fit_data.hpp"
+#include "core/json_read.hpp"
+
+namespace sb::app {
+namespace {
+
+std::atomic<bool> g_cancel{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT handler stores to it");
+
+extern "C" void on_sigint(int) {
+  g_cancel.store(true);
+  std::signal(SIGINT, SIG_DFL);   // a second Ctrl-C ends the process at once
+}
+
+struct FitArgs {
+  std::string dataset;
+  std::string model;
+  std::vector<std::string> stages;
+  bool joint = false;
+  bool px_scale = false;
+  std::string robust = "none";
+  double robust_scale_px = 1.0;
+  int max_iterations = 50;
+  std::string start;
+  std::string out;
+};
+
+int run_fit(const FitArgs& a, const GlobalOptions& g) {
+  const std::string root = resolve_data_root(g.data_root_flag);
+  const Dataset ds = read_dataset(std::filesystem::absolute(resolve_path(a.dataset, root, "")).string());
+  std::vector<std::string> ids;
+  if (a.model == "all") ids = model_ids();
+  else ids.push_back(a.model);
+  for (const auto& id : ids) default_params(id);    // unknown ids fail before any work
+  FitOptions o;
+  o.stages = a.stages;
+  o.joint = a.joint;
+  o.fit_px_scale = a.px_scale;
+  o.robust = parse_robust_loss(a.robust);
+  o.robust_scale_px = a.robust_scale_px;
+  o.max_iterations = a.max_iterations;
+  o.cancel = &g_cancel;
+  o.progress = [&](const FitProgress& p) {
+    if (!g.quiet) std::fprintf(stderr, "  %-12s iter %3d  loss %.6g\n", p.stage.c_str(), p.iteration, p.loss);
+  };
+  const nlohmann::json start_file = a.start.empty() ? nlohmann::json() : jsonin::load_file(a.start);
+
+  Warnings warnings;
+  const FitData data = load_calibration_data(ds, root, &warnings);
+  if (!g.quiet) std::fprintf(stderr, "fit: %zu calibration samples of %s\n", data.samples.size(), ds.name.c_str());
+  std::signal(SIGINT, on_sigint);
+  std::vector<CalibrationResult> done;
+  bool cancelled = false;
+  for (const auto& id : ids) {
+    ParamSet start = default_params(id);
+    start.update_from_json(params_for_model(start_file, id, ids.size() == 1, a.start), a.start);
+    o.on_stage_done = [&](const CalibrationResult& partial) {
+      auto all = done;
+      all.push_back(partial);
+      write_file_atomic(a.out, fit_file_json(all, ds, o).dump(2) + "\n");
+      const StageReport& s = partial.stages.back();
+      if (!g.quiet)
+        std::fprintf(stderr, "%s/%s: RMSE %.4f -> %.4f px, %d iterations, %d model runs, %.2f s%s%s\n", id.c_str(),
+                     s.name.c_str(), s.rmse_before_px, s.rmse_after_px, s.iterations, s.evaluations, s.time_s,
+                     s.note.empty() ? "" : " -- ", s.note.c_str());
+    };
+    done.push_back(fit_model(id, data.sensor, data.samples, start, o));
+    if (done.back().cancelled) {
+      cancelled = true;
+      break;
+    }
+  }
+  std::signal(SIGINT, SIG_DFL);
+  write_file_atomic(a.out, fit_file_json(done, ds, o).dump(2) + "\n");
+  if (!g.quiet)
+    for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  if (cancelled) {
+    std::fprintf(stderr, "fit: cancelled; %s holds the parameters of the last completed stage\n", a.out.c_str());
+    return 130;
+  }
+  if (!g.quiet) std::fprintf(stderr, "fit: wrote %s\n", a.out.c_str());
+  return 0;
+}
+
+const CommandRegistrar registrar(
+    "fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36,
+    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
+      auto a = std::make_shared<FitArgs>();
+      sub.add_option("--dataset", a->dataset, "dataset folder (data:... resolves through the data root)")->required();
+      sub.add_option("--model", a->model, "model id or 'all'")->required();
+      sub.add_option("--stages", a->stages, "stages to run (default: the model's whole table); 'joint' too")
+          ->delimiter(',');
+      sub.add_flag("--joint", a->joint, "finish with a joint refinement of every stage's parameters");
+      sub.add_flag("--px-scale", a->px_scale, "the joint refinement also fits the image scale (px/m)");
+      sub.add_option("--robust", a->robust, "robust loss: none | huber | cauchy")
+          ->check(CLI::IsMember({"none", "huber", "cauchy"}));
+      sub.add_option("--robust-scale", a->robust_scale_px, "where the robust loss bends (px)");
+      sub.add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations per stage");
+      sub.add_option("--start", a->start, "start parameters (JSON keyed by model id, or flat for one model)");
+      sub.add_option("--out", a->out, "parameter file to write (atomically, after every stage)")->required();
+      return [a, &g] { return run_fit(*a, g); };
+    });
+
+}  // namespace
+}  // namespace sb::app
