@@ -109,6 +109,7 @@ sb::ResidualReport run_loop(const std::string& effect, const std::map<std::strin
   simulate(&in.calibration, effect, truth, 11);
   simulate(&in.validation, effect, truth, 23);
   sb::ResidualOptions o;
+  o.max_iterations = 15;   // bounds the test time; the recovery checks below fail if it were too few
   o.fit_base = false;   // every catalogued effect is a candidate: the loop is not told which one is in the data
   return sb::run_residual_loop(in, o);
 }
