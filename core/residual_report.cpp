@@ -265,9 +265,10 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
     for (const auto& c : row) {
       const EffectFit* f = fit_of(r, c.effect_ids);
       std::string params;
-      if (f)
-        for (const auto& [k, v] : effect_params_json(f->fit.params, c.candidate).items())
-          params += (params.empty() ? "" : ", ") + k + " = " + fmt(v.get<double>());
+      if (f) {
+        const auto pj = effect_params_json(f->fit.params, c.candidate);   // items() must not outlive it
+        for (const auto& [k, v] : pj.items()) params += (params.empty() ? "" : ", ") + k + " = " + fmt(v.get<double>());
+      }
       md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
             f3(c.improvement_ci_pct.low) + ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " +
             (c.accepted ? "yes" : "no") + " | " + params + " |\n";
@@ -279,9 +280,10 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
           "the residual is not attributed.\n\n";
   } else {
     md += "**Selected: " + effect_set_key(r.selection.selected) + ".** Parameters found:\n\n";
-    for (const auto& id : r.selection.selected)
-      for (const auto& [k, v] : effect_params_json(r.after.fit.params, id).items())
-        md += "- `" + id + "." + k + "` = " + fmt(v.get<double>()) + "\n";
+    for (const auto& id : r.selection.selected) {
+      const auto pj = effect_params_json(r.after.fit.params, id);
+      for (const auto& [k, v] : pj.items()) md += "- `" + id + "." + k + "` = " + fmt(v.get<double>()) + "\n";
+    }
     md += "\n";
   }
   md += "## Error before and after (validation)\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"

@@ -155,6 +155,22 @@ TEST_CASE("residual loop selects nothing when the data hold no effect", "[residu
   CHECK(r.selection.selected.empty());
   // The base alone is the truth: its validation RMSE is the noise's, sqrt(2) sigma (within 15 %).
   CHECK(std::abs(r.before.validation.overall.result().rmse_px - std::sqrt(2.0) * kNoisePx) < 0.15 * std::sqrt(2.0) * kNoisePx);
+
+  // The report: the JSON shape the CLI promises, and one PNG per covariate plus the two quiver plots.
+  const auto j = sb::residual_to_json(r);
+  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after"}) CHECK(j.contains(key));
+  CHECK(j["before"].contains("validation_rmse_px"));
+  CHECK(j["before"].contains("validation_cs"));
+  CHECK(j["before"]["by_motion"].contains("shear"));
+  REQUIRE(j["candidates"].size() == sb::effect_ids().size());
+  for (const auto& c : j["candidates"]) CHECK(c["ci95_pct"].size() == 2);
+  const auto dir = std::filesystem::temp_directory_path() / "sb_test_residual_plots";
+  std::filesystem::create_directories(dir);
+  const auto plots = sb::write_residual_plots(r, dir.string(), "r");
+  CHECK(plots.size() == r.structure_before.covariates.size() + 2);
+  for (const auto& name : plots) CHECK(std::filesystem::file_size(dir / name) > 0);
+  CHECK(sb::residual_to_markdown(r, plots).find("Selected: nothing") != std::string::npos);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("residual structure: a rank-one residual is one principal component, binned counts add up", "[residual]") {
