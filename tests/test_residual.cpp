@@ -1,0 +1,212 @@
+// The residual loop on data with an undeclared effect: simulate fots-reimpl + one catalogued effect at
+// non-default parameters plus Gaussian tracking noise, hand the data to the loop without naming the
+// effect, and check it selects that effect, recovers its parameters and lowers the validation RMSE.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+
+#include "core/effects.hpp"
+#include "core/residual.hpp"
+
+using sb::FitSample;
+using sb::Pose;
+using sb::Vec2;
+using sb::Vec3;
+
+namespace {
+
+// Tracker noise of the brief: 0.05 px per component (real GelSight Mini trackers: 0.03-0.1 px).
+constexpr double kNoisePx = 0.05;
+// Recovered effect parameters must lie within 15 % of the injected values.
+constexpr double kParamRelTol = 0.15;
+// The base model the data come from, with its default parameters held fixed (the loop gets them as --params
+// would give them): the test is about attribution, not about the base calibration.
+const std::string kBase = "fots-reimpl";
+constexpr double kDt = 0.05;   // s; 30 frames = 1.5 s per sample
+
+struct Setup {
+  std::shared_ptr<const sb::Sensor> sensor = std::make_shared<const sb::Sensor>(sb::make_default_sensor());
+  std::shared_ptr<const sb::Indenter> sphere;
+  Setup() {
+    sb::IndenterSpec spec;
+    spec.shape = "sphere";
+    spec.radius_m = 0.004;
+    sphere = std::make_shared<const sb::Indenter>(sb::build_indenter(spec, "", ""));
+  }
+};
+
+const Setup& setup() {
+  static const Setup s;
+  return s;
+}
+
+Pose sphere_pose(double x, double y, double depth, double yaw_deg) {
+  Pose X = Pose::Identity();
+  X.linear() = sb::Rz(yaw_deg * M_PI / 180);
+  X.translation() = Vec3(x, y, 0.004 - depth);
+  return X;
+}
+
+// A press in 8 frames, a 16-frame hold (sliding `slide` and turning `yaw_deg` over it), a release in 6.
+FitSample press(const std::string& id, const std::string& motion, const std::string& split, Vec2 at, double depth,
+                Vec2 slide, double yaw_deg) {
+  FitSample s;
+  s.id = id;
+  s.motion = motion;
+  s.split = split;
+  s.dt_s = kDt;
+  s.indenter = setup().sphere;
+  for (int k = 0; k < 8; ++k) s.X_EI.push_back(sphere_pose(at.x(), at.y(), depth * (k + 1) / 8.0, 0));
+  for (int k = 1; k <= 16; ++k) {
+    const Vec2 p = at + slide * std::min(1.0, k / 10.0);
+    s.X_EI.push_back(sphere_pose(p.x(), p.y(), depth, yaw_deg * std::min(1.0, k / 10.0)));
+  }
+  const Vec2 end = at + slide;
+  for (int k = 1; k <= 6; ++k)
+    s.X_EI.push_back(sphere_pose(end.x(), end.y(), depth * (1 - k / 5.0), yaw_deg));   // last frame lifted off
+  return s;
+}
+
+std::vector<FitSample> trajectories(const std::string& split) {
+  const bool cal = split == "calibration";
+  const double o = cal ? 1.0 : -1.0;   // validation presses mirror the calibration ones
+  return {press(split + "_dil", "dilation", split, Vec2(-2e-3 * o, 1e-3), 1.0e-3, Vec2::Zero(), 0),
+          press(split + "_dil2", "dilation", split, Vec2(3e-3 * o, -2e-3 * o), 1.4e-3, Vec2::Zero(), 0),
+          press(split + "_shr", "shear", split, Vec2(1e-3 * o, 0.5e-3), 1.0e-3, Vec2(0.5e-3 * o, 0.2e-3), 0),
+          press(split + "_twi", "twist", split, Vec2(0, -1e-3 * o), 1.2e-3, Vec2::Zero(), 12 * o)};
+}
+
+// Simulates base + `effect` at `truth` (or the base alone when effect is empty) with tracker noise.
+void simulate(std::vector<FitSample>* samples, const std::string& effect, const std::map<std::string, double>& truth,
+              std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, kNoisePx);
+  for (auto& s : *samples) {
+    std::vector<std::string> ids;
+    if (!effect.empty()) ids.push_back(effect);
+    auto model = sb::wrap_with_effects(sb::make_model(kBase, setup().sensor, s.indenter), ids, setup().sensor, s.indenter);
+    sb::ParamSet p = model->params();
+    for (const auto& [name, value] : truth) p.set(effect + "." + name, value);
+    model->set_params(p);
+    s.meas_px = sb::simulate_sample(*model, s);
+    for (auto& frame : s.meas_px)
+      for (auto& d : frame) d += Vec2(noise(rng), noise(rng));
+  }
+}
+
+sb::ResidualReport run_loop(const std::string& effect, const std::map<std::string, double>& truth) {
+  sb::ResidualInputs in;
+  in.dataset = "synthetic:" + (effect.empty() ? std::string("none") : effect);
+  in.model_id = kBase;
+  in.sensor = setup().sensor;
+  in.base_params = sb::default_params(kBase);
+  in.calibration = trajectories("calibration");
+  in.validation = trajectories("validation");
+  simulate(&in.calibration, effect, truth, 11);
+  simulate(&in.validation, effect, truth, 23);
+  sb::ResidualOptions o;
+  o.max_iterations = 15;   // bounds the test time; the recovery checks below fail if it were too few
+  o.fit_base = false;   // every catalogued effect is a candidate: the loop is not told which one is in the data
+  return sb::run_residual_loop(in, o);
+}
+
+void check_recovers(const std::string& effect, const std::map<std::string, double>& truth) {
+  const auto r = run_loop(effect, truth);
+  const auto j = sb::residual_to_json(r);
+  INFO(j["candidates"].dump(1));
+  REQUIRE(r.selection.selected.size() >= 1);
+  CHECK(r.selection.selected.front() == effect);
+  REQUIRE(r.selection.selected.size() == 1);   // the second greedy round finds nothing left to explain
+  for (const auto& [name, value] : truth) {
+    const double fitted = r.after.fit.params.get(effect + "." + name);
+    INFO(effect << "." << name << ": fitted " << fitted << ", injected " << value);
+    CHECK(std::abs(fitted - value) <= kParamRelTol * std::abs(value));
+  }
+  const double before = r.before.validation.overall.result().rmse_px;
+  const double after = r.after.validation.overall.result().rmse_px;
+  INFO("validation RMSE " << before << " -> " << after << " px");
+  CHECK(after < before);
+  // With the effect explained only the tracker noise is left: RMSE of a 2-D Gaussian of sigma per
+  // component is sqrt(2) sigma = 0.0707 px; allow 30 % for fitting error.
+  CHECK(after < 1.3 * std::sqrt(2.0) * kNoisePx);
+}
+
+}  // namespace
+
+TEST_CASE("residual loop attributes undeclared viscoelastic creep", "[residual]") {
+  check_recovers("viscoelastic_creep", {{"tau_s", 0.4}, {"creep_fraction", 0.3}});
+}
+
+TEST_CASE("residual loop attributes undeclared lens distortion", "[residual]") {
+  check_recovers("lens_distortion", {{"k1", 0.3}});
+}
+
+TEST_CASE("residual loop attributes undeclared tracker bias", "[residual]") {
+  check_recovers("tracker_bias", {{"gain", 1.1}, {"bias_x_px", 0.6}, {"bias_y_px", -0.4}});
+}
+
+TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual]") {
+  const auto r = run_loop("", {});
+  INFO(sb::residual_to_json(r)["candidates"].dump(1));
+  CHECK(r.selection.selected.empty());
+  // The base alone is the truth: its validation RMSE is the noise's, sqrt(2) sigma (within 15 %).
+  CHECK(std::abs(r.before.validation.overall.result().rmse_px - std::sqrt(2.0) * kNoisePx) < 0.15 * std::sqrt(2.0) * kNoisePx);
+
+  // The report: the JSON shape the CLI promises, and one PNG per covariate plus the two quiver plots.
+  const auto j = sb::residual_to_json(r);
+  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after"}) CHECK(j.contains(key));
+  CHECK(j["before"].contains("validation_rmse_px"));
+  CHECK(j["before"].contains("validation_cs"));
+  CHECK(j["before"]["by_motion"].contains("shear"));
+  REQUIRE(j["candidates"].size() == sb::effect_ids().size());
+  for (const auto& c : j["candidates"]) CHECK(c["ci95_pct"].size() == 2);
+  const auto dir = std::filesystem::temp_directory_path() / "sb_test_residual_plots";
+  std::filesystem::create_directories(dir);
+  const auto plots = sb::write_residual_plots(r, dir.string(), "r");
+  CHECK(plots.size() == r.structure_before.covariates.size() + 2);
+  for (const auto& name : plots) CHECK(std::filesystem::file_size(dir / name) > 0);
+  CHECK(sb::residual_to_markdown(r, plots).find("Selected: nothing") != std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("residual structure: a rank-one residual is one principal component, binned counts add up", "[residual]") {
+  // meas = base prediction + a_k u_j with u_j = (1, 0) on even markers and (0, 1) on odd ones and
+  // a_k = 0.1 (1 + k mod 3) px. Centred over frames the residual is (a_k - mean a) u_j: rank one, so PC1
+  // explains all of its variance and points along u; the mean field is (mean a) u_j.
+  constexpr double kTol = 1e-9;
+  auto s = press("one", "shear", "calibration", Vec2(1e-3, 0), 1.2e-3, Vec2(0.6e-3, 0), 0);
+  auto model = sb::make_model(kBase, setup().sensor, s.indenter);
+  s.meas_px = sb::simulate_sample(*model, s);
+  const auto u = [](std::size_t j) { return j % 2 == 0 ? Vec2(1, 0) : Vec2(0, 1); };
+  const auto a = [](std::size_t k) { return 0.1 * (1 + k % 3); };
+  for (std::size_t k = 0; k < s.meas_px.size(); ++k)
+    for (std::size_t j = 0; j < s.meas_px[k].size(); ++j) s.meas_px[k][j] += a(k) * u(j);
+  double biggest = 0;
+  for (auto& f : s.meas_px) for (auto& d : f) biggest = std::max(biggest, d.norm());
+  INFO("largest measured displacement " << biggest << " px");
+  const auto st = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  REQUIRE(st.frames > 2);
+  REQUIRE(st.explained_variance.size() == 3);
+  CHECK(st.explained_variance[0] == Approx(1.0).margin(kTol));
+  CHECK(st.explained_variance[1] == Approx(0.0).margin(kTol));
+  // The mean of a over the scored frames, read back from marker 0 (u = (1, 0)) and marker 1 (u = (0, 1)).
+  const double mean_a = st.mean_field_px[0].x();
+  CHECK(mean_a > 0.1 - kTol);
+  CHECK(mean_a < 0.3 + kTol);
+  CHECK(st.mean_field_px[1].y() == Approx(mean_a).margin(kTol));
+  CHECK(std::abs(st.mean_field_px[0].y()) < kTol);
+  for (std::size_t j = 0; j < st.pc1_px.size(); ++j) {
+    const Vec2 v = st.pc1_px[j];
+    CHECK(std::abs(v.x() * u(j).y() - v.y() * u(j).x()) < kTol);   // parallel to u_j
+  }
+  for (const auto& t : st.covariates) {
+    long n = 0;
+    for (long c : t.count) n += c;
+    INFO(t.name);
+    CHECK(n == st.marker_frames);
+  }
+}
