@@ -419,8 +419,11 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
   if (m == 0) return;
   exp_in_place(sc.args.data(), 3 * m);
   const int stride = (cols + 3) / 4 * 4;  // whole 4-double vectors per row
-  sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows);
-  sc.ex_rows.assign(static_cast<std::size_t>(m) * stride, 0.0);
+  // kOverreadPad doubles past the operands: the vectorised add_outer_products (GCC, AVX2) may load a
+  // full vector that straddles the end of W or X (seen as a fault at a page boundary without it).
+  constexpr std::size_t kOverreadPad = 64;
+  sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows + kOverreadPad);
+  sc.ex_rows.assign(static_cast<std::size_t>(m) * stride + kOverreadPad, 0.0);
   sc.s_mat.assign(static_cast<std::size_t>(2 * rows) * stride, 0.0);
   for (int i = 0; i < m; ++i) {
     const double E = sc.args[3 * i];

@@ -94,6 +94,7 @@ void exp_in_place(double* x, int n);
 // S[a * stride + c] += sum_{i < m} W[i * nw + a] X[i * stride + c] for a < nw, c < stride: the sum of m
 // outer products (a small matrix product W^T X). X rows are padded to `stride` (a multiple of 4, zeros
 // past the real columns) so the inner loop is whole vectors.
+// W and X must stay readable for 64 doubles past their ends (the vectorised loop may over-read).
 void add_outer_products(const double* W, int nw, const double* X, int stride, int m, double* S);
 
 // A parameter that is really a switch: true when the value is >= 0.5.
