@@ -1,13 +1,14 @@
 // `shearbench fit --dataset DIR --model M [--stages a,b] [--joint] [--px-scale] [--robust huber] --out P.json`:
 // staged least-squares calibration of one model (or 'all') on the dataset's calibration split
-// (core/fit.hpp). The parameter file is rewritten atomically after every stage, so Ctrl-C (which
-// cancels the running stage) leaves the last completed stage's parameters on disk.
+// (core/fit.hpp). The parameter file is written once, atomically, when every stage is done. Ctrl-C or
+// SIGTERM cancels: nothing is written to --out (an existing file stays as it was) and the exit code is
+// 130; with --checkpoint FILE the completed stages are kept in that separate file as they finish.
 #include <atomic>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "app/interrupt.hpp"
 #include "core/data_root.hpp"
 #include "core/evaluate.hpp"
 #include "core/fit_data.hpp"
@@ -15,14 +16,6 @@
 
 namespace sb::app {
 namespace {
-
-std::atomic<bool> g_cancel{false};
-static_assert(std::atomic<bool>::is_always_lock_free, "the SIGINT handler stores to it");
-
-extern "C" void on_sigint(int) {
-  g_cancel.store(true);
-  std::signal(SIGINT, SIG_DFL);   // a second Ctrl-C ends the process at once
-}
 
 struct FitArgs {
   std::string dataset;
@@ -35,6 +28,7 @@ struct FitArgs {
   int max_iterations = 50;
   std::string start;
   std::string out;
+  std::string checkpoint;
 };
 
 int run_fit(const FitArgs& a, const GlobalOptions& g) {
@@ -51,7 +45,8 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   o.robust = parse_robust_loss(a.robust);
   o.robust_scale_px = a.robust_scale_px;
   o.max_iterations = a.max_iterations;
-  o.cancel = &g_cancel;
+  InterruptScope interrupt;
+  o.cancel = interrupt.flag();
   o.progress = [&](const FitProgress& p) {
     if (!g.quiet) std::fprintf(stderr, "  %-12s iter %3d  loss %.6g\n", p.stage.c_str(), p.iteration, p.loss);
   };
@@ -60,7 +55,6 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   Warnings warnings;
   const FitData data = load_calibration_data(ds, root, &warnings);
   if (!g.quiet) std::fprintf(stderr, "fit: %zu calibration samples of %s\n", data.samples.size(), ds.name.c_str());
-  std::signal(SIGINT, on_sigint);
   std::vector<CalibrationResult> done;
   bool cancelled = false;
   for (const auto& id : ids) {
@@ -69,7 +63,7 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
     o.on_stage_done = [&](const CalibrationResult& partial) {
       auto all = done;
       all.push_back(partial);
-      write_file_atomic(a.out, fit_file_json(all, ds, o).dump(2) + "\n");
+      if (!a.checkpoint.empty()) write_file_atomic(a.checkpoint, fit_file_json(all, ds, o).dump(2) + "\n");
       const StageReport& s = partial.stages.back();
       if (!g.quiet)
         std::fprintf(stderr, "%s/%s: RMSE %.4f -> %.4f px, %d iterations, %d model runs, %.2f s%s%s\n", id.c_str(),
@@ -82,14 +76,14 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
       break;
     }
   }
-  std::signal(SIGINT, SIG_DFL);
-  write_file_atomic(a.out, fit_file_json(done, ds, o).dump(2) + "\n");
   if (!g.quiet)
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
   if (cancelled) {
-    std::fprintf(stderr, "fit: cancelled; %s holds the parameters of the last completed stage\n", a.out.c_str());
-    return 130;
+    std::fprintf(stderr, "fit: cancelled; %s was not written%s\n", a.out.c_str(),
+                 a.checkpoint.empty() ? "" : (" (completed stages are in " + a.checkpoint + ")").c_str());
+    return kExitCancelled;
   }
+  write_file_atomic(a.out, fit_file_json(done, ds, o).dump(2) + "\n");
   if (!g.quiet) std::fprintf(stderr, "fit: wrote %s\n", a.out.c_str());
   return 0;
 }
@@ -109,7 +103,8 @@ const CommandRegistrar registrar(
       sub.add_option("--robust-scale", a->robust_scale_px, "where the robust loss bends (px)");
       sub.add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations per stage");
       sub.add_option("--start", a->start, "start parameters (JSON keyed by model id, or flat for one model)");
-      sub.add_option("--out", a->out, "parameter file to write (atomically, after every stage)")->required();
+      sub.add_option("--out", a->out, "parameter file to write (atomically, when the fit is done)")->required();
+      sub.add_option("--checkpoint", a->checkpoint, "also write the completed stages here after every stage");
       return [a, &g] { return run_fit(*a, g); };
     });
 

@@ -6,6 +6,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "core/reproducible.hpp"
 #include "core/error.hpp"
 
 #include "app/command.hpp"
@@ -49,7 +50,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.visible = a.visible;
-  fo.show_timings = !a.no_timings;
+  fo.show_timings = !a.no_timings && timings_in_outputs();   // --reproducible: no timing text
   fo.interactive = false;
   fo.camera = a.camera;
   Frontend front(so, fo);

@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "app/interrupt.hpp"
 #include "core/data_root.hpp"
 #include "core/effects.hpp"
 #include "core/evaluate.hpp"
@@ -63,6 +64,12 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   if (!g.quiet)
     std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples\n", a.model.c_str(),
                  ds.name.c_str(), in.calibration.size(), in.validation.size());
+  InterruptScope interrupt;   // Ctrl-C: sb::Cancelled, exit 130, nothing written
+  o.progress.cancel = interrupt.flag();
+  if (!g.quiet)
+    o.progress.report = [](const std::string& stage, double fraction) {
+      std::fprintf(stderr, "residual: [%3.0f%%] %s\n", 100.0 * std::max(0.0, fraction), stage.c_str());
+    };
   const ResidualReport rep = run_residual_loop(in, o);
 
   const std::filesystem::path report = std::filesystem::absolute(a.report_out);

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "core/reproducible.hpp"
 #include "core/data_root.hpp"
 #include "core/evaluate.hpp"
 #include "core/json_read.hpp"
@@ -73,7 +74,8 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   ds.gel = scene.sensor->gel;
   if (ds.gel.surface != "flat") ds.gel.surface = "meshes/gel.obj";
   ds.markers_rest_px = scene.sensor->markers_rest_px;
-  ds.extra["shearbench"] = {{"model", a.model}, {"params", pj}, {"scene", a.scene}, {"seconds", seconds}};
+  ds.extra["shearbench"] = {{"model", a.model}, {"params", pj}, {"scene", a.scene}};
+  if (timings_in_outputs()) ds.extra["shearbench"]["seconds"] = seconds;
   const std::string mesh_rel = "meshes/" + indenter->name + ".obj";
   ds.indenters[indenter->name] = TsdIndenter{mesh_rel, nlohmann::json::object()};
   TsdSampleInfo info;

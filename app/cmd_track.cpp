@@ -10,6 +10,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/command.hpp"
+#include "app/interrupt.hpp"
+#include "core/atomic_write.hpp"
 #include "core/error.hpp"
 #include "core/importers.hpp"
 #include "core/track_eval.hpp"
@@ -52,7 +54,7 @@ void draw_frames(const std::vector<cv::Mat>& frames, const TrackResult& r, const
     }
     char name[32];
     std::snprintf(name, sizeof name, "%06d.png", f);
-    cv::imwrite((fs::path(dir) / name).string(), big);
+    write_png_atomic((fs::path(dir) / name).string(), big.rows, big.cols, big.channels(), big.data);
   }
 }
 
@@ -79,7 +81,13 @@ int run(const TrackArgs& a, const GlobalOptions& g) {
   parse_grid(a.grid, "--grid", opts);
   opts.rest_frames = a.rest_frames;
   const auto t0 = std::chrono::steady_clock::now();
-  const TrackResult r = !a.video.empty() ? track_video(a.video, opts) : track_frames_dir(a.frames, opts);
+  InterruptScope interrupt;   // Ctrl-C: sb::Cancelled, exit 130, nothing written
+  Progress progress;
+  progress.cancel = interrupt.flag();
+  progress.report = [](const std::string& what, double fraction) {
+    if (fraction >= 0) std::fprintf(stderr, "%s: %3.0f%%\n", what.c_str(), 100.0 * fraction);
+  };
+  const TrackResult r = !a.video.empty() ? track_video(a.video, opts, progress) : track_frames_dir(a.frames, opts, progress);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::printf("tracked %d frames, %d markers (grid %dx%d, pitch %.2f px), lost %.4f of marker-frames, "
               "%.0f frames/s including decoding\n",

@@ -5,6 +5,9 @@
 #include <map>
 
 #include "app/command.hpp"
+#include "app/interrupt.hpp"
+#include "core/reproducible.hpp"
+#include "core/progress.hpp"
 #include "core/error.hpp"
 
 namespace sb::app {
@@ -23,6 +26,8 @@ int main(int argc, char** argv) {
                  "data root (default: $SHEARBENCH_DATA, else ../shared/data)");
   cli.add_option("--threads", global.threads, "worker threads (0: all cores)");
   cli.add_flag("-q,--quiet", global.quiet, "print less");
+  cli.add_flag_callback("--reproducible", [] { sb::set_timings_in_outputs(false); },
+                        "leave wall-clock times out of every output file (bit-identical reruns)");
   cli.require_subcommand(0, 1);
   cli.footer("With no subcommand: opens the workbench (`gui`) on the default scene; "
              "without a display it renders the default scene headless.");
@@ -52,6 +57,9 @@ int main(int argc, char** argv) {
   } catch (const sb::InputError& e) {
     std::cerr << "shearbench: error: " << e.what() << "\n";
     return 2;
+  } catch (const sb::Cancelled& e) {
+    std::cerr << "shearbench: " << e.what() << "; no output was written\n";
+    return sb::app::kExitCancelled;
   } catch (const std::exception& e) {
     std::cerr << "shearbench: error: " << e.what() << "\n";
     return 1;

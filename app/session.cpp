@@ -159,14 +159,7 @@ void load_params_file(AppState& state, const std::string& path) {
 void save_params_file(const AppSnapshot& snap, const std::string& path) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& m : snap.models) j[m.id] = m.params.to_json();
-  const fs::path target(path);
-  const fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp");
-  {
-    std::ofstream out(tmp);
-    if (!out) throw InputError(path, "cannot write the parameter file");
-    out << j.dump(2) << "\n";
-  }
-  fs::rename(tmp, target);
+  write_file_atomic(path, j.dump(2) + "\n");
 }
 
 std::pair<int, int> parse_size(const std::string& text) {

@@ -1,3 +1,4 @@
+#include "core/reproducible.hpp"
 #include "core/evaluate.hpp"
 
 #include <tbb/parallel_for.h>
@@ -126,7 +127,7 @@ nlohmann::ordered_json evaluation_to_json(const std::vector<EvaluationResult>& r
       if (it != r.metrics.per_motion.end()) m[motion] = result_json(it->second);
     }
     m["overall"] = result_json(r.metrics.overall);
-    m["seconds"] = r.seconds;
+    if (timings_in_outputs()) m["seconds"] = r.seconds;
     nlohmann::ordered_json samples = nlohmann::ordered_json::object();
     for (const auto& s : r.samples) samples[s.sample_id] = result_json(s.metrics);
     m["samples"] = samples;

@@ -1,4 +1,5 @@
 // Staged least-squares calibration (see fit.hpp for the objective).
+#include "core/reproducible.hpp"
 #include "core/fit.hpp"
 
 #include <ceres/ceres.h>
@@ -385,13 +386,16 @@ nlohmann::json CalibrationResult::report_json() const {
                         {"marker_frames", s.residuals}, {"loss_before", s.loss_before},
                         {"loss_after", s.loss_after},   {"rmse_before_px", s.rmse_before_px},
                         {"rmse_after_px", s.rmse_after_px}, {"iterations", s.iterations},
-                        {"model_runs", s.evaluations}, {"time_s", s.time_s},
+                        {"model_runs", s.evaluations},
                         {"termination", s.termination}, {"skipped", s.skipped}};
+    if (timings_in_outputs()) j["time_s"] = s.time_s;
     if (s.scale != 1.0) j["rescale"] = s.scale;
     if (!s.note.empty()) j["note"] = s.note;
     st.push_back(j);
   }
-  return {{"model", model_id}, {"cancelled", cancelled}, {"time_s", time_s}, {"stages", st}};
+  nlohmann::json out = {{"model", model_id}, {"cancelled", cancelled}, {"stages", st}};
+  if (timings_in_outputs()) out["time_s"] = time_s;
+  return out;
 }
 
 CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,

@@ -11,6 +11,7 @@
 #include <OpenMesh/Core/System/omstream.hh>
 
 #include "core/mesh.hpp"
+#include "core/atomic_write.hpp"
 
 #include <algorithm>
 #include <array>
@@ -563,38 +564,20 @@ TriMesh load_mesh(const std::string& path, const MeshLoadOptions& options, MeshR
 // ------------------------------------------------------------------------------------------- output
 
 void save_obj(const TriMesh& mesh, const std::string& path) {
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp");
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(tmp.string(), "cannot open for writing");
-    out << "# shearbench mesh, metres; " << mesh.vertices.size() << " vertices, " << mesh.faces.size()
-        << " faces\n";
-    std::array<char, 32> buf;
-    for (const auto& p : mesh.vertices) {
-      out << 'v';
-      for (int k = 0; k < 3; ++k) {
-        // 9 significant digits: sub-nanometre for millimetre parts, and compact files.
-        auto res = std::to_chars(buf.data(), buf.data() + buf.size(), p[k], std::chars_format::general, 9);
-        out << ' ' << std::string_view(buf.data(), res.ptr - buf.data());
-      }
-      out << '\n';
+  std::ostringstream out;
+  out << "# shearbench mesh, metres; " << mesh.vertices.size() << " vertices, " << mesh.faces.size() << " faces\n";
+  std::array<char, 32> buf;
+  for (const auto& p : mesh.vertices) {
+    out << 'v';
+    for (int k = 0; k < 3; ++k) {
+      // 9 significant digits: sub-nanometre for millimetre parts, and compact files.
+      auto res = std::to_chars(buf.data(), buf.data() + buf.size(), p[k], std::chars_format::general, 9);
+      out << ' ' << std::string_view(buf.data(), res.ptr - buf.data());
     }
-    for (const auto& f : mesh.faces) out << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << '\n';
-    out.flush();
-    if (!out) {
-      fs::remove(tmp, ec);
-      throw InputError(tmp.string(), "write failed");
-    }
+    out << '\n';
   }
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path, "cannot replace file: " + ec.message());
-  }
+  for (const auto& f : mesh.faces) out << "f " << f[0] + 1 << ' ' << f[1] + 1 << ' ' << f[2] + 1 << '\n';
+  write_file_atomic(path, out.str());
 }
 
 }  // namespace sb

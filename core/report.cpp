@@ -1,3 +1,4 @@
+#include "core/reproducible.hpp"
 #include "core/report.hpp"
 
 #include <chrono>
@@ -65,7 +66,8 @@ std::string params_table(const DatasetFidelity& r) {
     for (const auto& g : f.stages) {
       st += (st.empty() ? "" : "; ") + g.name + ": ";
       st += g.skipped ? "skipped" : fmt(g.rmse_before_px) + " -> " + fmt(g.rmse_after_px) + ", " +
-                                        std::to_string(g.iterations) + " it, " + fmt(g.time_s, "%.1f");
+                                        std::to_string(g.iterations) + " it" +
+                                        (timings_in_outputs() ? ", " + fmt(g.time_s, "%.1f") + " s" : std::string());
       if (!g.note.empty()) st += " (" + g.note + ")";
     }
     s += "| " + f.model_id + " | " + (ps.empty() ? "(defaults)" : ps) + " | " + st + " |\n";
@@ -155,7 +157,7 @@ std::string fidelity_markdown(const std::vector<DatasetFidelity>& results, const
     s += "Reading (generated from the numbers above):\n\n" + fidelity_reading(r) + "\n";
     s += evaluation_to_markdown(r.defaults, r.dataset + " (validation, default parameters, for reference)") + "\n";
     s += "Fitted parameters:\n\n" + params_table(r) + "\n";
-    s += "Wall time for this dataset (fits and evaluations, 2 cores): " + fmt(r.seconds, "%.0f") + " s.\n\n";
+    if (timings_in_outputs()) s += "Wall time for this dataset (fits and evaluations, 2 cores): " + fmt(r.seconds, "%.0f") + " s.\n\n";
   }
   if (!analysis.empty()) s += analysis + "\n";
   return s;

@@ -265,6 +265,11 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
 
   FitOptions fo;
   fo.max_iterations = o.max_iterations;
+  fo.cancel = o.progress.cancel;
+  // A cancelled fit returns its last completed stage; the loop must not score that as a result.
+  const auto check_cancel = [&](const CalibrationResult& r) {
+    if (r.cancelled || o.progress.cancelled()) throw Cancelled("residual analysis");
+  };
   std::vector<std::string> motions = tsd_motions();
   const std::vector<std::string> base_free = o.fit_base ? joint_stage(in.model_id, false).params
                                                         : std::vector<std::string>{};
@@ -295,7 +300,10 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     if (o.fit_base) {
       FitOptions bo = fo;
       bo.joint = true;
-      base = fit_model(in.model_id, in.sensor, in.calibration, in.base_params, bo).params;
+      o.progress("base model fit", 0.0);
+      const CalibrationResult br = fit_model(in.model_id, in.sensor, in.calibration, in.base_params, bo);
+      check_cancel(br);
+      base = br.params;
     }
     rep.fits[""] = finish({}, base, base_free.size(), ts);
   }
@@ -325,12 +333,16 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
       return build_model(in.model_id, ids, in.sensor, ind);
     };
+    o.progress("fit " + in.model_id + "+" + key, static_cast<double>(rep.fits.size()) /
+                                                     static_cast<double>(candidates.size() * o.selection.max_effects + 1));
     const CalibrationResult cr = run_fit_stages(in.model_id + "+" + key, make, stages, in.calibration, start, fo);
+    check_cancel(cr);
     rep.fits[key] = finish(ids, cr.params, joint.size(), ts);
     return rep.fits[key].fit;
   };
 
   rep.selection = select_effects(candidates, fit_and_score, o.selection);
+  o.progress("residual structure", 1.0);
   rep.before = rep.fits.at("");
   rep.after = rep.fits.at(effect_set_key(rep.selection.selected));
   std::vector<FitSample> everything = in.calibration;

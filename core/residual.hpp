@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "core/fit.hpp"
 #include "core/metrics.hpp"
 #include "core/residual_select.hpp"
@@ -37,6 +38,8 @@ struct ResidualOptions {
   SelectionOptions selection;
   int max_iterations = 30;               // Levenberg-Marquardt iterations per stage
   int bins = 6;                          // per numeric covariate
+  // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
+  Progress progress;
 };
 
 // RMS of |residual| (px) per bin of one covariate.

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "core/reproducible.hpp"
 #include "core/error.hpp"
 #include "core/residual.hpp"
 #include "core/tsd.hpp"
@@ -35,7 +36,7 @@ nlohmann::ordered_json metrics_json(const EffectFit& f) {
   j["calibration_rmse_px"] = num(std::sqrt(2 * f.fit.calibration_sse_px2 / f.fit.calibration_count));
   j["free_params"] = f.fit.free_params;
   j["params"] = f.fit.params.to_json();
-  j["fit_time_s"] = f.time_s;
+  if (timings_in_outputs()) j["fit_time_s"] = f.time_s;
   return j;
 }
 
@@ -198,7 +199,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   j["rounds"] = rounds;
   j["residual_before"] = structure_json(r.structure_before);
   j["residual_after"] = structure_json(r.structure_after);
-  j["time_s"] = r.time_s;
+  if (timings_in_outputs()) j["time_s"] = r.time_s;
   return j;
 }
 
@@ -296,7 +297,7 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
   }
   const MetricsResult b = r.before.validation.overall.result(), a = r.after.validation.overall.result();
   md += "| **all** | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n\n";
-  md += "Run time " + f3(r.time_s) + " s.\n";
+  if (timings_in_outputs()) md += "Run time " + f3(r.time_s) + " s.\n";
   return md;
 }
 

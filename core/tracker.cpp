@@ -403,22 +403,26 @@ std::vector<cv::Mat> read_video_frames(const std::string& path) {
   return frames;
 }
 
-TrackResult track_video(const std::string& path, const TrackerOptions& options) {
+TrackResult track_video(const std::string& path, const TrackerOptions& options, const Progress& progress) {
   if (!fs::is_regular_file(path)) throw InputError(path, "video not found");
   cv::VideoCapture cap(path, cv::CAP_FFMPEG);  // FFmpeg only: no GStreamer or image-sequence guesses
   if (!cap.isOpened()) throw InputError(path, "cannot open video (not a video or unsupported codec)");
   MarkerTracker tracker(options);
+  const double total = cap.get(cv::CAP_PROP_FRAME_COUNT);   // an estimate for some containers; 0 when unknown
   cv::Mat f;
   int count = 0;
   while (cap.read(f)) {
+    progress.check(path);
     tracker.add_frame(f);
     ++count;
+    if (count % 50 == 0) progress("tracking " + path, total > 0 ? std::min(1.0, count / total) : -1.0);
   }
   if (count == 0) throw InputError(path, "video has no readable frame");
   return tracker.result();
 }
 
-TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options) {
+TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options,
+                             const Progress& progress) {
   if (!fs::is_directory(frames_dir)) throw InputError(frames_dir, "frames directory not found");
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(frames_dir)) {
@@ -430,7 +434,10 @@ TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions
   std::sort(files.begin(), files.end());
   if (files.empty()) throw InputError(frames_dir, "no image files (png/jpg/bmp) in frames directory");
   MarkerTracker tracker(options);
-  for (const auto& p : files) {
+  for (std::size_t i = 0; i < files.size(); ++i) {
+    const fs::path& p = files[i];
+    progress.check(frames_dir);
+    if (i % 50 == 0) progress("tracking " + frames_dir, static_cast<double>(i) / static_cast<double>(files.size()));
     cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
     if (img.empty()) throw InputError(p.string(), "cannot read image");
     tracker.add_frame(img);

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "core/progress.hpp"
 #include "core/params.hpp"
 #include "core/pose.hpp"
 
@@ -90,9 +91,11 @@ class MarkerTracker {
 
 // Whole sequences. Unreadable or empty inputs throw InputError naming the path.
 TrackResult track_frames(const std::vector<cv::Mat>& frames, const TrackerOptions& options);
-TrackResult track_video(const std::string& path, const TrackerOptions& options);
+// `progress` is told the fraction of frames done; a set cancel flag throws sb::Cancelled.
+TrackResult track_video(const std::string& path, const TrackerOptions& options, const Progress& progress = {});
 // frames_dir holds NNNNNN.png (any image files, sorted by name).
-TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options);
+TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options,
+                             const Progress& progress = {});
 // Reads every frame of a video (InputError naming it when it cannot be opened or has no frame).
 std::vector<cv::Mat> read_video_frames(const std::string& path);
 

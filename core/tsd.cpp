@@ -425,28 +425,6 @@ Dataset read_dataset(const std::string& dir, Warnings* warnings) {
 
 // ------------------------------------------------------------------------------------------ writing
 
-void write_file_atomic(const std::string& path, const std::string& content) {
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
-  const fs::path tmp = target.string() + ".tmp" + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path, "cannot write (temporary file " + tmp.string() + ")");
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw InputError(path, "write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw InputError(path, "cannot rename temporary file into place: " + ec.message());
-  }
-}
 
 namespace {
 

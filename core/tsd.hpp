@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/camera.hpp"
+#include "core/atomic_write.hpp"
 #include "core/error.hpp"
 #include "core/pose.hpp"
 #include "core/sensor.hpp"
@@ -100,8 +101,6 @@ nlohmann::ordered_json dataset_to_json(const Dataset& ds);   // FORMAT.md field 
 void write_dataset_json(const std::string& dir, const Dataset& ds);
 void write_dataset(const std::string& dir, const Dataset& ds, const std::vector<SampleData>& samples);
 
-// Writes `content` to `path` atomically: a temporary file in the same directory, then rename.
-// Throws InputError naming the path when it cannot be written.
-void write_file_atomic(const std::string& path, const std::string& content);
+// write_file_atomic (core/atomic_write.hpp) writes every file of a dataset.
 
 }  // namespace sb

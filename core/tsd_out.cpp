@@ -7,34 +7,20 @@
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
+#include "core/atomic_write.hpp"
 #include "core/error.hpp"
 
 namespace fs = std::filesystem;
 
 namespace sb {
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const fs::path target(path);
-  const fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp");
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw InputError(tmp.string(), "cannot open for writing");
-    out << text;
-    if (!out.flush()) throw InputError(tmp.string(), "write failed");
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) throw InputError(path, "cannot rename temporary file into place: " + ec.message());
-}
 
 namespace {
 
 void write_image_atomically(const std::string& path, const cv::Mat& image) {
-  const std::string tmp = path + ".tmp.png";
-  if (!cv::imwrite(tmp, image)) throw InputError(tmp, "cannot write image");
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw InputError(path, "cannot rename temporary file into place: " + ec.message());
+  if (image.depth() != CV_8U) throw InputError(path, "frames must be 8-bit images");
+  const cv::Mat packed = image.isContinuous() ? image : image.clone();
+  write_png_atomic(path, packed.rows, packed.cols, packed.channels(), packed.data);
 }
 
 std::string poses_csv(const TsdSampleOut& s) {
@@ -94,7 +80,7 @@ void write_tsd_dataset(const TsdDatasetOut& ds, const std::string& dir) {
   for (const auto& [rel, text] : ds.mesh_files) {
     const fs::path path = fs::path(dir) / rel;
     fs::create_directories(path.parent_path(), ec);
-    write_file_atomically(path.string(), text);
+    write_file_atomic(path.string(), text);
   }
   j["samples"] = nlohmann::json::array();
 
@@ -102,8 +88,8 @@ void write_tsd_dataset(const TsdDatasetOut& ds, const std::string& dir) {
     const fs::path sdir = fs::path(dir) / s.id;
     fs::create_directories(sdir, ec);
     if (ec) throw InputError(sdir.string(), "cannot create sample directory: " + ec.message());
-    write_file_atomically((sdir / "poses.csv").string(), poses_csv(s));
-    write_file_atomically((sdir / "markers.csv").string(), markers_csv(s));
+    write_file_atomic((sdir / "poses.csv").string(), poses_csv(s));
+    write_file_atomic((sdir / "markers.csv").string(), markers_csv(s));
     if (!s.frames.empty()) {
       fs::create_directories(sdir / "frames", ec);
       char name[32];
@@ -122,7 +108,7 @@ void write_tsd_dataset(const TsdDatasetOut& ds, const std::string& dir) {
     for (const auto& [k, v] : s.extra.items()) e[k] = v;
     j["samples"].push_back(e);
   }
-  write_file_atomically((fs::path(dir) / "dataset.json").string(), j.dump(1) + "\n");
+  write_file_atomic((fs::path(dir) / "dataset.json").string(), j.dump(1) + "\n");
 }
 
 }  // namespace sb

@@ -44,7 +44,6 @@ struct TsdDatasetOut {
 // Writes `dataset` into `dir` (created if needed). Throws InputError naming the file that failed.
 void write_tsd_dataset(const TsdDatasetOut& dataset, const std::string& dir);
 
-// Writes `text` to `path` atomically (temporary file beside it, then rename).
-void write_file_atomically(const std::string& path, const std::string& text);
+
 
 }  // namespace sb

@@ -1,5 +1,7 @@
 #include "widgets/gl_window.hpp"
 
+#include "core/atomic_write.hpp"
+
 #include <GL/glew.h>
 // GLEW before GLFW: GLFW must not pull in the system GL header first.
 #include <GLFW/glfw3.h>
@@ -127,15 +129,10 @@ Image GlWindow::read_back_buffer() const {
 }
 
 void write_png_atomic(const Image& image, const std::string& path) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  if (target.has_parent_path()) fs::create_directories(target.parent_path());
   cv::Mat rgb(image.height, image.width, CV_8UC3, const_cast<std::uint8_t*>(image.rgb.data()));
   cv::Mat bgr;
   cv::cvtColor(rgb, bgr, cv::COLOR_RGB2BGR);
-  const fs::path tmp = target.parent_path() / (target.filename().string() + ".tmp.png");
-  if (!cv::imwrite(tmp.string(), bgr)) throw std::runtime_error("cannot write " + tmp.string());
-  fs::rename(tmp, target);
+  sb::write_png_atomic(path, bgr.rows, bgr.cols, bgr.channels(), bgr.data);
 }
 
 }  // namespace sb::ui
