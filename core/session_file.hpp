@@ -1,0 +1,41 @@
+#pragma once
+// The workbench session file: what the user made, so it can be saved, reopened, autosaved and offered
+// back after a crash. JSON with a format version; written atomically; every bad value is reported as
+// "file: /json/pointer: what". Parameter tables are kept as JSON here and validated by the models'
+// ParamSet when applied (the session reader does not depend on the model registry).
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/pose.hpp"
+
+namespace sb {
+
+struct SessionFile {
+  static constexpr int kFormatVersion = 1;
+  // What is open (as for `shearbench gui`): a scene, or a dataset sample.
+  std::string scene_path;
+  std::string dataset_dir;
+  std::string sample_id;
+  std::string fots_id = "fots";
+  std::string tacsl_id = "tacsl";
+  std::string indenter_mesh;
+  double indenter_scale = 0.002;
+  // What the user did: every model's parameters (model id -> table), the pose path X_EI(0..n-1)
+  // including drags, and the step shown.
+  nlohmann::json params = nlohmann::json::object();
+  std::vector<Pose> path;
+  int step = -1;
+  // How it is shown.
+  bool auto_scale = true;
+  double arrow_gain = 0.0;       // 0: the workbench's default
+  double colour_max_px = 0.0;
+};
+
+nlohmann::ordered_json session_to_json(const SessionFile& s);
+// `file` names the source in errors.
+SessionFile session_from_json(const nlohmann::json& j, const std::string& file);
+SessionFile load_session_file(const std::string& path);
+void save_session_file(const std::string& path, const SessionFile& s);
+
+}  // namespace sb

@@ -1,0 +1,83 @@
+// core/session_file: the workbench session document.
+#include <catch2/catch.hpp>
+
+#include <filesystem>
+#include <fstream>
+
+#include <unistd.h>
+
+#include "core/error.hpp"
+#include "core/session_file.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+constexpr double kPoseTol = 1e-12;   // poses go through JSON doubles (17 significant digits): exact to rounding
+
+std::string temp_file(const std::string& name, const std::string& text) {
+  const fs::path p = fs::temp_directory_path() / ("sb_session_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+std::string message_of(const std::string& text) {
+  try {
+    sb::session_from_json(nlohmann::json::parse(text), "s.json");
+  } catch (const sb::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("a session survives a save and a load unchanged", "[session]") {
+  sb::SessionFile s;
+  s.dataset_dir = "data:twin/twin_sphere8";
+  s.sample_id = "shr_01";
+  s.tacsl_id = "tacsl-normalized";
+  s.params["hydroshear"] = {{"mu", 0.4}};
+  s.path = {sb::Pose::Identity(), sb::make_pose(sb::Vec3(1e-3, -2e-3, 0.5e-3), sb::Quat(Eigen::AngleAxisd(0.3, sb::Vec3::UnitZ())))};
+  s.step = 1;
+  s.auto_scale = false;
+  s.arrow_gain = 150;
+  const std::string path = temp_file("rt.json", "");
+  sb::save_session_file(path, s);
+  const sb::SessionFile r = sb::load_session_file(path);
+  CHECK(r.dataset_dir == s.dataset_dir);
+  CHECK(r.sample_id == "shr_01");
+  CHECK(r.tacsl_id == "tacsl-normalized");
+  CHECK(r.params == s.params);
+  REQUIRE(r.path.size() == 2);
+  CHECK((r.path[1].matrix() - s.path[1].matrix()).cwiseAbs().maxCoeff() < kPoseTol);
+  CHECK(r.step == 1);
+  CHECK_FALSE(r.auto_scale);
+  CHECK(r.arrow_gain == 150);
+  fs::remove(path);
+}
+
+TEST_CASE("bad session files name the file and the JSON pointer", "[session]") {
+  const std::string head = R"({"format": "shearbench-session", "version": 1, "open": {})";
+  CHECK_THAT(message_of(R"({"format": "other", "version": 1, "open": {}})"), Catch::Contains("s.json: /format"));
+  CHECK_THAT(message_of(R"({"format": "shearbench-session", "version": 7, "open": {}})"),
+             Catch::Contains("/version") && Catch::Contains("unsupported session version 7"));
+  CHECK_THAT(message_of(head + R"(, "path_X_EI": [[0, 0, 0, 1, 0, 0]]})"), Catch::Contains("/path_X_EI/0"));
+  CHECK_THAT(message_of(head + R"(, "path_X_EI": [[0, 0, 0, 0, 0, 0, 0]]})"), Catch::Contains("/path_X_EI/0"));
+  CHECK_THAT(message_of(head + R"(, "path_X_EI": [[0, 0, 0, 1, 0, 0, 0]], "step": 3})"), Catch::Contains("/step"));
+  CHECK_THAT(message_of(head + R"(, "params": {"tacsl": 3}})"), Catch::Contains("/params/tacsl"));
+  CHECK_THAT(message_of(head + R"(, "display": {"arrow_gain": -1}})"), Catch::Contains("/display/arrow_gain"));
+  CHECK_THAT(message_of(head + R"(, "colour": 1})"), Catch::Contains("colour"));   // a typo is not ignored
+  CHECK_THAT(message_of(R"([1, 2])"), Catch::Contains("s.json"));
+}
+
+TEST_CASE("a session file that is not JSON is reported with its line", "[session]") {
+  const std::string path = temp_file("broken.json", "{\n  \"format\": \"shearbench-session\",\n  oops\n}\n");
+  try {
+    sb::load_session_file(path);
+    FAIL("expected an InputError");
+  } catch (const sb::InputError& e) {
+    CHECK(e.file() == path);
+    CHECK(e.line() == 3);
+  }
+  fs::remove(path);
+}
