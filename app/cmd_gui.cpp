@@ -17,6 +17,8 @@ struct GuiArgs {
   int profile = 0;
   double indenter_scale = 0.002;
   std::string headless_out = "shearbench_headless.png";
+  std::string session;
+  double autosave_interval_s = 30.0;
 };
 
 bool on_path(const std::string& program) {
@@ -74,6 +76,8 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   so.indenter_scale = a.indenter_scale;
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
+  fo.keep_work = a.profile == 0;
+  fo.autosave_interval_s = a.autosave_interval_s;
   Frontend front(so, fo);
   if (a.profile > 0) {
     std::cout << "profile (" << fo.width << "x" << fo.height << ", synthetic drag): "
@@ -81,6 +85,8 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
     return 0;
   }
   front.session().state->start_thread();
+  if (!a.session.empty()) front.open_session_file(a.session);
+  else front.offer_autosave();
   while (front.frame()) {}
   return 0;
 }
@@ -92,6 +98,9 @@ const CommandRegistrar registrar{
       sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
       sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
       sub.add_option("--sample", a->sample, "sample id (default: the first)");
+      sub.add_option("--session", a->session, "open a saved session file (JSON)");
+      sub.add_option("--autosave-interval", a->autosave_interval_s, "seconds of unsaved changes before an autosave")
+          ->capture_default_str()->check(CLI::PositiveNumber);
       sub.add_option("--size", a->size, "window size")->capture_default_str();
       sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
       sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();

@@ -3,6 +3,7 @@
 // run it under `xvfb-run -a -s "-screen 0 1600x900x24"`.
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -16,6 +17,7 @@ namespace sb::app {
 namespace {
 
 struct RenderArgs {
+  std::string session;
   std::string scene, dataset, sample, indenter_mesh, size = "1600x900", out, camera = "iso", fots = "fots", tacsl = "tacsl";
   int step = -2;     // -2: the last step
   int frame = -2;    // dataset frame (same as step)
@@ -54,6 +56,13 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   fo.interactive = false;
   fo.camera = a.camera;
   Frontend front(so, fo);
+  std::optional<int> session_step;
+  if (!a.session.empty()) {
+    // A saved (or autosaved) session: the same restore path as the GUI, then run headless here.
+    front.open_session_file(a.session);
+    front.session().state->stop_thread();
+    session_step = load_session_file(a.session).step;
+  }
   AppState& state = *front.session().state;
   if (a.profile > 0) {
     const auto ms = front.profile_drag(a.profile);
@@ -61,7 +70,8 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
               << " panels, synthetic drag): " << percentiles_line(ms) << "\n";
     std::cout << "physics: " << state.current_step() + 1 << " model steps during the drag\n";
   } else {
-    const int target = a.frame != -2 ? a.frame : a.step != -2 ? a.step : static_cast<int>(state.path().size()) - 1;
+    const int last = session_step ? *session_step : static_cast<int>(state.path().size()) - 1;
+    const int target = a.frame != -2 ? a.frame : a.step != -2 ? a.step : last;
     state.run_to(target);
     if (!a.drag_mm.empty() || a.drag_twist_deg != 0) {
       // The GUI's drag path: queued at the sync point, sub-stepped, run by tick() to its end.
@@ -86,6 +96,7 @@ const CommandRegistrar registrar{
     [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
       auto a = std::make_shared<RenderArgs>();
       sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
+      sub.add_option("--session", a->session, "a saved or autosaved session file (JSON)");
       sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
       sub.add_option("--sample", a->sample, "sample id of the dataset (default: the first)");
       sub.add_option("--frame", a->frame, "dataset frame to show (= step)");

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <iostream>
 #include <sstream>
 
@@ -35,7 +36,9 @@ ui::CameraPreset parse_camera(const std::string& name) {
 
 Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options)
     : session_options_(session), options_(options), session_(open_session(session)),
-      window_(window_options(options)), workbench_({options.show_timings, options.interactive}) {
+      window_(window_options(options)), workbench_({options.show_timings, options.interactive}),
+      work_(options.autosave_interval_s),
+      autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   workbench_.set_metrics(field_metrics());
   workbench_.set_camera(parse_camera(options.camera));
@@ -54,6 +57,7 @@ void Frontend::reopen(const SessionOptions& session) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
+  baseline_pending_ = Baseline::Clean;
 }
 
 void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
@@ -83,6 +87,16 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       o.scene_path.clear();
       reopen(o);
     }
+    if (req.save_session) {
+      save_session_file(*req.save_session, current_session_file());
+      work_.saved(work_fingerprint());
+      std::error_code ec;
+      std::filesystem::remove(autosave_path_, ec);   // saved: the autosave is stale
+      workbench_.set_session_path(*req.save_session);
+      workbench_.set_message("saved session " + *req.save_session);
+    }
+    if (req.open_session) open_session_file(*req.open_session);
+    if (req.answer) handle_answer(req.answer->first, req.answer->second);
     if (req.open_dataset) {
       SessionOptions o = session_options_;
       o.dataset_dir = *req.open_dataset;
@@ -108,7 +122,152 @@ bool Frontend::frame() {
   window_.present();
   // Frame time excludes the idle wait: it is what drawing costs.
   frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
-  return !quit_ && !window_.should_close();
+  if (options_.keep_work) keep_work_tick();
+  if (!quit_ && !window_.should_close()) return true;
+  return allow_close();
+}
+
+// ------------------------------------------------------------------------------------ no lost work
+
+double Frontend::now_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+SessionFile Frontend::current_session_file() const {
+  const AppSnapshot snap = session_.state->snapshot();
+  SessionFile f;
+  // Absolute, so the session opens from any working directory ("data:..." stays relative to the data root).
+  const auto absolute = [](const std::string& p) {
+    return p.empty() || p.rfind("data:", 0) == 0 ? p : std::filesystem::absolute(p).lexically_normal().string();
+  };
+  f.scene_path = absolute(session_options_.scene_path);
+  f.dataset_dir = absolute(session_options_.dataset_dir);
+  f.sample_id = session_options_.sample_id;
+  f.fots_id = session_options_.fots_id;
+  f.tacsl_id = session_options_.tacsl_id;
+  f.indenter_mesh = session_options_.indenter_mesh;
+  f.indenter_scale = session_options_.indenter_scale;
+  for (const auto& m : snap.models) f.params[m.id] = m.params.to_json();
+  f.path = session_.state->path();
+  f.step = snap.step;
+  auto& wb = const_cast<ui::Workbench&>(workbench_);
+  f.auto_scale = wb.auto_scale_enabled();
+  f.arrow_gain = wb.scale().arrow_gain;
+  f.colour_max_px = wb.scale().colour_max_px;
+  return f;
+}
+
+// What counts as the user's work: everything in the session file but the step shown (playing a
+// replay changes the step, and that is not an edit worth asking about) and derived display scales.
+std::string Frontend::work_fingerprint() const {
+  nlohmann::ordered_json j = session_to_json(current_session_file());
+  j.erase("step");
+  // With auto scale on, the arrow gain and colour range follow the fields: derived, not edited.
+  if (j["display"]["auto_scale"].get<bool>()) j.erase("display");
+  return j.dump();
+}
+
+void Frontend::apply_session_file(const SessionFile& f) {
+  SessionOptions o = session_options_;
+  o.scene_path = f.scene_path;
+  o.dataset_dir = f.dataset_dir;
+  o.sample_id = f.sample_id;
+  o.fots_id = f.fots_id;
+  o.tacsl_id = f.tacsl_id;
+  o.indenter_mesh = f.indenter_mesh;
+  o.indenter_scale = f.indenter_scale;
+  reopen(o);
+  AppState& state = *session_.state;
+  if (!f.path.empty()) state.request_path(f.path);
+  const AppSnapshot snap = state.snapshot();
+  for (std::size_t m = 0; m < snap.models.size(); ++m) {
+    if (!f.params.contains(snap.models[m].id)) continue;
+    ParamSet p = snap.models[m].params;
+    p.update_from_json(f.params.at(snap.models[m].id), "session /params/" + snap.models[m].id);
+    state.request_params(m, p);
+  }
+  state.request_seek(f.step);
+  workbench_.auto_scale_enabled() = f.auto_scale;
+  if (f.arrow_gain > 0) workbench_.scale().arrow_gain = static_cast<float>(f.arrow_gain);
+  if (f.colour_max_px > 0) workbench_.scale().colour_max_px = static_cast<float>(f.colour_max_px);
+}
+
+void Frontend::open_session_file(const std::string& path) {
+  apply_session_file(load_session_file(path));
+  baseline_pending_ = Baseline::Clean;
+  workbench_.set_session_path(path);
+  workbench_.set_message("opened session " + path);
+}
+
+void Frontend::offer_autosave() {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(autosave_path_, ec)) return;
+  workbench_.ask("restore", "shearbench did not close cleanly last time.\nRestore the unsaved session autosaved in\n" +
+                                autosave_path_ + " ?",
+                 {"Restore", "Discard"});
+}
+
+void Frontend::handle_answer(const std::string& id, int button) {
+  std::error_code ec;
+  if (id == "restore") {
+    if (button == 0) {
+      apply_session_file(load_session_file(autosave_path_));
+      baseline_pending_ = Baseline::Restored;
+      workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)");
+    } else {
+      std::filesystem::remove(autosave_path_, ec);
+    }
+  } else if (id == "close") {
+    if (button == 0) {   // Save, then close
+      save_session_file(workbench_.session_path(), current_session_file());
+      work_.saved(work_fingerprint());
+      close_confirmed_ = true;
+      quit_ = true;
+    } else if (button == 1) {   // Discard
+      close_confirmed_ = true;
+      quit_ = true;
+    }
+  }
+}
+
+void Frontend::keep_work_tick() {
+  constexpr double kCheckEveryS = 0.5;   // building the document costs ~ a millisecond for long paths
+  const double now = now_s();
+  if (now - last_work_check_s_ < kCheckEveryS) return;
+  last_work_check_s_ = now;
+  // The baseline is taken once the physics has applied the opened session's edits.
+  if (baseline_pending_ != Baseline::None && session_.state->pending_edits() == 0) {
+    if (baseline_pending_ == Baseline::Clean) work_.saved(work_fingerprint());
+    else work_.restored(work_fingerprint());
+    baseline_pending_ = Baseline::None;
+  }
+  work_.observe(work_fingerprint(), now);
+  workbench_.set_unsaved(work_.dirty());
+  if (work_.autosave_due(now)) {
+    try {
+      save_session_file(autosave_path_, current_session_file());
+      work_.autosaved();
+    } catch (const std::exception& e) {
+      workbench_.set_message(std::string("autosave failed: ") + e.what());
+    }
+  }
+}
+
+// Called when the user asked to close: with unsaved work, ask first (the window stays open).
+bool Frontend::allow_close() {
+  if (!options_.keep_work) return false;
+  if (baseline_pending_ == Baseline::None) work_.observe(work_fingerprint(), now_s());
+  if (work_.dirty() && !close_confirmed_) {
+    quit_ = false;
+    glfwSetWindowShouldClose(window_.handle(), GLFW_FALSE);
+    if (!workbench_.asking())
+      workbench_.ask("close", "There are unsaved changes.\nSave the session to " + workbench_.session_path() +
+                                  " before closing?", {"Save", "Discard", "Cancel"});
+    return true;
+  }
+  std::error_code ec;
+  std::filesystem::remove(autosave_path_, ec);   // a clean exit: nothing to offer back next time
+  return false;
 }
 
 ui::Image Frontend::render_still(int frames) {

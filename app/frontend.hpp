@@ -4,6 +4,8 @@
 #include <vector>
 
 #include "app/session.hpp"
+#include "core/session_file.hpp"
+#include "core/unsaved_work.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
 
@@ -16,6 +18,11 @@ struct FrontendOptions {
   bool show_timings = true;
   bool interactive = true;
   std::string camera = "iso";   // iso | top | side
+  // The interactive GUI keeps the user's work: autosave while dirty, offer it back after a crash,
+  // ask before closing with unsaved changes. Off for headless renders.
+  bool keep_work = false;
+  std::string autosave_path;    // empty: default_autosave_path()
+  double autosave_interval_s = 30.0;
 };
 
 class Frontend {
@@ -32,9 +39,20 @@ class Frontend {
   Session& session() { return session_; }
   ui::Workbench& workbench() { return workbench_; }
   void reopen(const SessionOptions& session);
+  // Session files (core/session_file.hpp): what the user made, saved and reopened.
+  SessionFile current_session_file() const;
+  void open_session_file(const std::string& path);
+  // When an autosave from an unclean exit exists, asks whether to restore it.
+  void offer_autosave();
 
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
+  void handle_answer(const std::string& id, int button);
+  void apply_session_file(const SessionFile& file);
+  std::string work_fingerprint() const;
+  void keep_work_tick();
+  bool allow_close();
+  double now_s() const;
   SessionOptions session_options_;
   FrontendOptions options_;
   Session session_;
@@ -43,6 +61,12 @@ class Frontend {
   double frame_ms_ = 0;
   bool quit_ = false;
   bool screenshot_pending_ = false;
+  // No lost work (keep_work).
+  UnsavedWork work_;
+  std::string autosave_path_;
+  enum class Baseline { None, Clean, Restored } baseline_pending_ = Baseline::Clean;
+  bool close_confirmed_ = false;
+  double last_work_check_s_ = -1e9;
 };
 
 // p50 / p90 / p99 / max of frame times, one line.

@@ -30,7 +30,8 @@ const std::vector<KeyBinding>& key_table() {
       {GLFW_KEY_P, false, Action::Screenshot, "P", "screenshot (PNG)"},
       {GLFW_KEY_F1, false, Action::ToggleHelp, "F1 / H", "this help"},
       {GLFW_KEY_H, false, Action::ToggleHelp, "", ""},
-      {GLFW_KEY_ESCAPE, true, Action::Quit, "Shift+Esc", "quit"},
+      {GLFW_KEY_S, false, Action::SaveSession, "Ctrl+S", "save the session (JSON; autosaved every 30 s)", true},
+      {GLFW_KEY_ESCAPE, true, Action::Quit, "Shift+Esc", "quit (asks first when there are unsaved changes)"},
   };
   return table;
 }
@@ -40,7 +41,8 @@ std::vector<Action> pressed_actions() {
   const ImGuiIO& io = ImGui::GetIO();
   if (io.WantTextInput) return actions;
   for (const KeyBinding& k : key_table())
-    if (ImGui::IsKeyPressed(k.key, /*repeat=*/true) && (!k.shift || io.KeyShift)) actions.push_back(k.action);
+    if (ImGui::IsKeyPressed(k.key, /*repeat=*/!k.ctrl) && (!k.shift || io.KeyShift) && k.ctrl == io.KeyCtrl)
+      actions.push_back(k.action);
   return actions;
 }
 

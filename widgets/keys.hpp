@@ -11,7 +11,7 @@ enum class Action {
   NudgeXPlus, NudgeXMinus, NudgeYPlus, NudgeYMinus, PushIn, PullOut, TwistPlus, TwistMinus,
   CameraReset, CameraTop, CameraSide, CameraIso,
   ArrowsLonger, ArrowsShorter, NextMarkerModel,
-  Screenshot, ToggleHelp, Quit,
+  Screenshot, ToggleHelp, SaveSession, Quit,
 };
 
 struct KeyBinding {
@@ -20,6 +20,7 @@ struct KeyBinding {
   Action action;
   const char* keys;   // as shown in the help overlay
   const char* help;
+  bool ctrl = false;  // Ctrl must be held
 };
 
 const std::vector<KeyBinding>& key_table();

@@ -173,6 +173,7 @@ void Workbench::apply_actions(WorkbenchRequest& req) {
       case Action::NextMarkerModel: marker_model_ = (marker_model_ + 1) % std::max<int>(1, snap_.models.size()); break;
       case Action::Screenshot: req.screenshot = true; break;
       case Action::ToggleHelp: show_help_ = !show_help_; break;
+      case Action::SaveSession: req.save_session = std::string(session_path_); break;
       case Action::Quit: req.quit = true; break;
     }
   }
@@ -241,6 +242,47 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
       ImGui::TreePop();
     }
   }
+  if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::SetNextItemWidth(-110);
+    ImGui::InputText("##session", session_path_, sizeof session_path_);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Open##session")) req.open_session = std::string(session_path_);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
+    if (unsaved_) ImGui::TextDisabled("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
+    else ImGui::TextDisabled("saved");
+  }
+}
+
+void Workbench::ask(std::string id, std::string text, std::vector<std::string> buttons) {
+  question_id_ = std::move(id);
+  question_text_ = std::move(text);
+  question_buttons_ = std::move(buttons);
+}
+
+void Workbench::set_session_path(const std::string& path) {
+  std::snprintf(session_path_, sizeof session_path_, "%s", path.c_str());
+}
+
+void Workbench::draw_question(WorkbenchRequest& req) {
+  if (question_id_.empty()) return;
+  ImGui::OpenPopup("##question");
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x / 2, vp->Pos.y + vp->Size.y / 2), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  if (ImGui::BeginPopupModal("##question", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar)) {
+    ImGui::TextUnformatted(question_text_.c_str());
+    ImGui::Separator();
+    for (std::size_t i = 0; i < question_buttons_.size(); ++i) {
+      if (i > 0) ImGui::SameLine();
+      if (ImGui::Button(question_buttons_[i].c_str(), ImVec2(110, 0))) {
+        req.answer = std::make_pair(question_id_, static_cast<int>(i));
+        question_id_.clear();
+        ImGui::CloseCurrentPopup();
+      }
+    }
+    ImGui::EndPopup();
+  }
 }
 
 void Workbench::draw_fields(float width) {
@@ -299,7 +341,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
         state_->pending_edits() == 0)
       edit_params_[m] = snap_.models[m].params;
   if (auto_scale_) auto_scale();
-  if (options_.interactive) apply_actions(req);
+  if (options_.interactive && question_id_.empty()) apply_actions(req);
 
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   const float W = vp->Size.x, H = vp->Size.y;
@@ -359,6 +401,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   ImGui::End();
 
   draw_help_overlay(&show_help_);
+  draw_question(req);
   return req;
 }
 

@@ -40,6 +40,10 @@ struct WorkbenchRequest {
   std::optional<std::string> open_dataset;  // a dataset folder (its first sample)
   std::optional<std::string> load_params;   // params.json path
   std::optional<std::string> save_params;
+  std::optional<std::string> save_session;  // session file path
+  std::optional<std::string> open_session;
+  // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
+  std::optional<std::pair<std::string, int>> answer;
 };
 
 class Workbench {
@@ -58,6 +62,14 @@ class Workbench {
   // True while anything on screen may change without input (play-back, a drag, physics catching up).
   bool animating() const;
   FieldScale& scale() { return scale_; }
+  bool& auto_scale_enabled() { return auto_scale_; }
+  // A modal question with buttons; the choice comes back once in WorkbenchRequest::answer.
+  void ask(std::string id, std::string text, std::vector<std::string> buttons);
+  bool asking() const { return !question_id_.empty(); }
+  // Shown in the Session section ("unsaved changes").
+  void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
+  void set_session_path(const std::string& path);
+  std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
 
  private:
@@ -65,6 +77,7 @@ class Workbench {
   void apply_actions(WorkbenchRequest& req);
   void draw_controls(WorkbenchRequest& req);
   void draw_fields(float width);
+  void draw_question(WorkbenchRequest& req);
   void auto_scale();
   void nudge(const Pose& delta_E, bool rotate_about_origin);
   const std::vector<Vec2>* measured_at_step() const;
@@ -86,6 +99,10 @@ class Workbench {
   std::vector<ParamSet> edit_params_;
   std::optional<Pose> last_drag_;
   char params_path_[512] = "params.json";
+  char session_path_[512] = "session.json";
+  bool unsaved_ = false;
+  std::string question_id_, question_text_;
+  std::vector<std::string> question_buttons_;
   std::string message_;
 };
 
