@@ -406,17 +406,37 @@ ExpectedCounts scan_ply(const std::string& path) {
     return 4;
   };
   auto close_element = [&] { min_body_bytes += record_bytes * static_cast<std::uintmax_t>(current_count); };
+  // The header is checked against the PLY grammar before OpenMesh sees it: its reader crashes on a
+  // property with no element before it or an unknown keyword (found by fuzz_mesh).
+  auto known_type = [](const std::string& t) {
+    static const char* types[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+                                  "int16", "uint16", "int32", "uint32", "float32", "float64"};
+    for (const char* k : types) if (t == k) return true;
+    return false;
+  };
+  bool have_format = false;
   while (std::getline(in, line)) {
     ++line_no;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     std::istringstream s(line);
     std::string word;
     s >> word;
-    if (line_no == 1 && word != "ply") throw InputError(path, 1, 0, "not a PLY file (no 'ply' magic)");
+    if (line_no == 1) {
+      if (word != "ply") throw InputError(path, 1, 0, "not a PLY file (no 'ply' magic)");
+      continue;
+    }
     if (word == "format") {
-      std::string f;
-      s >> f;
+      std::string f, version;
+      s >> f >> version;
+      if (f != "ascii" && f != "binary_little_endian" && f != "binary_big_endian")
+        throw InputError(path, line_no, 0, "unknown PLY format '" + f + "'");
+      if (version != "1.0") throw InputError(path, line_no, 0, "unsupported PLY version '" + version + "'");
       ascii = f == "ascii";
+      have_format = true;
+    } else if (word == "comment" || word == "obj_info" || word.empty()) {
+      // free text
+    } else if (!have_format) {
+      throw InputError(path, line_no, 0, "PLY header: '" + word + "' before the format line");
     } else if (word == "element") {
       close_element();
       current_count = -1;
@@ -427,12 +447,16 @@ ExpectedCounts scan_ply(const std::string& path) {
       if (current == "vertex") c.vertices = current_count;
       if (current == "face") c.faces = current_count;
     } else if (word == "property") {
+      if (current.empty()) throw InputError(path, line_no, 0, "PLY header: property before any element");
       std::string type, count_type, item_type;
       s >> type;
       if (type == "list") {
         s >> count_type >> item_type;
+        if (!known_type(count_type) || !known_type(item_type))
+          throw InputError(path, line_no, 0, "PLY header: unknown list types '" + count_type + " " + item_type + "'");
         record_bytes += type_size(count_type) + (current == "face" ? 3 * type_size(item_type) : 0);
       } else {
+        if (!known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
         record_bytes += type_size(type);
       }
     } else if (word == "end_header") {
@@ -451,6 +475,8 @@ ExpectedCounts scan_ply(const std::string& path) {
                                      std::to_string(min_body_bytes) + " its header declares (truncated)");
       }
       return c;
+    } else {
+      throw InputError(path, line_no, 0, "PLY header: unknown keyword '" + word + "'");
     }
   }
   throw InputError(path, line_no, 0, "PLY header without end_header (truncated)");

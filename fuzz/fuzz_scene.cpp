@@ -1,13 +1,7 @@
-// Scene JSON (scenes/*.json) through load_scene, with a data root that does not exist so data: paths
-// fail cleanly instead of loading large meshes.
-#include "core/scene.hpp"
-#include "fuzz/fuzz_common.hpp"
+// libFuzzer target: see fuzz/fuzz_inputs.hpp (one_scene) for what is fuzzed and the contract.
+#include "fuzz/fuzz_inputs.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = sb::fuzz::write_input(data, size, "scene.json");
-  sb::fuzz::expect_load_or_input_error([&] {
-    const sb::Scene scene = sb::load_scene(path, (sb::fuzz::scratch_dir() / "no_data_root").string());
-    (void)scene;
-  });
+  sb::fuzz::one_scene(data, size);
   return 0;
 }

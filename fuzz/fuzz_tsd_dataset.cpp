@@ -1,13 +1,7 @@
-// dataset.json of a tsd/1 dataset (FORMAT.md), read through read_dataset like `check` and `evaluate`.
-#include "core/tsd.hpp"
-#include "fuzz/fuzz_common.hpp"
+// libFuzzer target: see fuzz/fuzz_inputs.hpp (one_tsd_dataset) for what is fuzzed and the contract.
+#include "fuzz/fuzz_inputs.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  sb::fuzz::write_input(data, size, "dataset.json");
-  sb::fuzz::expect_load_or_input_error([] {
-    sb::Warnings warnings;
-    const sb::Dataset ds = sb::read_dataset(sb::fuzz::scratch_dir().string(), &warnings);
-    (void)ds;
-  });
+  sb::fuzz::one_tsd_dataset(data, size);
   return 0;
 }

@@ -1,0 +1,7 @@
+// libFuzzer target: see fuzz/fuzz_inputs.hpp (one_session) for what is fuzzed and the contract.
+#include "fuzz/fuzz_inputs.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  sb::fuzz::one_session(data, size);
+  return 0;
+}
