@@ -9,6 +9,7 @@ namespace sb::app {
 namespace {
 
 struct ImportArgs {
+  bool frames = false;
   std::string source, in, out, grid = "auto";
   double mm_per_px = 0.0634;
 };
@@ -17,8 +18,8 @@ int run(const ImportArgs& a) {
   TrackerOptions opts;
   parse_grid(a.grid, "--grid", opts);
   ImportReport report;
-  if (a.source == "gsrobotics") report = import_gsrobotics(a.in, a.out, opts, a.mm_per_px);
-  else if (a.source == "incipient_slip") report = import_incipient_slip(a.in, a.out, opts, a.mm_per_px);
+  if (a.source == "gsrobotics") report = import_gsrobotics(a.in, a.out, opts, a.mm_per_px, a.frames);
+  else if (a.source == "incipient_slip") report = import_incipient_slip(a.in, a.out, opts, a.mm_per_px, a.frames);
   else if (a.source == "fots") report = import_fots(a.in, a.out);
   else if (a.source == "feats") report = import_feats(a.in, a.out);
   else throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats)");
@@ -37,6 +38,7 @@ const CommandRegistrar kRegistrar(
           ->required();
       sub.add_option("--grid", args->grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
       sub.add_option("--mm-per-px", args->mm_per_px, "scale for video sources")->capture_default_str();
+      sub.add_flag("--frames", args->frames, "video sources: also store the frames as PNG (the workbench shows them)");
       return [args]() { return run(*args); };
     });
 

@@ -56,7 +56,7 @@ std::string track_summary(const TrackResult& r) {
 // Tracks one video into its own dataset directory; a video that cannot be read is reported, not fatal.
 void import_video(const std::string& video, const std::string& out, const std::string& name,
                   const TrackerOptions& opts, double mm_per_px, const std::string& origin, const std::string& license,
-                  nlohmann::json extra, ImportReport& report) {
+                  nlohmann::json extra, ImportReport& report, bool keep_frames) {
   TrackResult r;
   try {
     r = track_video(video, opts);
@@ -72,6 +72,13 @@ void import_video(const std::string& video, const std::string& out, const std::s
   TsdDatasetOut ds = dataset_from_track(r, name, name, video_dt_s(video), mm_per_px, note);
   ds.license = license;
   ds.samples.front().extra = std::move(extra);
+  if (keep_frames) {
+    std::vector<cv::Mat> frames = read_video_frames(video);
+    frames.resize(std::min<std::size_t>(frames.size(), static_cast<std::size_t>(r.frames())));
+    if (frames.size() == static_cast<std::size_t>(r.frames())) ds.samples.front().frames = std::move(frames);
+    else report.lines.push_back(name + ": frames not stored (decoded " + std::to_string(frames.size()) + " of " +
+                                std::to_string(r.frames()) + ")");
+  }
   write_tsd_dataset(ds, out);
   report.datasets.push_back(out);
   report.lines.push_back(name + ": " + track_summary(r));
@@ -157,7 +164,7 @@ TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& na
 }
 
 ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
-                               double mm_per_px) {
+                               double mm_per_px, bool keep_frames) {
   require_dir(in_dir);
   std::vector<fs::path> videos;
   for (const auto& e : fs::directory_iterator(in_dir))
@@ -173,13 +180,13 @@ ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out
                                (stem.rfind("video_", 0) == 0 ? " The video carries the vendor tracker's red arrows; "
                                                                "the tracker masks and fills them before detecting." : "");
     import_video(v.string(), (fs::path(out_dir) / stem).string(), "gsrobotics_" + stem, opts, mm_per_px, origin,
-                 "GPL-3.0", nlohmann::json::object(), report);
+                 "GPL-3.0", nlohmann::json::object(), report, keep_frames);
   }
   return report;
 }
 
 ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
-                                   double mm_per_px) {
+                                   double mm_per_px, bool keep_frames) {
   require_dir(in_dir);
   std::vector<fs::path> experiments;
   for (const auto& e : fs::directory_iterator(in_dir))
@@ -201,7 +208,7 @@ ImportReport import_incipient_slip(const std::string& in_dir, const std::string&
           "slip_label: true when the experiment folder holds slip.txt (the authors labelled the run as containing "
           "slip), false otherwise (no slip label).";
       import_video(clip.string(), (fs::path(out_dir) / name).string(), name, opts, mm_per_px, origin,
-                   "BSD-2-Clause", nlohmann::json{{"slip_label", slip}}, report);
+                   "BSD-2-Clause", nlohmann::json{{"slip_label", slip}}, report, keep_frames);
     }
   }
   if (report.lines.empty()) throw InputError(in_dir, "no experiment folders with .avi clips");

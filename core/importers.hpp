@@ -24,12 +24,13 @@ TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& na
 
 // raw/gsrobotics_tracking: one dataset per video (video_N.avi, mini_example.avi) under out_dir/<stem>/,
 // because tsd/1 has one markers_rest_px per dataset and each recording has its own rest.
+// keep_frames: also store the decoded video frames (frames/NNNNNN.png) so the workbench shows the real image.
 ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
-                               double mm_per_px);
+                               double mm_per_px, bool keep_frames = false);
 // raw/incipient_slip: one dataset per clip under out_dir/<experiment>_<camera>/, sample field
 // "slip_label" = true when the experiment folder holds slip.txt.
 ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir,
-                                   const TrackerOptions& opts, double mm_per_px);
+                                   const TrackerOptions& opts, double mm_per_px, bool keep_frames = false);
 // raw/fots_marker_calib: one dataset, samples "press" and "shear" (frame 0 rest, frame 1 the CSV field),
 // indenter pose estimated from the marker field (see SphereContactEstimate).
 ImportReport import_fots(const std::string& in_dir, const std::string& out_dir);
