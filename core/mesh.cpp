@@ -440,8 +440,10 @@ ExpectedCounts scan_ply(const std::string& path) {
     } else if (word == "element") {
       close_element();
       current_count = -1;
-      s >> current >> current_count;
-      if (current_count < 0) throw InputError(path, line_no, 0, "element without a count");
+      std::string rest;
+      // A failed extraction sets the count to 0, which OpenMesh's reader then loops on: check the stream.
+      if (!(s >> current >> current_count) || current_count < 0 || (s >> rest))
+        throw InputError(path, line_no, 0, "PLY header: expected 'element <name> <count>'");
       record_bytes = 0;
       total_elements += current_count;
       if (current == "vertex") c.vertices = current_count;
