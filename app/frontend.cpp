@@ -275,6 +275,7 @@ ui::Image Frontend::render_still(int frames) {
   for (int i = 0; i < frames; ++i) {
     window_.begin_frame();
     workbench_.draw(0.0);
+    workbench_.wait_for_background();   // the RMSE series of a replay are in the image, complete
     window_.render();
     if (i + 1 == frames) img = window_.read_back_buffer();
     window_.present();

@@ -64,6 +64,7 @@ void load_measured(Session& s) {
   const Dataset ds = read_dataset(s.scene.dataset_dir, &warnings);
   SampleData data = read_sample(ds, s.scene.sample_id, &warnings);
   const TsdSampleInfo& info = ds.sample(s.scene.sample_id);
+  s.measured.poses = data.poses();
   s.measured.disp_px = std::move(data.markers_px);
   s.measured.frame_paths = std::move(data.frame_paths);
   s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";

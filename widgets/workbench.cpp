@@ -4,6 +4,9 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -94,6 +97,7 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   snap_ = state_->snapshot();
   edit_params_.clear();
   for (const auto& m : snap_.models) edit_params_.push_back(m.params);
+  rmse_params_.clear();   // a new sample: its series is computed afresh
   viewport_.set_scene(*state_->sensor(), *state_->indenter());
   // Marker pitch: the smallest distance between two rest markers (for the automatic arrow scale).
   const auto& rest = state_->sensor()->markers_rest_px;
@@ -193,6 +197,8 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (r.open_sample) req.open_sample = replay_.sample_index;
     if (r.open_dataset) req.open_dataset = std::string(replay_.dataset_buf);
   }
+  if (!measured_.disp_px.empty() && ImGui::CollapsingHeader("RMSE over time", ImGuiTreeNodeFlags_DefaultOpen))
+    draw_rmse_plots();
   if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen)) {
     Pose X = last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI;
     if (pose_panel(X)) {
@@ -251,6 +257,62 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
     if (unsaved_) ImGui::TextDisabled("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
     else ImGui::TextDisabled("saved");
+  }
+}
+
+// Recomputes the RMSE-over-time series (worker thread) when the models' parameters differ from those of
+// the last request, once the physics has applied them (no pending edits).
+void Workbench::update_rmse_series() {
+  if (measured_.disp_px.empty() || measured_.poses.empty() || state_->pending_edits() != 0) return;
+  std::vector<std::vector<double>> values;
+  for (const auto& m : snap_.models) values.push_back(m.params.values());
+  if (values.empty() || values == rmse_params_) return;
+  RmseSeriesRequest req;
+  for (const auto& m : snap_.models) {
+    req.model_ids.push_back(m.id);
+    req.params.push_back(m.params);
+  }
+  req.sensor = state_->sensor();
+  req.indenter = state_->indenter();
+  req.path = measured_.poses;
+  req.dt_s = snap_.dt_s;
+  req.measured_px = measured_.disp_px;
+  rmse_job_.start(std::move(req));
+  rmse_params_ = std::move(values);
+}
+
+void Workbench::wait_for_background() const {
+  while (rmse_job_.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+}
+
+void Workbench::draw_rmse_plots() {
+  const auto series = rmse_job_.result();
+  if (series.size() != snap_.models.size()) {
+    ImGui::TextDisabled(rmse_job_.running() ? "computing ..." : "no measured frames to compare");
+    return;
+  }
+  const float width = ImGui::GetContentRegionAvail().x;
+  for (std::size_t m = 0; m < series.size(); ++m) {
+    // Frames where nothing measured moves do not count (core/metrics.hpp): drawn as 0.
+    std::vector<float> v(series[m].size());
+    double sum = 0;
+    int n = 0;
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      const bool counts = std::isfinite(series[m][k]);
+      v[k] = counts ? static_cast<float>(series[m][k]) : 0.0f;
+      if (counts) sum += series[m][k], ++n;
+    }
+    char overlay[96];
+    std::snprintf(overlay, sizeof overlay, "%s  mean %.2f px", display_name(snap_.models[m].id).c_str(), n ? sum / n : 0.0);
+    const ImVec2 p0 = ImGui::GetCursorScreenPos();
+    const float h = 34.0f;
+    ImGui::PlotLines(("##rmse" + std::to_string(m)).c_str(), v.data(), static_cast<int>(v.size()), 0, overlay, 0.0f,
+                     FLT_MAX, ImVec2(width, h));
+    if (!v.empty() && snap_.step >= 0) {   // the current frame
+      const float x = p0.x + width * (static_cast<float>(std::min<std::size_t>(snap_.step, v.size() - 1)) + 0.5f) /
+                                 static_cast<float>(v.size());
+      ImGui::GetWindowDrawList()->AddLine(ImVec2(x, p0.y), ImVec2(x, p0.y + h), IM_COL32(255, 200, 80, 255), 1.5f);
+    }
   }
 }
 
@@ -341,6 +403,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
         state_->pending_edits() == 0)
       edit_params_[m] = snap_.models[m].params;
   if (auto_scale_) auto_scale();
+  update_rmse_series();
   if (options_.interactive && question_id_.empty()) apply_actions(req);
 
   const ImGuiViewport* vp = ImGui::GetMainViewport();

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/app_state.hpp"
+#include "core/rmse_series.hpp"
 #include "widgets/field_panel.hpp"
 #include "widgets/panels.hpp"
 #include "widgets/viewport.hpp"
@@ -20,6 +21,7 @@ namespace sb::ui {
 struct MeasuredData {
   std::vector<std::vector<Vec2>> disp_px;   // per frame, per marker; NaN for a marker the tracker lost
   std::vector<std::string> frame_paths;     // per frame PNG; empty when the dataset has no frames
+  std::vector<Pose> poses;                  // the sample's pose path X_EI (for RMSE over time)
   std::string label = "Measured";
 };
 
@@ -66,6 +68,9 @@ class Workbench {
   // A modal question with buttons; the choice comes back once in WorkbenchRequest::answer.
   void ask(std::string id, std::string text, std::vector<std::string> buttons);
   bool asking() const { return !question_id_.empty(); }
+  // Headless renders: blocks until background computations (RMSE series) are done, so a render is
+  // deterministic.
+  void wait_for_background() const;
   // Shown in the Session section ("unsaved changes").
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
   void set_session_path(const std::string& path);
@@ -78,6 +83,8 @@ class Workbench {
   void draw_controls(WorkbenchRequest& req);
   void draw_fields(float width);
   void draw_question(WorkbenchRequest& req);
+  void update_rmse_series();
+  void draw_rmse_plots();
   void auto_scale();
   void nudge(const Pose& delta_E, bool rotate_about_origin);
   const std::vector<Vec2>* measured_at_step() const;
@@ -101,6 +108,8 @@ class Workbench {
   char params_path_[512] = "params.json";
   char session_path_[512] = "session.json";
   bool unsaved_ = false;
+  RmseSeriesJob rmse_job_;
+  std::vector<std::vector<double>> rmse_params_;   // the parameter values the running/last job used
   std::string question_id_, question_text_;
   std::vector<std::string> question_buttons_;
   std::string message_;
