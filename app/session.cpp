@@ -9,6 +9,7 @@
 
 #include "core/data_root.hpp"
 #include "core/error.hpp"
+#include "core/json_read.hpp"
 #include "core/metrics.hpp"
 #include "core/model.hpp"
 #include "core/tsd.hpp"
@@ -139,14 +140,7 @@ ui::MetricsFn field_metrics() {
 }
 
 void load_params_file(AppState& state, const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open the parameter file");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path, std::string("not valid JSON: ") + e.what());
-  }
+  const nlohmann::json j = jsonin::load_file(path);   // the same reader as the CLI's (fuzzed)
   if (!j.is_object()) throw InputError(path, "expected an object {model id: {name: value}}");
   const AppSnapshot snap = state.snapshot();
   for (std::size_t m = 0; m < snap.models.size(); ++m) {

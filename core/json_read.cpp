@@ -41,6 +41,12 @@ nlohmann::json load_file(const std::string& path) {
     // Keep nlohmann's explanation, drop its own "[json.exception.parse_error.101] parse error at ..." prefix.
     if (const auto p = what.find(": syntax error"); p != std::string::npos) what = what.substr(p + 2);
     throw InputError(path, line, col, "invalid JSON: " + what);
+  } catch (const nlohmann::json::exception& e) {
+    // Not a syntax error but still unreadable, e.g. out_of_range.406: a number too large for a double
+    // (found by fuzz_params). nlohmann gives no position for these.
+    std::string what = e.what();
+    if (const auto p = what.find("] "); p != std::string::npos) what = what.substr(p + 2);
+    throw InputError(path, "invalid JSON: " + what);
   }
 }
 
