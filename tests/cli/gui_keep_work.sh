@@ -7,6 +7,8 @@
 #  4. a session without changes closes at once and leaves no autosave behind.
 set -euo pipefail
 exe=$1; work=$2
+# GL processes: no leak checking under the sanitizer build (see tests/render/run_render_test.sh).
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 src=$(cd "$(dirname "$0")/../.." && pwd)
 rm -rf "$work"; mkdir -p "$work"
 command -v xdotool >/dev/null || { echo "FAIL: xdotool is not installed (apt-get install xdotool)"; exit 1; }
