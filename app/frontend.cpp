@@ -11,6 +11,7 @@
 
 #include <GLFW/glfw3.h>
 
+#include "core/data_root.hpp"
 #include "core/error.hpp"
 #include "widgets/panels.hpp"
 
@@ -41,6 +42,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
       autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   workbench_.set_metrics(field_metrics());
+  workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
 }

@@ -248,6 +248,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
       ImGui::TreePop();
     }
   }
+  if (ImGui::CollapsingHeader("Fit")) draw_fit_panel();
   if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::SetNextItemWidth(-110);
     ImGui::InputText("##session", session_path_, sizeof session_path_);
@@ -314,6 +315,81 @@ void Workbench::draw_rmse_plots() {
       ImGui::GetWindowDrawList()->AddLine(ImVec2(x, p0.y), ImVec2(x, p0.y + h), IM_COL32(255, 200, 80, 255), 1.5f);
     }
   }
+}
+
+// Calibration on a worker thread (core/fit_job.hpp): the panel polls its status each frame.
+void Workbench::draw_fit_panel() {
+  if (fit_dataset_[0] == '\0' && !replay_.dataset_dir.empty())
+    std::snprintf(fit_dataset_, sizeof fit_dataset_, "%s", replay_.dataset_dir.c_str());
+  ImGui::SetNextItemWidth(-70);
+  ImGui::InputText("dataset##fit", fit_dataset_, sizeof fit_dataset_);
+  if (snap_.models.empty()) return;
+  fit_model_ = std::clamp(fit_model_, 0, static_cast<int>(snap_.models.size()) - 1);
+  ImGui::SetNextItemWidth(-70);
+  if (ImGui::BeginCombo("model##fit", display_name(snap_.models[fit_model_].id).c_str())) {
+    for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m)
+      if (ImGui::Selectable(display_name(snap_.models[m].id).c_str(), m == fit_model_)) fit_model_ = m;
+    ImGui::EndCombo();
+  }
+  ImGui::Checkbox("joint refinement", &fit_joint_);
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-70);
+  ImGui::SliderInt("iter##fit", &fit_iterations_, 1, 100);
+
+  const FitJobStatus st = fit_job_.status();
+  if (st.running()) {
+    const float frac = std::min(1.0f, static_cast<float>(st.iteration) / static_cast<float>(std::max(1, fit_iterations_)));
+    char label[96];
+    std::snprintf(label, sizeof label, "%s  %s  iter %d", st.phase == FitJobStatus::Phase::Loading ? "loading" : "fitting",
+                  st.stage.c_str(), st.iteration);
+    ImGui::ProgressBar(frac, ImVec2(-70, 0), label);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Cancel##fit")) fit_job_.cancel();
+  } else if (ImGui::Button("Run fit (calibration split)")) {
+    FitJobRequest req;
+    req.dataset_dir = fit_dataset_;
+    req.data_root = data_root_;
+    req.model_id = snap_.models[fit_model_].id;
+    req.start = snap_.models[fit_model_].params;
+    req.joint = fit_joint_;
+    req.max_iterations = fit_iterations_;
+    fit_model_id_ = req.model_id;
+    fit_result_handled_ = false;
+    fit_job_.start(std::move(req));
+  }
+  if (!st.losses.empty())
+    ImGui::PlotLines("##fitloss", st.losses.data(), static_cast<int>(st.losses.size()), 0, "loss (Ceres cost)", 0.0f,
+                     FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 40));
+  if (st.phase == FitJobStatus::Phase::Failed) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", st.error.c_str());
+  if (!st.result || fit_result_handled_) return;
+  const bool cancelled = st.phase == FitJobStatus::Phase::Cancelled;
+  ImGui::Text("%s: calibration RMSE %.3f -> %.3f px", cancelled ? "cancelled (completed stages)" : "done",
+              st.calibration_rmse_before_px, st.calibration_rmse_after_px);
+  const ParamSet& after = st.result->params;
+  std::size_t model = snap_.models.size();
+  for (std::size_t m = 0; m < snap_.models.size(); ++m)
+    if (snap_.models[m].id == fit_model_id_) model = m;
+  if (model == snap_.models.size()) return;
+  const ParamSet& before = snap_.models[model].params;
+  if (ImGui::BeginTable("##fitresult", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+    for (std::size_t i = 0; i < after.size() && i < before.size(); ++i) {
+      if (after[i] == before[i]) continue;
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(after.specs()[i].name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.4g", before[i]);
+      ImGui::TableNextColumn();
+      ImGui::Text("-> %.4g", after[i]);
+    }
+    ImGui::EndTable();
+  }
+  if (ImGui::Button("Apply##fit")) {
+    state_->request_params(model, after);   // applied at the sync point; the replay re-runs
+    fit_result_handled_ = true;
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Discard##fit")) fit_result_handled_ = true;
 }
 
 void Workbench::ask(std::string id, std::string text, std::vector<std::string> buttons) {

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/app_state.hpp"
+#include "core/fit_job.hpp"
 #include "core/rmse_series.hpp"
 #include "widgets/field_panel.hpp"
 #include "widgets/panels.hpp"
@@ -74,6 +75,7 @@ class Workbench {
   // Shown in the Session section ("unsaved changes").
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
   void set_session_path(const std::string& path);
+  void set_data_root(std::string root) { data_root_ = std::move(root); }
   std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
 
@@ -84,6 +86,7 @@ class Workbench {
   void draw_fields(float width);
   void draw_question(WorkbenchRequest& req);
   void update_rmse_series();
+  void draw_fit_panel();
   void draw_rmse_plots();
   void auto_scale();
   void nudge(const Pose& delta_E, bool rotate_about_origin);
@@ -109,6 +112,14 @@ class Workbench {
   char session_path_[512] = "session.json";
   bool unsaved_ = false;
   RmseSeriesJob rmse_job_;
+  FitJob fit_job_;
+  std::string data_root_;
+  char fit_dataset_[512] = "";
+  int fit_model_ = 0;
+  bool fit_joint_ = false;
+  int fit_iterations_ = 30;
+  std::string fit_model_id_;          // the model the shown result belongs to
+  bool fit_result_handled_ = false;   // applied or discarded
   std::vector<std::vector<double>> rmse_params_;   // the parameter values the running/last job used
   std::string question_id_, question_text_;
   std::vector<std::string> question_buttons_;

@@ -1,0 +1,55 @@
+#pragma once
+// A calibration fit on a worker thread, for the workbench's fit panel (MuJoCo-simulate style: the UI
+// polls a status copy every frame and never waits; Cancel sets a flag the fit checks between Ceres
+// iterations). GL-free, tested in tests/test_fit_job.cpp.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/fit.hpp"
+
+namespace sb {
+
+struct FitJobRequest {
+  std::string dataset_dir;              // tsd/1 folder (its calibration split is fitted)
+  std::string data_root;
+  std::string model_id;
+  ParamSet start;                       // the parameters the user has now
+  std::vector<std::string> stages;      // empty: the model's whole table
+  bool joint = false;
+  int max_iterations = 30;
+};
+
+struct FitJobStatus {
+  enum class Phase { Idle, Loading, Fitting, Done, Cancelled, Failed } phase = Phase::Idle;
+  std::string stage;                    // current stage
+  int iteration = 0;
+  std::vector<float> losses;            // Ceres cost after every iteration reported, all stages
+  std::string error;                    // Failed: why
+  std::optional<CalibrationResult> result;   // Done (and Cancelled: the completed stages)
+  double calibration_rmse_before_px = 0, calibration_rmse_after_px = 0;   // RMSE over the calibration split
+  bool running() const { return phase == Phase::Loading || phase == Phase::Fitting; }
+};
+
+class FitJob {
+ public:
+  ~FitJob();
+  void start(FitJobRequest request);    // cancels a running fit first
+  void cancel();
+  FitJobStatus status() const;          // a copy
+  void wait() const;                    // blocks until not running (tests, headless)
+
+ private:
+  void run(const FitJobRequest& req);
+  void set(const std::function<void(FitJobStatus&)>& edit);
+  std::thread worker_;
+  std::atomic<bool> cancel_{false};
+  mutable std::mutex mutex_;
+  FitJobStatus status_;
+};
+
+}  // namespace sb
