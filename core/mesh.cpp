@@ -362,7 +362,11 @@ ExpectedCounts scan_off(const std::string& path) {
       throw InputError(path, line_no, 0, "file ends after " + std::to_string(i) + " of " +
                                              std::to_string(c.faces) + " declared faces (truncated)");
     long n = 0;
-    s >> n;
+    // A face record starts with its vertex count (>= 3). A record that does not parse must be an error
+    // here: OpenMesh reads a garbage count and appends vertex handles until memory runs out (fuzz_mesh).
+    if (!(s >> n) || n < 3 || n > c.vertices)
+      throw InputError(path, line_no, 0, "face record must start with its vertex count (3 to " +
+                                             std::to_string(c.vertices) + ")");
     for (long k = 0; k < n; ++k) {
       long idx = -1;
       if (!(s >> idx))
