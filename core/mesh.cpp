@@ -478,9 +478,15 @@ ExpectedCounts scan_ply(const std::string& path) {
         s >> count_type >> item_type;
         if (!known_type(count_type) || !known_type(item_type))
           throw InputError(path, line_no, 0, "PLY header: unknown list types '" + count_type + " " + item_type + "'");
+        std::string name, extra;
+        if (!(s >> name) || (s >> extra))   // OpenMesh loops on a property without a name (fuzz_mesh)
+          throw InputError(path, line_no, 0, "PLY header: expected 'property list <type> <type> <name>'");
         record_bytes += type_size(count_type) + (current == "face" ? 3 * type_size(item_type) : 0);
       } else {
         if (!known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
+        std::string name, extra;
+        if (!(s >> name) || (s >> extra))
+          throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
         record_bytes += type_size(type);
       }
     } else if (word == "end_header") {
