@@ -430,6 +430,13 @@ ExpectedCounts scan_ply(const std::string& path) {
     std::istringstream s(line);
     std::string word;
     s >> word;
+    // OpenMesh tokenises the header across lines and control bytes, so a header that is not plain text
+    // parses differently there than here (it looped on one; fuzz_mesh): plain printable ASCII only.
+    for (std::size_t k = 0; k < line.size(); ++k) {
+      const unsigned char ch = static_cast<unsigned char>(line[k]);
+      if ((ch < 0x20 && ch != '\t') || ch >= 0x7f)
+        throw InputError(path, line_no, static_cast<int>(k) + 1, "PLY header: a byte that is not text");
+    }
     if (line_no == 1) {
       if (word != "ply") throw InputError(path, 1, 0, "not a PLY file (no 'ply' magic)");
       continue;

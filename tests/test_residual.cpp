@@ -137,19 +137,19 @@ void check_recovers(const std::string& effect, const std::map<std::string, doubl
 
 }  // namespace
 
-TEST_CASE("residual loop attributes undeclared viscoelastic creep", "[residual]") {
+TEST_CASE("residual loop attributes undeclared viscoelastic creep", "[residual][slow]") {
   check_recovers("viscoelastic_creep", {{"tau_s", 0.4}, {"creep_fraction", 0.3}});
 }
 
-TEST_CASE("residual loop attributes undeclared lens distortion", "[residual]") {
+TEST_CASE("residual loop attributes undeclared lens distortion", "[residual][slow]") {
   check_recovers("lens_distortion", {{"k1", 0.3}});
 }
 
-TEST_CASE("residual loop attributes undeclared tracker bias", "[residual]") {
+TEST_CASE("residual loop attributes undeclared tracker bias", "[residual][slow]") {
   check_recovers("tracker_bias", {{"gain", 1.1}, {"bias_x_px", 0.6}, {"bias_y_px", -0.4}});
 }
 
-TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual]") {
+TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual][slow]") {
   const auto r = run_loop("", {});
   INFO(sb::residual_to_json(r)["candidates"].dump(1));
   CHECK(r.selection.selected.empty());

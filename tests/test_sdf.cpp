@@ -86,7 +86,7 @@ std::string data_root() {
 
 }  // namespace
 
-TEST_CASE("mesh SDF of an icosphere matches the exact distance to the same mesh", "[sdf]") {
+TEST_CASE("mesh SDF of an icosphere matches the exact distance to the same mesh", "[sdf][slow]") {
   // Sphere r = 5 mm, icosphere level 5 (10,242 vertices); default voxel = min(diag/200, 0.25 mm) where the
   // bbox diagonal is sqrt(3) * 10 mm, so voxel = 0.0866 mm. Band 4 mm.
   constexpr double r = 0.005;
@@ -119,7 +119,7 @@ TEST_CASE("mesh SDF of an icosphere matches the exact distance to the same mesh"
                                            << " deg (" << sdf->describe() << ")");
 }
 
-TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[sdf]") {
+TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[sdf][slow]") {
   // Torus R = 6 mm, r = 2 mm, 256 x 128 facets. Probes from 1.5 mm inside (the tube centre is at 2 mm depth)
   // to 3 mm outside.
   constexpr double R = 0.006, r = 0.002;
@@ -163,7 +163,7 @@ TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[s
                                                                        << worst_angle << " deg");
 }
 
-TEST_CASE("mesh SDF is exact at voxel centres", "[sdf]") {
+TEST_CASE("mesh SDF is exact at voxel centres", "[sdf][slow]") {
   // With p on a voxel centre (p = voxel * integer) trilinear interpolation returns the stored value alone:
   // this isolates OpenVDB's distance computation from interpolation. Stored as float: ~1e-7 relative.
   constexpr double r = 0.005, voxel = 0.0001;
@@ -210,7 +210,7 @@ TEST_CASE("mesh SDF clamps to the band outside it and reports the grown bounds",
   CHECK(b.max().z() == Approx(r + options.band_width).margin(kBoundsTolerance));
 }
 
-TEST_CASE("mesh SDF batch and concurrent queries agree with single queries", "[sdf]") {
+TEST_CASE("mesh SDF batch and concurrent queries agree with single queries", "[sdf][slow]") {
   const sb::TriMesh mesh = sb::make_sphere_mesh(0.004, 4);
   const auto sdf = sb::make_mesh_sdf(mesh);
   std::mt19937 rng(3);
@@ -267,7 +267,7 @@ TEST_CASE("mesh SDF of cow.obj (closed, not a clean manifold) has the right sign
   CHECK(outside > 20);
 }
 
-TEST_CASE("mesh SDF of an open mesh (allow_open) keeps a best-effort sign", "[sdf]") {
+TEST_CASE("mesh SDF of an open mesh (allow_open) keeps a best-effort sign", "[sdf][slow]") {
   // An icosphere with one triangle removed: a hole of about one edge (0.17 mm) at level 5, r = 5 mm.
   constexpr double r = 0.005;
   sb::TriMesh mesh = sb::make_sphere_mesh(r, 5);

@@ -107,7 +107,7 @@ TEST_CASE("GelSight Mini gel mesh placed in E: apex at z = 0, domed top, right s
   CHECK(sb::vertical_span(gel, Vec2(8 * mm, 6 * mm))->z_low == Approx(-4.0 * mm).margin(kCadTolerance));
 }
 
-TEST_CASE("sensor with the mesh gel: markers on the domed surface, mesh SDF", "[sensor]") {
+TEST_CASE("sensor with the mesh gel: markers on the domed surface, mesh SDF", "[sensor][slow]") {
   const std::string path = gel_obj_path();
   INFO("needs " << path);
   REQUIRE(std::filesystem::exists(path));
