@@ -94,7 +94,7 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   } else {
     bool known = false;
     for (const auto& id : bench_model_ids()) known = known || id == a.model;
-    if (!known) throw std::invalid_argument("bench: unknown --model '" + a.model + "' (hydroshear, fots, fots-reimpl, "
+    if (!known) throw InputError("--model", "unknown model '" + a.model + "' (hydroshear, fots, fots-reimpl, "
                                             "tacsl, tacsl-normalized, all)");
     models = {a.model};
   }
