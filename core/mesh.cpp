@@ -23,6 +23,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 namespace fs = std::filesystem;
@@ -322,7 +323,10 @@ ExpectedCounts scan_off(const std::string& path) {
   if (!next_record(s)) throw InputError(path, "empty OFF file");
   std::string magic;
   s >> magic;
-  if (magic.find("OFF") == std::string::npos) throw InputError(path, 1, 0, "not an OFF file (no OFF header)");
+  // The magic is one whole token, [ST][C][N][4][n]OFF: OpenMesh strips the known prefix letters and would
+  // read counts from a different place than we do after "OFF0" (fuzz_mesh, out of memory).
+  static const std::regex kOffMagic("(ST)?C?N?4?n?OFF");
+  if (!std::regex_match(magic, kOffMagic)) throw InputError(path, 1, 0, "not an OFF file (header '" + magic + "')");
   if (line.find("BINARY") != std::string::npos)
     // OpenMesh's binary OFF reader trusts every count in the body (per-face vertex counts included) and
     // allocates what they say (fuzz_mesh found 2 GB requests); checking it would mean re-implementing it.
