@@ -19,6 +19,7 @@ struct GuiArgs {
   std::string headless_out = "shearbench_headless.png";
   std::string session;
   double autosave_interval_s = 30.0;
+  std::string residual;
 };
 
 bool on_path(const std::string& program) {
@@ -54,6 +55,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   if (!a.indenter_mesh.empty())
     args.insert(args.end(), {"--indenter-mesh", a.indenter_mesh, "--indenter-scale", std::to_string(a.indenter_scale)});
   if (a.profile > 0) args.insert(args.end(), {"--profile", std::to_string(a.profile)});
+  if (!a.residual.empty()) args.insert(args.end(), {"--residual", a.residual});
   std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
   std::vector<char*> argv;
   for (auto& s : args) argv.push_back(s.data());
@@ -87,6 +89,7 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   front.session().state->start_thread();
   if (!a.session.empty()) front.open_session_file(a.session);
   else front.offer_autosave();
+  if (!a.residual.empty()) front.load_residual(a.residual);
   while (front.frame()) {}
   return 0;
 }
@@ -107,6 +110,7 @@ const CommandRegistrar registrar{
       sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
       sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
       sub.add_option("--profile", a->profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
+      sub.add_option("--residual", a->residual, "show a residual analysis (shearbench residual --json)");
       sub.add_option("--headless-out", a->headless_out, "PNG written when there is no display")->capture_default_str();
       return [a, &g] { return run_gui(*a, g); };
     }};

@@ -26,6 +26,8 @@ struct RenderArgs {
   bool no_timings = false;
   bool report = false;
   bool visible = false;
+  std::string residual;      // residual JSON: Residual section open, corrected model in its panel
+  bool residual_fields = false;
   std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
   double drag_twist_deg = 0; // ... twisting it about the pad normal by this much
 };
@@ -62,6 +64,10 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
     front.open_session_file(a.session);
     front.session().state->stop_thread();
     session_step = load_session_file(a.session).step;
+  }
+  if (!a.residual.empty()) {
+    front.load_residual(a.residual);
+    front.workbench().set_residual_view(a.residual_fields, true);
   }
   AppState& state = *front.session().state;
   if (a.profile > 0) {
@@ -114,6 +120,8 @@ const CommandRegistrar registrar{
       sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
       sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
       sub.add_flag("--visible", a->visible, "show the window while rendering");
+      sub.add_option("--residual", a->residual, "a residual analysis (shearbench residual --json): ranked effects, corrected model");
+      sub.add_flag("--residual-fields", a->residual_fields, "draw measured - model instead of the model fields");
       return [a, &g] { return run_render(*a, g); };
     }};
 

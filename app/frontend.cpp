@@ -98,6 +98,7 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       workbench_.set_message("saved session " + *req.save_session);
     }
     if (req.open_session) open_session_file(*req.open_session);
+    if (req.load_residual) load_residual(*req.load_residual);
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
     if (req.open_dataset) {
       SessionOptions o = session_options_;
@@ -127,6 +128,11 @@ bool Frontend::frame() {
   if (options_.keep_work) keep_work_tick();
   if (!quit_ && !window_.should_close()) return true;
   return allow_close();
+}
+
+void Frontend::load_residual(const std::string& path) {
+  workbench_.set_residual(load_residual_summary(path));
+  workbench_.set_message("loaded residual analysis " + path);
 }
 
 // ------------------------------------------------------------------------------------ no lost work

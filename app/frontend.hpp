@@ -42,6 +42,8 @@ class Frontend {
   // Session files (core/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
   void open_session_file(const std::string& path);
+  // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
+  void load_residual(const std::string& path);
   // When an autosave from an unclean exit exists, asks whether to restore it.
   void offer_autosave();
 

@@ -86,13 +86,21 @@ AppSnapshot AppState::snapshot() const {
 }
 std::size_t AppState::pending_edits() const {
   std::lock_guard lock(edits_mutex_);
-  return edits_.size();
+  return edits_.size() + edits_in_flight_;
+}
+std::vector<Pose> AppState::path() const {
+  std::lock_guard lock(path_mutex_);
+  return path_;
 }
 
 // ---------------------------------------------------------------- physics side
 int AppState::sync() {
   std::vector<Edit> edits;
-  { std::lock_guard lock(edits_mutex_); edits.swap(edits_); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits.swap(edits_);
+    edits_in_flight_ = edits.size();
+  }
   for (std::size_t i = 0; i < edits.size(); ++i) {
     // A parameter set replaces the whole table and replays from the start: when the same model gets a
     // newer table later in this batch (a slider being dragged), only the last one needs the replay.
@@ -106,6 +114,7 @@ int AppState::sync() {
     std::visit([this](const auto& x) { apply(x); }, edits[i]);
   }
   if (!edits.empty()) publish();
+  { std::lock_guard lock(edits_mutex_); edits_in_flight_ = 0; }
   return static_cast<int>(edits.size());
 }
 
@@ -189,20 +198,22 @@ void AppState::apply(const Seek& e) {
 void AppState::apply(const Drag& e) {
   if (!drag_active_) {
     // The first drag of a gesture replaces the future of the path by the dragged segment.
+    std::lock_guard lock(path_mutex_);
     path_.resize(static_cast<std::size_t>(step_ + 1));
     drop_checkpoints_after(step_);
     measured_steps_ = std::min(measured_steps_, step_ + 1);
     drag_active_ = true;
   }
   const Pose from = path_.empty() ? e.target : path_.back();
-  for (const Pose& p : substep_path(from, e.target, config_.max_substep_translation_m,
-                                    config_.max_substep_rotation_rad))
-    path_.push_back(p);
+  const std::vector<Pose> segment =
+      substep_path(from, e.target, config_.max_substep_translation_m, config_.max_substep_rotation_rad);
+  std::lock_guard lock(path_mutex_);
+  path_.insert(path_.end(), segment.begin(), segment.end());
 }
 
 void AppState::apply(const ReplacePath& e) {
   drag_active_ = false;
-  path_ = e.path;
+  { std::lock_guard lock(path_mutex_); path_ = e.path; }
   measured_steps_ = static_cast<int>(path_.size());
   step_ = -1;
   for (Slot& s : slots_) rewind_slot(s);

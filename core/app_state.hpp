@@ -90,6 +90,7 @@ class AppState {
   void set_speed(double speed);
   AppSnapshot snapshot() const;
   std::uint64_t version() const { return version_.load(); }
+  // Edits queued or being applied: 0 once every edit requested so far is visible in snapshot().
   std::size_t pending_edits() const;
 
   // ---- physics side (one thread at a time)
@@ -105,7 +106,8 @@ class AppState {
   void run_to(int step);
 
   int current_step() const { return step_; }
-  const std::vector<Pose>& path() const { return path_; }
+  // A copy: the physics thread appends to the path while a drag is applied.
+  std::vector<Pose> path() const;
   std::size_t num_models() const { return slots_.size(); }
   const FieldOutput& output(std::size_t model) const { return slots_.at(model).out; }
   const ShearModel& model(std::size_t model) const { return *slots_.at(model).model; }
@@ -155,7 +157,8 @@ class AppState {
 
   // physics side
   std::vector<Slot> slots_;
-  std::vector<Pose> path_;
+  std::vector<Pose> path_;           // written by the physics thread only, under path_mutex_
+  mutable std::mutex path_mutex_;
   int step_ = -1;
   int measured_steps_ = 0;
   bool drag_active_ = false;
@@ -163,6 +166,7 @@ class AppState {
   // shared
   mutable std::mutex edits_mutex_;
   std::vector<Edit> edits_;
+  std::size_t edits_in_flight_ = 0;  // taken from the queue by sync(), not yet published (edits_mutex_)
   mutable std::mutex snapshot_mutex_;
   AppSnapshot snapshot_;
   std::atomic<std::uint64_t> version_{0};

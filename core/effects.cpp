@@ -99,10 +99,10 @@ std::vector<std::string> EffectModel::effect_ids() const {
   return ids;
 }
 
-void EffectModel::rebuild_param_table() {
-  std::vector<ParamSpec> specs = base_->params().specs();
-  std::vector<double> values = base_->params().values();
-  for (const auto& e : effects_) {
+ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effect*>& effects) {
+  std::vector<ParamSpec> specs = base.specs();
+  std::vector<double> values = base.values();
+  for (const Effect* e : effects) {
     for (std::size_t i = 0; i < e->params().size(); ++i) {
       ParamSpec s = e->params().specs()[i];
       s.name = e->id() + kEffectParamSeparator + s.name;
@@ -110,8 +110,22 @@ void EffectModel::rebuild_param_table() {
       values.push_back(e->params()[i]);
     }
   }
-  params_ = ParamSet(std::move(specs));
-  for (std::size_t i = 0; i < values.size(); ++i) params_.set(i, values[i]);
+  ParamSet table(std::move(specs));
+  for (std::size_t i = 0; i < values.size(); ++i) table.set(i, values[i]);
+  return table;
+}
+
+ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids) {
+  std::vector<std::unique_ptr<Effect>> owned;
+  std::vector<const Effect*> effects;
+  for (const auto& id : effect_ids) effects.push_back(owned.emplace_back(make_effect(id)).get());
+  return combined_param_table(base, effects);
+}
+
+void EffectModel::rebuild_param_table() {
+  std::vector<const Effect*> effects;
+  for (const auto& e : effects_) effects.push_back(e.get());
+  params_ = combined_param_table(base_->params(), effects);
 }
 
 void EffectModel::set_params(const ParamSet& params) {

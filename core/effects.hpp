@@ -110,6 +110,10 @@ const std::vector<std::string>& effect_ids();
 // A new effect at its default ("no effect") parameters. Throws std::invalid_argument for an unknown id,
 // naming the known ones.
 std::unique_ptr<Effect> make_effect(const std::string& id);
+// The parameter table of `base` wrapped with these effects at their defaults: the base's names, then
+// "<effect id>.<name>" per effect (EffectModel::params() without building a model).
+ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effect*>& effects);
+ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids);
 // Convenience: wraps `base` with the effects named by `ids`, in that order.
 std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
                                                const std::vector<std::string>& ids,

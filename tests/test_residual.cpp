@@ -149,6 +149,28 @@ TEST_CASE("residual loop attributes undeclared tracker bias", "[residual][slow]"
   check_recovers("tracker_bias", {{"gain", 1.1}, {"bias_x_px", 0.6}, {"bias_y_px", -0.4}});
 }
 
+TEST_CASE("residual loop attributes undeclared subsurface markers", "[residual][slow]") {
+  // 1.5 mm deep markers: smoothing over about one marker pitch, and a 15 % weaker field.
+  check_recovers("subsurface_markers", {{"depth_m", 0.0015}, {"attenuation", 0.85}});
+}
+
+TEST_CASE("residual loop attributes undeclared gravity preload", "[residual][slow]") {
+  check_recovers("gravity_preload", {{"gx_px", 1.2}, {"gy_px", -0.8}, {"width_m", 0.004}});
+}
+
+TEST_CASE("residual loop attributes an undeclared edge constraint", "[residual][slow]") {
+  check_recovers("edge_constraint", {{"length_m", 0.004}, {"strength", 0.6}});
+}
+
+TEST_CASE("residual loop attributes undeclared load stiffening", "[residual][slow]") {
+  // beta delta = 0.4 .. 0.56 at the 1.0 .. 1.4 mm holds: the field is 29 % .. 36 % weaker than linear.
+  check_recovers("load_stiffening", {{"beta_per_m", 400.0}});
+}
+
+TEST_CASE("residual loop attributes an undeclared camera misalignment", "[residual][slow]") {
+  check_recovers("camera_misalignment", {{"rotation_rad", 0.06}, {"scale", 1.08}});
+}
+
 TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual][slow]") {
   const auto r = run_loop("", {});
   INFO(sb::residual_to_json(r)["candidates"].dump(1));

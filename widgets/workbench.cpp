@@ -98,6 +98,8 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   edit_params_.clear();
   for (const auto& m : snap_.models) edit_params_.push_back(m.params);
   rmse_params_.clear();   // a new sample: its series is computed afresh
+  corrected_job_.clear();
+  corrected_started_ = false;
   viewport_.set_scene(*state_->sensor(), *state_->indenter());
   // Marker pitch: the smallest distance between two rest markers (for the automatic arrow scale).
   const auto& rest = state_->sensor()->markers_rest_px;
@@ -249,6 +251,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     }
   }
   if (ImGui::CollapsingHeader("Fit")) draw_fit_panel();
+  if (ImGui::CollapsingHeader("Residual", residual_ ? ImGuiTreeNodeFlags_DefaultOpen : 0)) draw_residual_panel(req);
   if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::SetNextItemWidth(-110);
     ImGui::InputText("##session", session_path_, sizeof session_path_);
@@ -284,6 +287,7 @@ void Workbench::update_rmse_series() {
 
 void Workbench::wait_for_background() const {
   while (rmse_job_.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  corrected_job_.wait();
 }
 
 void Workbench::draw_rmse_plots() {
@@ -442,12 +446,27 @@ void Workbench::draw_fields(float width) {
     in.background = background;
     in.image_width_px = iw;
     in.image_height_px = ih;
+    std::vector<Vec2> residual;   // measured - model, when the residual view is on
     if (i < n - 1) {
       const ModelView& m = snap_.models[i];
       in.title = display_name(m.id);
-      in.disp_px = &m.out.disp_px;
+      const std::vector<Vec2>* field = &m.out.disp_px;
+      if (i == corrected_slot() && show_corrected_) {
+        if (const auto* c = corrected_at_step()) {
+          field = c;
+          for (const auto& e : residual_->selected) in.title += " + " + e;
+        } else {
+          in.title += corrected_job_.running() ? " (correcting ...)" : "";
+        }
+      }
+      in.disp_px = field;
       in.in_contact = &m.out.marker_in_contact;
-      if (measured != nullptr && metrics_ && !m.out.disp_px.empty()) in.metrics = metrics_(m.out.disp_px, *measured);
+      if (measured != nullptr && metrics_ && !field->empty()) in.metrics = metrics_(*field, *measured);
+      if (show_residual_fields_ && measured != nullptr && !field->empty()) {
+        residual = residual_field(*measured, *field);
+        in.disp_px = &residual;
+        in.title += " residual";
+      }
       in.note = snap_.step < 0 ? "before the first step" : "";
     } else {
       in.title = measured_.label;
@@ -480,6 +499,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
       edit_params_[m] = snap_.models[m].params;
   if (auto_scale_) auto_scale();
   update_rmse_series();
+  update_corrected_series();
   if (options_.interactive && question_id_.empty()) apply_actions(req);
 
   const ImGuiViewport* vp = ImGui::GetMainViewport();

@@ -11,6 +11,7 @@
 
 #include "core/app_state.hpp"
 #include "core/fit_job.hpp"
+#include "core/residual_view.hpp"
 #include "core/rmse_series.hpp"
 #include "widgets/field_panel.hpp"
 #include "widgets/panels.hpp"
@@ -45,6 +46,7 @@ struct WorkbenchRequest {
   std::optional<std::string> save_params;
   std::optional<std::string> save_session;  // session file path
   std::optional<std::string> open_session;
+  std::optional<std::string> load_residual;  // a residual JSON (shearbench residual --json)
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };
@@ -78,6 +80,10 @@ class Workbench {
   void set_data_root(std::string root) { data_root_ = std::move(root); }
   std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
+  // A residual analysis to show (Residual section): ranked candidates, and the field panels can show
+  // the residual (measured - model) and the corrected model (base + selected effects).
+  void set_residual(ResidualSummary summary);
+  void set_residual_view(bool residual_fields, bool corrected_model);
 
  private:
   struct Textures;
@@ -87,6 +93,10 @@ class Workbench {
   void draw_question(WorkbenchRequest& req);
   void update_rmse_series();
   void draw_fit_panel();
+  void draw_residual_panel(WorkbenchRequest& req);
+  void update_corrected_series();
+  int corrected_slot() const;   // the model panel the residual analysis belongs to (-1: none shown)
+  const std::vector<Vec2>* corrected_at_step();
   void draw_rmse_plots();
   void auto_scale();
   void nudge(const Pose& delta_E, bool rotate_about_origin);
@@ -121,6 +131,12 @@ class Workbench {
   std::string fit_model_id_;          // the model the shown result belongs to
   bool fit_result_handled_ = false;   // applied or discarded
   std::vector<std::vector<double>> rmse_params_;   // the parameter values the running/last job used
+  std::optional<ResidualSummary> residual_;
+  char residual_path_[512] = "residual.json";
+  bool show_residual_fields_ = false;
+  bool show_corrected_ = true;
+  FieldSeriesJob corrected_job_;
+  bool corrected_started_ = false;
   std::string question_id_, question_text_;
   std::vector<std::string> question_buttons_;
   std::string message_;

@@ -1,0 +1,153 @@
+// The workbench's view of a residual analysis: reading the JSON, the corrected model, residual fields
+// and the worker that computes the corrected model's fields along a replay.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+
+#include "core/error.hpp"
+#include "core/residual_view.hpp"
+#include "model_fixtures.hpp"
+
+using namespace sb;
+
+namespace {
+
+constexpr double kExact = 1e-12;
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A residual JSON as `shearbench residual` writes it (the members the workbench reads), with
+// candidates deliberately out of rank order.
+nlohmann::json residual_json() {
+  return nlohmann::json::parse(R"({
+    "dataset": "twin/twin_sphere8", "model": "fots-reimpl",
+    "before": {"validation_rmse_px": 0.40},
+    "candidates": [
+      {"effect": "tracker_bias", "validation_rmse_px": 0.39, "improvement_pct": 2.5, "ci95_pct": [-1.0, 6.0],
+       "accepted": false, "reason": "interval includes zero"},
+      {"effect": "camera_misalignment", "validation_rmse_px": 0.20, "improvement_pct": 50.0,
+       "ci95_pct": [44.0, 55.0], "accepted": true, "reason": "selected"},
+      {"effect": "lens_distortion", "validation_rmse_px": null, "improvement_pct": null, "ci95_pct": [null, null]}
+    ],
+    "selected": ["camera_misalignment"],
+    "after": {"effects": ["camera_misalignment"], "validation_rmse_px": 0.20,
+              "params": {"camera_misalignment.scale": 1.2, "camera_misalignment.rotation_rad": 0.0}}
+  })");
+}
+
+std::string write_temp(const std::string& name, const nlohmann::json& j) {
+  const auto path = std::filesystem::temp_directory_path() / ("sb_test_residual_view_" + name + ".json");
+  std::ofstream(path) << j.dump(1);
+  return path.string();
+}
+
+// The message of the InputError that loading `j` throws ("" when it loads).
+std::string load_error(const nlohmann::json& j) {
+  try {
+    load_residual_summary(write_temp("bad", j));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("residual summary: metrics, selection, candidates ranked by improvement", "[residual_view]") {
+  const ResidualSummary s = load_residual_summary(write_temp("good", residual_json()));
+  CHECK(s.model_id == "fots-reimpl");
+  CHECK(s.dataset == "twin/twin_sphere8");
+  CHECK(s.before_rmse_px == 0.40);
+  CHECK(s.after_rmse_px == 0.20);
+  REQUIRE(s.selected == std::vector<std::string>{"camera_misalignment"});
+  REQUIRE(s.candidates.size() == 3);
+  CHECK(s.candidates[0].effect == "camera_misalignment");
+  CHECK(s.candidates[0].ci95_low_pct == 44.0);
+  CHECK(s.candidates[0].accepted);
+  CHECK(s.candidates[1].effect == "tracker_bias");
+  CHECK(s.candidates[1].reason == "interval includes zero");
+  CHECK(s.candidates[2].effect == "lens_distortion");   // unscored: last
+  CHECK(std::isnan(s.candidates[2].improvement_pct));
+}
+
+TEST_CASE("residual summary: bad files are InputErrors naming the file and the entry", "[residual_view]") {
+  CHECK_THROWS_AS(load_residual_summary("/nonexistent/residual.json"), InputError);
+  auto j = residual_json();
+  j["model"] = "nosuchmodel";
+  CHECK_THAT(load_error(j), Catch::Contains("/model"));
+  j = residual_json();
+  j["selected"] = {"wobble"};
+  CHECK_THAT(load_error(j), Catch::Contains("/selected/0") && Catch::Contains("unknown effect 'wobble'"));
+  j = residual_json();
+  j["after"]["effects"] = nlohmann::json::array();
+  CHECK_THAT(load_error(j), Catch::Contains("/after/effects"));
+  j = residual_json();
+  j["after"]["params"]["camera_misalignment.scale"] = 7.0;   // outside [0.8, 1.25]
+  CHECK_THAT(load_error(j), Catch::Contains("/after/params"));
+  j = residual_json();
+  j["candidates"][1]["ci95_pct"] = {1.0};
+  CHECK_THAT(load_error(j), Catch::Contains("/candidates/1/ci95_pct"));
+  j = residual_json();
+  j["before"].erase("validation_rmse_px");
+  CHECK_THAT(load_error(j), Catch::Contains("/before") && Catch::Contains("validation_rmse_px"));
+  CHECK(load_error(residual_json()).empty());
+}
+
+TEST_CASE("corrected model: base wrapped with the selected effects at the fitted parameters", "[residual_view]") {
+  const auto sensor = sbtest::test_sensor();
+  const auto sphere = sbtest::sphere_indenter(0.004);
+  const ResidualSummary s = load_residual_summary(write_temp("good", residual_json()));
+  auto corrected = make_corrected_model(s, sensor, sphere);
+  auto base = make_model("fots-reimpl", sensor, sphere);
+  CHECK(corrected->params().get("camera_misalignment.scale") == 1.2);
+  // A press 1 mm deep off-centre, then a slide: camera_misalignment at rotation 0 and scale 1.2 maps
+  // every displacement d to 1.2 d (R(0) = I), so the corrected field is exactly 1.2 x the base field.
+  FieldOutput a, b;
+  for (int k = 1; k <= 5; ++k) {
+    const Pose X = make_pose(Vec3(1e-3 + 1e-4 * k, 0, 0.004 - 2e-4 * k), Quat::Identity());
+    corrected->step(X, 0.02, &a);
+    base->step(X, 0.02, &b);
+  }
+  REQUIRE(a.disp_px.size() == b.disp_px.size());
+  double largest = 0;
+  for (std::size_t i = 0; i < a.disp_px.size(); ++i) {
+    CHECK((a.disp_px[i] - 1.2 * b.disp_px[i]).norm() < 1e-9);
+    largest = std::max(largest, b.disp_px[i].norm());
+  }
+  CHECK(largest > 0.1);   // the press does move markers: the check above is not 0 == 0
+}
+
+TEST_CASE("residual field is measured minus predicted; a lost marker stays NaN", "[residual_view]") {
+  const std::vector<Vec2> measured = {Vec2(1.0, 2.0), Vec2(kNaN, kNaN), Vec2(0.0, 0.0)};
+  const std::vector<Vec2> predicted = {Vec2(0.5, 0.5), Vec2(1.0, 1.0)};
+  const auto r = residual_field(measured, predicted);
+  REQUIRE(r.size() == 3);
+  CHECK((r[0] - Vec2(0.5, 1.5)).norm() < kExact);
+  CHECK(std::isnan(r[1].x()));
+  CHECK(std::isnan(r[2].x()));   // no prediction for this marker
+  CHECK(residual_field({}, predicted).empty());
+}
+
+TEST_CASE("field series job: the fields of stepping the model along the path; clear cancels", "[residual_view]") {
+  const auto sensor = sbtest::test_sensor();
+  const auto sphere = sbtest::sphere_indenter(0.004);
+  std::vector<Pose> path;
+  for (int k = 1; k <= 12; ++k) path.push_back(make_pose(Vec3(0, 1e-4 * k, 0.004 - 1e-4 * k), Quat::Identity()));
+  auto reference = make_model("tacsl", sensor, sphere);
+  FieldSeriesJob job;
+  job.start(reference->clone(), path, 0.02);
+  job.wait();
+  CHECK_FALSE(job.running());
+  const auto& series = job.result();
+  REQUIRE(series.size() == path.size());
+  FieldOutput out;
+  for (std::size_t k = 0; k < path.size(); ++k) {
+    reference->step(path[k], 0.02, &out);
+    REQUIRE(series[k].size() == out.disp_px.size());
+    for (std::size_t i = 0; i < out.disp_px.size(); ++i) CHECK((series[k][i] - out.disp_px[i]).norm() < kExact);
+  }
+  job.clear();
+  CHECK(job.result().empty());
+}

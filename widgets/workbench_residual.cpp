@@ -1,0 +1,117 @@
+// The Residual section of the workbench: a residual analysis (shearbench residual --json) read back,
+// its ranked candidates, and the field panels switched to the residual (measured - model) and to the
+// corrected model (base + the selected effects at their fitted parameters).
+#include <imgui.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "core/effects.hpp"
+#include "widgets/workbench.hpp"
+
+namespace sb::ui {
+
+namespace {
+const ImVec4 kSelectedColour(0.45f, 0.85f, 0.45f, 1.0f);
+std::string joined(const std::vector<std::string>& ids, const char* sep) {
+  std::string s;
+  for (const auto& id : ids) s += (s.empty() ? "" : sep) + id;
+  return s;
+}
+}  // namespace
+
+void Workbench::set_residual(ResidualSummary summary) {
+  std::snprintf(residual_path_, sizeof residual_path_, "%s", summary.file.c_str());
+  residual_ = std::move(summary);
+  corrected_job_.clear();
+  corrected_started_ = false;
+}
+
+void Workbench::set_residual_view(bool residual_fields, bool corrected_model) {
+  show_residual_fields_ = residual_fields;
+  show_corrected_ = corrected_model;
+}
+
+int Workbench::corrected_slot() const {
+  if (!residual_ || residual_->selected.empty()) return -1;
+  for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m)
+    if (snap_.models[m].id == residual_->model_id) return m;
+  return -1;
+}
+
+// The corrected model's fields along the measured sample's poses (worker thread), started once per
+// loaded analysis and sample.
+void Workbench::update_corrected_series() {
+  if (!show_corrected_ || corrected_started_ || corrected_slot() < 0 || measured_.poses.empty()) return;
+  corrected_job_.start(make_corrected_model(*residual_, state_->sensor(), state_->indenter()), measured_.poses,
+                       snap_.dt_s);
+  corrected_started_ = true;
+}
+
+const std::vector<Vec2>* Workbench::corrected_at_step() {
+  if (!show_corrected_ || !corrected_started_ || corrected_job_.running()) return nullptr;
+  const std::vector<std::vector<Vec2>>* series_ptr = nullptr;
+  try {
+    series_ptr = &corrected_job_.result();
+  } catch (const std::exception& e) {   // the worker failed: say so once, stop showing it
+    message_ = std::string("corrected model: ") + e.what();
+    show_corrected_ = false;
+    corrected_job_.clear();
+    return nullptr;
+  }
+  const auto& series = *series_ptr;
+  const int k = snap_.step;
+  if (k < 0 || k >= snap_.measured_steps || k >= static_cast<int>(series.size())) return nullptr;
+  return &series[k];
+}
+
+void Workbench::draw_residual_panel(WorkbenchRequest& req) {
+  ImGui::SetNextItemWidth(-60);
+  ImGui::InputText("##residual", residual_path_, sizeof residual_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Load##residual")) req.load_residual = std::string(residual_path_);
+  if (!residual_) {
+    ImGui::TextDisabled("a report of: shearbench residual --json FILE");
+    return;
+  }
+  const ResidualSummary& r = *residual_;
+  ImGui::TextWrapped("%s on %s", display_name(r.model_id).c_str(), r.dataset.c_str());
+  const double change = 100.0 * (r.after_rmse_px - r.before_rmse_px) / r.before_rmse_px;
+  ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
+  ImGui::Text("selected: %s", r.selected.empty() ? "nothing" : joined(r.selected, " + ").c_str());
+  constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
+  if (ImGui::BeginTable("##candidates", 3, kTable)) {
+    ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 2.2f);
+    ImGui::TableSetupColumn("better %", ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableSetupColumn("95 % CI", ImGuiTableColumnFlags_WidthStretch, 1.5f);
+    ImGui::TableHeadersRow();
+    for (const auto& c : r.candidates) {
+      const bool selected = std::find(r.selected.begin(), r.selected.end(), c.effect) != r.selected.end();
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      if (selected) ImGui::TextColored(kSelectedColour, "%s *", c.effect.c_str());
+      else ImGui::TextUnformatted(c.effect.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n\n%s", make_effect(c.effect)->physics().c_str(), c.reason.c_str());
+      ImGui::TableNextColumn();
+      if (std::isfinite(c.improvement_pct)) ImGui::Text("%+.1f", c.improvement_pct);
+      else ImGui::TextDisabled("-");
+      ImGui::TableNextColumn();
+      if (std::isfinite(c.ci95_low_pct)) ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
+      else ImGui::TextDisabled("-");
+    }
+    ImGui::EndTable();
+  }
+  ImGui::Checkbox("residual fields (measured - model)", &show_residual_fields_);
+  const int slot = corrected_slot();
+  if (r.selected.empty()) {
+    ImGui::TextDisabled("nothing selected: no corrected model");
+  } else if (slot < 0) {
+    ImGui::TextDisabled("%s is not one of the shown models", display_name(r.model_id).c_str());
+  } else {
+    ImGui::Checkbox(("with " + joined(r.selected, " + ")).c_str(), &show_corrected_);
+    if (show_corrected_ && measured_.poses.empty()) ImGui::TextDisabled("(needs a replay with measurements)");
+    else if (show_corrected_ && corrected_job_.running()) ImGui::TextDisabled("computing the corrected fields ...");
+  }
+}
+
+}  // namespace sb::ui
