@@ -132,7 +132,7 @@ bool Frontend::frame() {
 
 void Frontend::load_residual(const std::string& path) {
   workbench_.set_residual(load_residual_summary(path));
-  workbench_.set_message("loaded residual analysis " + path);
+  workbench_.set_message("loaded residual analysis " + std::filesystem::path(path).filename().string());
 }
 
 // ------------------------------------------------------------------------------------ no lost work

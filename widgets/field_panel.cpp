@@ -33,6 +33,13 @@ void draw_arrow(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float thickness) 
   const ImVec2 right(b.x - head * (ux * 0.87f + uy * 0.5f), b.y - head * (uy * 0.87f - ux * 0.5f));
   dl->AddTriangleFilled(b, left, right, col);
 }
+
+std::string elide(const std::string& text, float max_width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= max_width) return text;
+  std::string t = text;
+  while (!t.empty() && ImGui::CalcTextSize((t + "..").c_str()).x > max_width) t.pop_back();
+  return t + "..";
+}
 }  // namespace
 
 ImU32 colour_map(float t) {
@@ -56,12 +63,7 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 top = ImGui::GetCursorScreenPos();
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  ImGui::TextUnformatted(in.title.c_str());
-  if (in.metrics) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "RMSE %.2f px  CS %.2f", in.metrics->rmse_px, in.metrics->cs);
-    dl->AddText(ImVec2(top.x + width - ImGui::CalcTextSize(buf).x, top.y), IM_COL32(255, 220, 120, 255), buf);
-  }
+  ImGui::TextUnformatted(elide(in.title, width).c_str());
   const float zoom = width / static_cast<float>(in.image_width_px);
   const float height = in.image_height_px * zoom;
   const ImVec2 p0(top.x, top.y + line);
@@ -103,6 +105,14 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
     const ImVec2 c(p0.x + 3, p1.y - ts.y - 3);
     dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
     dl->AddText(c, IM_COL32(255, 255, 255, 255), buf);
+  }
+  if (in.metrics) {   // against the measurement, top right of the image (the title row keeps its width)
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "RMSE %.2f px CS %.2f", in.metrics->rmse_px, in.metrics->cs);
+    const ImVec2 ts = ImGui::CalcTextSize(buf);
+    const ImVec2 c(p1.x - ts.x - 3, p0.y + 3);
+    dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
+    dl->AddText(c, IM_COL32(255, 220, 120, 255), buf);
   }
   if (!have_field && !in.note.empty()) {
     const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());

@@ -7,6 +7,7 @@
 #include <cfloat>
 #include <chrono>
 #include <thread>
+#include <utility>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -201,6 +202,9 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
   }
   if (!measured_.disp_px.empty() && ImGui::CollapsingHeader("RMSE over time", ImGuiTreeNodeFlags_DefaultOpen))
     draw_rmse_plots();
+  // Beside the RMSE plots: what the residual analysis says the model is missing.
+  if (std::exchange(open_residual_section_, false)) ImGui::SetNextItemOpen(true);
+  if (ImGui::CollapsingHeader("Residual")) draw_residual_panel(req);
   if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen)) {
     Pose X = last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI;
     if (pose_panel(X)) {
@@ -251,7 +255,6 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     }
   }
   if (ImGui::CollapsingHeader("Fit")) draw_fit_panel();
-  if (ImGui::CollapsingHeader("Residual", residual_ ? ImGuiTreeNodeFlags_DefaultOpen : 0)) draw_residual_panel(req);
   if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::SetNextItemWidth(-110);
     ImGui::InputText("##session", session_path_, sizeof session_path_);

@@ -137,6 +137,7 @@ class Workbench {
   bool show_corrected_ = true;
   FieldSeriesJob corrected_job_;
   bool corrected_started_ = false;
+  bool open_residual_section_ = false;   // a new analysis opens its section once
   std::string question_id_, question_text_;
   std::vector<std::string> question_buttons_;
   std::string message_;

@@ -25,6 +25,7 @@ void Workbench::set_residual(ResidualSummary summary) {
   residual_ = std::move(summary);
   corrected_job_.clear();
   corrected_started_ = false;
+  open_residual_section_ = true;
 }
 
 void Workbench::set_residual_view(bool residual_fields, bool corrected_model) {
