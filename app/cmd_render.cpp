@@ -68,6 +68,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   if (!a.residual.empty()) {
     front.load_residual(a.residual);
     front.workbench().set_residual_view(a.residual_fields, true);
+    front.workbench().apply_residual_base_params();   // the base beside the corrected model, both fitted
   }
   AppState& state = *front.session().state;
   if (a.profile > 0) {
@@ -120,7 +121,7 @@ const CommandRegistrar registrar{
       sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
       sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
       sub.add_flag("--visible", a->visible, "show the window while rendering");
-      sub.add_option("--residual", a->residual, "a residual analysis (shearbench residual --json): ranked effects, corrected model");
+      sub.add_option("--residual", a->residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
       sub.add_flag("--residual-fields", a->residual_fields, "draw measured - model instead of the model fields");
       return [a, &g] { return run_render(*a, g); };
     }};

@@ -66,6 +66,8 @@ ResidualSummary load_residual_summary(const std::string& path) {
   const nlohmann::json& before = jsonin::member(j, "before", path, "");
   jsonin::require_object(before, path, "/before");
   s.before_rmse_px = number_or_nan(before, "validation_rmse_px", path, "/before");
+  s.before_params = jsonin::member(before, "params", path, "/before");
+  jsonin::require_object(s.before_params, path, "/before/params");
   const nlohmann::json& after = jsonin::member(j, "after", path, "");
   jsonin::require_object(after, path, "/after");
   s.after_rmse_px = number_or_nan(after, "validation_rmse_px", path, "/after");
@@ -91,12 +93,19 @@ ResidualSummary load_residual_summary(const std::string& path) {
   try {
     ParamSet p = combined_param_table(default_params(s.model_id), s.selected);
     p.update_from_json(s.after_params, path + ": /after/params");
+    (void)fitted_base_params(s);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     jsonin::fail(path, "/after/params", e.what());
   }
   return s;
+}
+
+ParamSet fitted_base_params(const ResidualSummary& summary) {
+  ParamSet p = default_params(summary.model_id);
+  p.update_from_json(summary.before_params, summary.file + ": /before/params");
+  return p;
 }
 
 std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary, std::shared_ptr<const Sensor> sensor,

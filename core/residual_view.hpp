@@ -31,12 +31,17 @@ struct ResidualSummary {
   double after_rmse_px = 0;    // validation split, base model + selected effects
   std::vector<ResidualCandidateView> candidates;   // ranked: largest improvement first
   std::vector<std::string> selected;               // effect ids, in the order they wrap the base
+  nlohmann::json before_params;                    // the base model fitted alone (or as given)
   nlohmann::json after_params;                     // the corrected model's whole parameter table
 };
 
 // Reads the residual JSON. Throws InputError naming the file and the JSON pointer of a missing or bad
 // entry, or an unknown model / effect id.
 ResidualSummary load_residual_summary(const std::string& path);
+
+// The base model's parameters as the analysis fitted them (before any effect): the fair reference for
+// the corrected model. Throws InputError when they do not fit the model's table.
+ParamSet fitted_base_params(const ResidualSummary& summary);
 
 // The corrected model: `model_id` wrapped with the selected effects at the fitted parameters (the base's
 // own parameters included: they were refitted jointly when the analysis fitted the base).

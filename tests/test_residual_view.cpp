@@ -23,7 +23,7 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 nlohmann::json residual_json() {
   return nlohmann::json::parse(R"({
     "dataset": "twin/twin_sphere8", "model": "fots-reimpl",
-    "before": {"validation_rmse_px": 0.40},
+    "before": {"validation_rmse_px": 0.40, "params": {"kappa_s": 15000.0}},
     "candidates": [
       {"effect": "tracker_bias", "validation_rmse_px": 0.39, "improvement_pct": 2.5, "ci95_pct": [-1.0, 6.0],
        "accepted": false, "reason": "interval includes zero"},
@@ -61,6 +61,9 @@ TEST_CASE("residual summary: metrics, selection, candidates ranked by improvemen
   CHECK(s.dataset == "twin/twin_sphere8");
   CHECK(s.before_rmse_px == 0.40);
   CHECK(s.after_rmse_px == 0.20);
+  const ParamSet base = fitted_base_params(s);
+  CHECK(base.get("kappa_s") == 15000.0);
+  CHECK(base.size() == default_params("fots-reimpl").size());   // the base table, no effect parameters
   REQUIRE(s.selected == std::vector<std::string>{"camera_misalignment"});
   REQUIRE(s.candidates.size() == 3);
   CHECK(s.candidates[0].effect == "camera_misalignment");
@@ -89,6 +92,9 @@ TEST_CASE("residual summary: bad files are InputErrors naming the file and the e
   j = residual_json();
   j["candidates"][1]["ci95_pct"] = {1.0};
   CHECK_THAT(load_error(j), Catch::Contains("/candidates/1/ci95_pct"));
+  j = residual_json();
+  j["before"]["params"]["no_such_param"] = 1.0;
+  CHECK_THAT(load_error(j), Catch::Contains("/before/params"));
   j = residual_json();
   j["before"].erase("validation_rmse_px");
   CHECK_THAT(load_error(j), Catch::Contains("/before") && Catch::Contains("validation_rmse_px"));

@@ -84,6 +84,9 @@ class Workbench {
   // the residual (measured - model) and the corrected model (base + selected effects).
   void set_residual(ResidualSummary summary);
   void set_residual_view(bool residual_fields, bool corrected_model);
+  // Sets the analysed model's panel to the analysis' fitted base parameters (the fair reference for the
+  // corrected model); false when that model is not shown.
+  bool apply_residual_base_params();
 
  private:
   struct Textures;

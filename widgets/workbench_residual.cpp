@@ -33,6 +33,16 @@ void Workbench::set_residual_view(bool residual_fields, bool corrected_model) {
   show_corrected_ = corrected_model;
 }
 
+bool Workbench::apply_residual_base_params() {
+  if (!residual_) return false;
+  for (std::size_t m = 0; m < snap_.models.size(); ++m)
+    if (snap_.models[m].id == residual_->model_id) {
+      state_->request_params(m, fitted_base_params(*residual_));   // applied at the sync point
+      return true;
+    }
+  return false;
+}
+
 int Workbench::corrected_slot() const {
   if (!residual_ || residual_->selected.empty()) return -1;
   for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m)
@@ -103,6 +113,13 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
     ImGui::EndTable();
   }
   ImGui::Checkbox("residual fields (measured - model)", &show_residual_fields_);
+  if (ImGui::SmallButton("Apply the fitted base parameters")) {
+    if (!apply_residual_base_params())
+      message_ = display_name(r.model_id) + " is not one of the shown models";
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("%s's parameters as the analysis fitted them without effects:\nthe fair reference for the corrected model",
+                      display_name(r.model_id).c_str());
   const int slot = corrected_slot();
   if (r.selected.empty()) {
     ImGui::TextDisabled("nothing selected: no corrected model");
