@@ -200,7 +200,6 @@ void HydroShearBatch::reset_slot(int slot) {
   s.X_prev = Pose::Identity();
 }
 
-double HydroShearBatch::phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
 
 // Normal of the n/t split, pointing out of the gel: +z_E (code) or minus the indenter's outward normal
 // (paper).
@@ -423,7 +422,8 @@ void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, cons
   // full vector that straddles the end of W or X (seen as a fault at a page boundary without it).
   constexpr std::size_t kOverreadPad = 64;
   sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows + kOverreadPad);
-  sc.ex_rows.assign(static_cast<std::size_t>(m) * stride + kOverreadPad, 0.0);
+  // Not zeroed: the padding columns (cols..stride) only feed S's padding columns, which are discarded.
+  sc.ex_rows.resize(static_cast<std::size_t>(m) * stride + kOverreadPad);
   sc.s_mat.assign(static_cast<std::size_t>(2 * rows) * stride, 0.0);
   for (int i = 0; i < m; ++i) {
     const double E = sc.args[3 * i];

@@ -95,7 +95,8 @@ class HydroShearBatch {
   const std::vector<HydroShearPoint>& augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
   void shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const;
   void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
-  double phi_E(const Vec3& p) const;
+  // Inline: called for every candidate point (the flat pad is the common case).
+  double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
   Vec3 n_hat_at(int pos, const Mat3& R_EI) const;
   HydroShearPoint advance(const HydroShearPoint* old, int index, const Vec3& n_hat, double s_prev,
                           const Vec3& p_prev, double s, const Vec3& p) const;
