@@ -23,19 +23,30 @@ struct ResidualArgs {
   std::string model;
   std::string params;
   std::vector<std::string> effects;
+  std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
   int max_iterations = 30;
   int resamples = 2000;
   std::string json_out;
   std::string report_out;
 };
 
-std::vector<FitSample> load_split(const Dataset& ds, const std::string& root, const std::string& split,
-                                  Warnings* warnings) {
+// The samples of `split`; with --calibration IDS the listed samples are the calibration split and every
+// other sample the validation split (recordings published without splits, e.g. the FOTS pair).
+std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std::string& split,
+                                  const std::vector<std::string>& calibration_ids, Warnings* warnings) {
+  if (!calibration_ids.empty()) {
+    for (const auto& id : calibration_ids)
+      if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
+        throw InputError("--calibration", "no sample '" + id + "' in " + ds.json_path());
+    for (auto& info : ds.samples)
+      info.split = std::count(calibration_ids.begin(), calibration_ids.end(), info.id) ? "calibration" : "validation";
+  }
   const auto indenters = dataset_indenters(ds, root, split, warnings);
   std::vector<FitSample> out;
   for (const auto& info : ds.samples)
     if (info.split == split) out.push_back(to_fit_sample(info, read_sample(ds, info.id, warnings), indenters.at(info.indenter)));
-  if (out.empty()) throw InputError(ds.json_path(), "no samples in the " + split + " split");
+  if (out.empty())
+    throw InputError(ds.json_path(), "no samples in the " + split + " split (--calibration ID,... assigns them)");
   return out;
 }
 
@@ -59,8 +70,8 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
       throw InputError("--effects", "unknown effect '" + id + "'");
   Warnings warnings;
   in.sensor = dataset_sensor(ds);
-  in.calibration = load_split(ds, root, "calibration", &warnings);
-  in.validation = load_split(ds, root, "validation", &warnings);
+  in.calibration = load_split(ds, root, "calibration", a.calibration_ids, &warnings);
+  in.validation = load_split(ds, root, "validation", a.calibration_ids, &warnings);
   if (!g.quiet)
     std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples\n", a.model.c_str(),
                  ds.name.c_str(), in.calibration.size(), in.validation.size());
@@ -95,6 +106,9 @@ const CommandRegistrar registrar(
       sub.add_option("--model", a->model, "base model id")->required();
       sub.add_option("--params", a->params, "fixed base parameters (JSON keyed by model id or flat); default: fit them");
       sub.add_option("--effects", a->effects, "candidate effects (default: the whole catalogue)")->delimiter(',');
+      sub.add_option("--calibration", a->calibration_ids,
+                     "sample ids that calibrate (the others validate), instead of the dataset's splits")
+          ->delimiter(',');
       sub.add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations per stage");
       sub.add_option("--resamples", a->resamples, "bootstrap resamples");
       sub.add_option("--json", a->json_out, "JSON result (written atomically)")->required();
