@@ -15,6 +15,7 @@
 #include "core/error.hpp"
 #include "core/importers.hpp"
 #include "core/track_eval.hpp"
+#include "core/tsd.hpp"
 #include "core/tracker.hpp"
 
 namespace fs = std::filesystem;
@@ -60,17 +61,8 @@ void draw_frames(const std::vector<cv::Mat>& frames, const TrackResult& r, const
 
 // The tsd sample directory's dataset.json is its parent's.
 void compare_tsd(const TrackResult& r, const std::string& sample_dir) {
-  const fs::path json_path = fs::path(sample_dir).parent_path() / "dataset.json";
-  std::ifstream in(json_path);
-  if (!in) throw InputError(json_path.string(), "cannot open dataset.json of the reference sample");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(json_path.string(), e.what());
-  }
-  std::vector<Vec2> rest;
-  for (const auto& p : j.at("sensor").at("markers_rest_px")) rest.emplace_back(p.at(0).get<double>(), p.at(1).get<double>());
+  // The validated reader: a malformed dataset.json is an InputError naming the file and the entry.
+  const std::vector<Vec2> rest = read_dataset(fs::path(sample_dir).parent_path().string()).markers_rest_px;
   const auto disp = read_markers_csv((fs::path(sample_dir) / "markers.csv").string(), static_cast<int>(rest.size()));
   print_comparison("vs reference positions (rest + disp)", compare_to_reference(r, rest, disp, false));
   print_comparison("vs reference displacements", compare_to_reference(r, rest, disp, true));
