@@ -60,7 +60,7 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
 }
 
 // The measured side of a dataset replay: marker field and frames of each step, the sample list.
-void load_measured(Session& s) {
+void load_measured(Session& s, const std::string& data_root) {
   Warnings warnings;
   const Dataset ds = read_dataset(s.scene.dataset_dir, &warnings);
   SampleData data = read_sample(ds, s.scene.sample_id, &warnings);
@@ -69,7 +69,7 @@ void load_measured(Session& s) {
   s.measured.disp_px = std::move(data.markers_px);
   s.measured.frame_paths = std::move(data.frame_paths);
   s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";
-  s.replay.dataset_dir = s.scene.dataset_dir;
+  s.replay.dataset_dir = data_path(s.scene.dataset_dir, data_root);   // "data:twin/..." when under the data root
   s.replay.samples.clear();
   for (const auto& smp : ds.samples) s.replay.samples.push_back(smp.id);
   s.replay.sample_index = static_cast<int>(
@@ -123,7 +123,7 @@ Session open_session(const SessionOptions& o) {
   }
   s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, indenter), s.scene.X_EI,
                                        s.scene.dt_s);
-  if (!s.scene.dataset_dir.empty()) load_measured(s);
+  if (!s.scene.dataset_dir.empty()) load_measured(s, root);
   if (s.title.empty())
     s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;
   return s;

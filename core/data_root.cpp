@@ -27,6 +27,17 @@ std::string resolve_path(const std::string& path, const std::string& data_root, 
   return (fs::path(base_dir) / p).string();
 }
 
+std::string data_path(const std::string& path, const std::string& data_root) {
+  if (path.empty() || data_root.empty() || path.rfind("data:", 0) == 0) return path;
+  std::error_code ec;
+  const fs::path root = fs::weakly_canonical(fs::absolute(data_root, ec), ec);
+  const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) return path;
+  const fs::path rel = p.lexically_relative(root);
+  if (rel.empty() || rel == "." || *rel.begin() == "..") return path;
+  return "data:" + rel.generic_string();
+}
+
 void require_exists(const std::string& path, const std::string& what) {
   if (!fs::exists(path))
     throw InputError(path, what + " not found (data root: set --data or SHEARBENCH_DATA; default ../shared/data)");

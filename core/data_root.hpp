@@ -10,6 +10,10 @@ std::string resolve_data_root(const std::string& cli_value = "");
 // Resolves "data:<relative>" against the data root; other paths are returned unchanged (relative ones
 // joined to base_dir when base_dir is not empty).
 std::string resolve_path(const std::string& path, const std::string& data_root, const std::string& base_dir);
+// The inverse for display: "data:<relative>" when `path` lies inside the data root (so what the user sees
+// does not depend on where the data is), else `path` unchanged. resolve_path(data_path(p, r), r, "") names
+// the same file as p.
+std::string data_path(const std::string& path, const std::string& data_root);
 // Throws InputError naming `what` and the searched location when `path` does not exist.
 void require_exists(const std::string& path, const std::string& what);
 
