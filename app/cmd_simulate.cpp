@@ -11,6 +11,7 @@
 #include "core/evaluate.hpp"
 #include "core/json_read.hpp"
 #include "core/mesh.hpp"
+#include "core/prediction_export.hpp"
 #include "core/scene.hpp"
 
 namespace fs = std::filesystem;
@@ -43,7 +44,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   model->set_params(params);
 
   const auto start = std::chrono::steady_clock::now();
-  SampleData data;
+  PredictionExport e;
   FieldOutput out;
   const double sub_dt = scene.dt_s / scene.substeps;
   for (std::size_t k = 0; k < scene.X_EI.size(); ++k) {
@@ -58,40 +59,24 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
       }
     }
     model->step(scene.X_EI[k], scene.substeps > 1 && k > 0 ? sub_dt : scene.dt_s, &out);
-    data.push_pose(scene.t_s.empty() ? static_cast<double>(k) * scene.dt_s : scene.t_s[k], scene.X_EI[k]);
-    data.markers_px.push_back(out.disp_px);
+    e.t_s.push_back(scene.t_s.empty() ? static_cast<double>(k) * scene.dt_s : scene.t_s[k]);
+    e.X_EI.push_back(scene.X_EI[k]);
+    e.disp_px.push_back(out.disp_px);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  Dataset ds;
-  ds.name = scene.name + "_" + a.model;
-  ds.kind = "synthetic";
-  ds.license = "CC0-1.0";
-  nlohmann::json pj = params.to_json();
-  ds.provenance = "shearbench " SHEARBENCH_VERSION " simulate: model " + a.model + ", params " + pj.dump() +
-                  ", scene " + a.scene + (scene.dataset_dir.empty() ? "" : " (replaying " + scene.dataset_dir + " sample " + scene.sample_id + ")");
-  ds.camera = scene.sensor->camera;
-  ds.gel = scene.sensor->gel;
-  if (ds.gel.surface != "flat") ds.gel.surface = "meshes/gel.obj";
-  ds.markers_rest_px = scene.sensor->markers_rest_px;
-  ds.extra["shearbench"] = {{"model", a.model}, {"params", pj}, {"scene", a.scene}};
-  if (timings_in_outputs()) ds.extra["shearbench"]["seconds"] = seconds;
-  const std::string mesh_rel = "meshes/" + indenter->name + ".obj";
-  ds.indenters[indenter->name] = TsdIndenter{mesh_rel, nlohmann::json::object()};
-  TsdSampleInfo info;
-  info.id = scene.sample_id.empty() ? scene.name : scene.sample_id;
-  info.motion = scene.motion;
-  info.indenter = indenter->name;
-  info.split = "validation";
-  info.dt_s = scene.dt_s;
-  ds.samples.push_back(info);
-  ds.dir = a.out;
-
-  // Meshes first, then the sample, then dataset.json: a reader never sees a dangling reference.
-  fs::create_directories(fs::path(a.out) / "meshes");
-  save_obj(indenter->mesh, (fs::path(a.out) / mesh_rel).string());
-  if (ds.gel.surface != "flat") save_obj(scene.sensor->gel_mesh, (fs::path(a.out) / ds.gel.surface).string());
-  write_dataset(a.out, ds, {data});
+  const nlohmann::json pj = params.to_json();
+  e.name = scene.name + "_" + a.model;
+  e.provenance = "shearbench " SHEARBENCH_VERSION " simulate: model " + a.model + ", params " + pj.dump() +
+                 ", scene " + a.scene + (scene.dataset_dir.empty() ? "" : " (replaying " + scene.dataset_dir + " sample " + scene.sample_id + ")");
+  e.shearbench = {{"model", a.model}, {"params", pj}, {"scene", a.scene}};
+  if (timings_in_outputs()) e.shearbench["seconds"] = seconds;
+  e.sample_id = scene.sample_id.empty() ? scene.name : scene.sample_id;
+  e.motion = scene.motion;
+  e.sensor = scene.sensor;
+  e.indenter = indenter;
+  e.dt_s = scene.dt_s;
+  write_prediction_dataset(a.out, e);
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("%s on %s: %zu frames in %.3f s (%.2f ms/frame) -> %s\n", a.model.c_str(), scene.name.c_str(),
