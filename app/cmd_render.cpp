@@ -26,6 +26,8 @@ struct RenderArgs {
   bool no_timings = false;
   bool report = false;
   bool visible = false;
+  std::string panel;
+  std::string export_fields; // folder: every model's field along the path (tsd/1), as the GUI's Export         // crop the PNG to one panel (3D view, a model's name, Measured)
   std::string residual;      // residual JSON: Residual section open, corrected model in its panel
   bool residual_fields = false;
   std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
@@ -91,7 +93,9 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   }
   // ImGui lays a fixed-size window out on its first frame and draws it settled on the second.
   constexpr int kSettleFrames = 3;
-  const ui::Image img = front.render_still(kSettleFrames);
+  ui::Image img = front.render_still(kSettleFrames);
+  if (!a.panel.empty()) img = front.crop_to_region(img, a.panel);
+  if (!a.export_fields.empty()) front.export_fields(a.export_fields);
   ui::write_png_atomic(img, a.out);
   if (!g.quiet) std::cout << "wrote " << std::filesystem::absolute(a.out).string() << " (" << img.width << "x" << img.height << ")\n";
   if (a.report) std::cout << text_report(state.snapshot());
@@ -121,6 +125,8 @@ const CommandRegistrar registrar{
       sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
       sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
       sub.add_flag("--visible", a->visible, "show the window while rendering");
+      sub.add_option("--panel", a->panel, "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
+      sub.add_option("--export-fields", a->export_fields, "also write every model's field along the path as DIR/<model>/ (tsd/1)");
       sub.add_option("--residual", a->residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
       sub.add_flag("--residual-fields", a->residual_fields, "draw measured - model instead of the model fields");
       return [a, &g] { return run_render(*a, g); };

@@ -11,7 +11,13 @@
 
 #include <GLFW/glfw3.h>
 
+#include <cctype>
+
+#include <imgui.h>
+
 #include "core/data_root.hpp"
+#include "core/json_read.hpp"
+#include "core/prediction_export.hpp"
 #include "core/error.hpp"
 #include "widgets/panels.hpp"
 
@@ -64,14 +70,23 @@ void Frontend::reopen(const SessionOptions& session) {
 
 void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
   if (req.quit) quit_ = true;
-  if (req.screenshot) screenshot_pending_ = true;
+  if (req.screenshot) {
+    screenshot_pending_ = true;
+    screenshot_region_ = req.screenshot_region;
+  }
   if (before_present && screenshot_pending_) {
     screenshot_pending_ = false;
-    char name[64];
+    char stamp[32];
     const std::time_t t = std::time(nullptr);
-    std::strftime(name, sizeof name, "screenshots/shearbench_%Y%m%d_%H%M%S.png", std::localtime(&t));
-    ui::write_png_atomic(window_.read_back_buffer(), name);
-    workbench_.set_message(std::string("saved ") + name);
+    std::strftime(stamp, sizeof stamp, "%Y%m%d_%H%M%S", std::localtime(&t));
+    std::string name = std::string("screenshots/shearbench_") + stamp;
+    ui::Image img = window_.read_back_buffer();
+    if (!screenshot_region_.empty()) {
+      img = crop_to_region(img, screenshot_region_);
+      name += "_" + file_slug(screenshot_region_);
+    }
+    ui::write_png_atomic(img, name + ".png");
+    workbench_.set_message("saved " + name + ".png");
   }
   try {
     if (req.load_params) {
@@ -99,6 +114,10 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     }
     if (req.open_session) open_session_file(*req.open_session);
     if (req.load_residual) load_residual(*req.load_residual);
+    if (req.export_fields) {
+      const int n = export_fields(*req.export_fields);
+      workbench_.set_message("exported " + std::to_string(n) + " fields (tsd/1) to " + *req.export_fields);
+    }
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
     if (req.open_dataset) {
       SessionOptions o = session_options_;
@@ -128,6 +147,68 @@ bool Frontend::frame() {
   if (options_.keep_work) keep_work_tick();
   if (!quit_ && !window_.should_close()) return true;
   return allow_close();
+}
+
+ui::Image Frontend::crop_to_region(const ui::Image& image, const std::string& region) const {
+  for (const auto& r : workbench_.regions())
+    if (r.name == region) {
+      // Regions are in window pixels; the image is in framebuffer pixels (HiDPI scales them).
+      const ImVec2 s = ImGui::GetIO().DisplayFramebufferScale;
+      return ui::crop(image, static_cast<int>(std::lround(r.x * s.x)), static_cast<int>(std::lround(r.y * s.y)),
+                      static_cast<int>(std::lround(r.w * s.x)), static_cast<int>(std::lround(r.h * s.y)));
+    }
+  throw InputError("--panel", "no panel '" + region + "' (3D view, the models' names, Measured)");
+}
+
+std::string file_slug(const std::string& text) {
+  std::string slug;
+  for (char c : text) {
+    if (std::isalnum(static_cast<unsigned char>(c))) slug += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    else if (!slug.empty() && slug.back() != '_') slug += '_';
+  }
+  while (!slug.empty() && slug.back() == '_') slug.pop_back();
+  return slug;
+}
+
+// Every model at its current parameters, run afresh (not the physics thread's instances) along the
+// current path, written as <dir>/<model id>/ (tsd/1). A folder that holds anything but an earlier field
+// export is never overwritten.
+int Frontend::export_fields(const std::string& dir) {
+  namespace fs = std::filesystem;
+  const AppState& state = *session_.state;
+  const AppSnapshot snap = state.snapshot();
+  const std::vector<Pose> path = state.path();
+  if (path.empty()) throw InputError(dir, "nothing to export: the path is empty");
+  for (const auto& m : snap.models) {
+    const fs::path json = fs::path(dir) / m.id / "dataset.json";
+    if (!fs::exists(fs::path(dir) / m.id)) continue;
+    const bool ours = fs::exists(json) && [&] {
+      try {
+        return jsonin::load_file(json.string()).value("shearbench", nlohmann::json::object()).value("export", false);
+      } catch (const std::exception&) {
+        return false;
+      }
+    }();
+    if (!ours) throw InputError((fs::path(dir) / m.id).string(), "exists and is not a shearbench field export; choose another folder");
+  }
+  for (const auto& m : snap.models) {
+    auto model = make_model(m.id, state.sensor(), state.indenter());
+    model->set_params(m.params);
+    PredictionExport e;
+    e.name = session_.title + " " + m.id;
+    e.sample_id = session_options_.sample_id.empty() ? "path" : session_options_.sample_id;
+    e.provenance = "shearbench " SHEARBENCH_VERSION " workbench field export: model " + m.id + ", params " +
+                   m.params.to_json().dump() + ", the session's pose path (" + std::to_string(path.size()) +
+                   " poses) of " + session_.title;
+    e.shearbench = {{"export", true}, {"model", m.id}, {"params", m.params.to_json()}};
+    e.sensor = state.sensor();
+    e.indenter = state.indenter();
+    e.dt_s = snap.dt_s;
+    e.X_EI = path;
+    e.disp_px = predict_along(*model, path, snap.dt_s);
+    write_prediction_dataset((fs::path(dir) / m.id).string(), e);
+  }
+  return static_cast<int>(snap.models.size());
 }
 
 void Frontend::load_residual(const std::string& path) {

@@ -11,6 +11,9 @@
 
 namespace sb::app {
 
+// "FOTS (reimpl)" -> "fots_reimpl": a region name as part of a file name.
+std::string file_slug(const std::string& text);
+
 struct FrontendOptions {
   int width = 1280;
   int height = 800;
@@ -42,6 +45,11 @@ class Frontend {
   // Session files (core/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
   void open_session_file(const std::string& path);
+  // Writes every model's field along the current path as <dir>/<model id>/ (tsd/1); returns how many.
+  // Throws InputError when a target folder exists and is not an earlier export.
+  int export_fields(const std::string& dir);
+  // The named region of the last drawn frame (ui::Workbench::regions) cut out of `image`.
+  ui::Image crop_to_region(const ui::Image& image, const std::string& region) const;
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
   // When an autosave from an unclean exit exists, asks whether to restore it.
@@ -54,6 +62,7 @@ class Frontend {
   std::string work_fingerprint() const;
   void keep_work_tick();
   bool allow_close();
+  std::string screenshot_region_;
   double now_s() const;
   SessionOptions session_options_;
   FrontendOptions options_;

@@ -1,5 +1,7 @@
 #include "widgets/gl_window.hpp"
 
+#include <algorithm>
+
 #include "core/atomic_write.hpp"
 
 #include <GL/glew.h>
@@ -126,6 +128,19 @@ Image GlWindow::read_back_buffer() const {
     std::swap_ranges(img.rgb.begin() + y * row, img.rgb.begin() + (y + 1) * row,
                      img.rgb.begin() + (img.height - 1 - y) * row);
   return img;
+}
+
+Image crop(const Image& image, int x, int y, int w, int h) {
+  const int x0 = std::clamp(x, 0, image.width), y0 = std::clamp(y, 0, image.height);
+  const int x1 = std::clamp(x + w, x0, image.width), y1 = std::clamp(y + h, y0, image.height);
+  Image out;
+  out.width = x1 - x0;
+  out.height = y1 - y0;
+  out.rgb.resize(static_cast<std::size_t>(out.width) * out.height * 3);
+  for (int r = 0; r < out.height; ++r)
+    std::copy_n(image.rgb.begin() + (static_cast<std::size_t>(y0 + r) * image.width + x0) * 3,
+                static_cast<std::size_t>(out.width) * 3, out.rgb.begin() + static_cast<std::size_t>(r) * out.width * 3);
+  return out;
 }
 
 void write_png_atomic(const Image& image, const std::string& path) {

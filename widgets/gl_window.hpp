@@ -24,6 +24,9 @@ struct Image {
   std::vector<std::uint8_t> rgb;
 };
 
+// The pixels of [x, x + w) x [y, y + h) (top-left origin), clamped to the image.
+Image crop(const Image& image, int x, int y, int w, int h);
+
 class GlWindow {
  public:
   explicit GlWindow(const WindowOptions& options);  // throws std::runtime_error without a display

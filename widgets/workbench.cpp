@@ -235,8 +235,28 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (ImGui::SmallButton("Side")) viewport_.set_camera(CameraPreset::Side);
     ImGui::SameLine();
     if (ImGui::SmallButton("Iso")) viewport_.set_camera(CameraPreset::Iso);
+    // Screenshot of the window or of one panel (PNG under screenshots/).
+    ImGui::SetNextItemWidth(-110);
+    const char* shown = screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size())
+                            ? regions_[screenshot_region_ - 1].name.c_str() : "whole window";
+    if (ImGui::BeginCombo("##shotregion", shown)) {
+      if (ImGui::Selectable("whole window", screenshot_region_ == 0)) screenshot_region_ = 0;
+      for (int i = 0; i < int(regions_.size()); ++i)
+        if (ImGui::Selectable(regions_[i].name.c_str(), screenshot_region_ == i + 1)) screenshot_region_ = i + 1;
+      ImGui::EndCombo();
+    }
     ImGui::SameLine();
-    if (ImGui::SmallButton("Screenshot")) req.screenshot = true;
+    if (ImGui::SmallButton("Screenshot")) {
+      req.screenshot = true;
+      if (screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size()))
+        req.screenshot_region = regions_[screenshot_region_ - 1].name;
+    }
+    // Every model's field along the current path (replay or drags) as tsd/1 datasets, one per model.
+    ImGui::SetNextItemWidth(-110);
+    ImGui::InputText("##exportdir", export_path_, sizeof export_path_);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Export fields")) req.export_fields = std::string(export_path_);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("writes <folder>/<model>/ (tsd/1) for every model");
   }
   if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
     ImGui::SetNextItemWidth(-110);
@@ -479,7 +499,9 @@ void Workbench::draw_fields(float width) {
                                                      : "no measurement at this step";
     }
     ImGui::PushID(i);
-    draw_field_panel(in, scale_, pw);
+    const ImVec2 panel_top = ImGui::GetCursorScreenPos();
+    const float panel_h = draw_field_panel(in, scale_, pw);
+    regions_.push_back({i < n - 1 ? display_name(snap_.models[i].id) : measured_.label, panel_top.x, panel_top.y, pw, panel_h});
     ImGui::PopID();
     ImGui::EndGroup();
   }
@@ -531,6 +553,8 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   ImGui::Begin("3D", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
   viewport_.update(snap_, marker_model_);
   const ImVec2 view_origin = ImGui::GetCursorScreenPos();
+  regions_.clear();
+  regions_.push_back({"3D view", view_origin.x, view_origin.y, right_w, view_h});
   if (auto target = viewport_.draw(right_w, view_h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
                                    options_.interactive)) {
     if (!last_drag_ || !target->isApprox(*last_drag_, 1e-12)) {

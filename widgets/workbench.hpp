@@ -37,9 +37,16 @@ struct WorkbenchOptions {
 };
 
 // What the workbench asks of the app (things it cannot do from a snapshot).
+// A part of the window in window pixels (top-left origin), for one-panel screenshots.
+struct ScreenRegion {
+  std::string name;   // "3D view", a model's display name, "Measured"
+  float x = 0, y = 0, w = 0, h = 0;
+};
+
 struct WorkbenchRequest {
   bool quit = false;
   bool screenshot = false;
+  std::string screenshot_region;            // empty: the whole window; else a ScreenRegion name
   std::optional<int> open_sample;           // index into ReplayUi::samples
   std::optional<std::string> open_dataset;  // a dataset folder (its first sample)
   std::optional<std::string> load_params;   // params.json path
@@ -47,6 +54,7 @@ struct WorkbenchRequest {
   std::optional<std::string> save_session;  // session file path
   std::optional<std::string> open_session;
   std::optional<std::string> load_residual;  // a residual JSON (shearbench residual --json)
+  std::optional<std::string> export_fields;  // a folder: every model's field along the path, tsd/1 each
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };
@@ -80,6 +88,8 @@ class Workbench {
   void set_data_root(std::string root) { data_root_ = std::move(root); }
   std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
+  // Where the 3D view and each field panel were drawn in the last frame.
+  const std::vector<ScreenRegion>& regions() const { return regions_; }
   // A residual analysis to show (Residual section): ranked candidates, and the field panels can show
   // the residual (measured - model) and the corrected model (base + selected effects).
   void set_residual(ResidualSummary summary);
@@ -134,6 +144,9 @@ class Workbench {
   std::string fit_model_id_;          // the model the shown result belongs to
   bool fit_result_handled_ = false;   // applied or discarded
   std::vector<std::vector<double>> rmse_params_;   // the parameter values the running/last job used
+  std::vector<ScreenRegion> regions_;
+  int screenshot_region_ = 0;   // 0: window, i: regions_[i - 1]
+  char export_path_[512] = "fields_export";
   std::optional<ResidualSummary> residual_;
   char residual_path_[512] = "residual.json";
   bool show_residual_fields_ = false;
