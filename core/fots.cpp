@@ -196,14 +196,22 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   const Vec2 centre = sensor_->camera.principal_px;
   const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), integer_px_), trunc_px(t0.y() * px_per_m + centre.y(), integer_px_));
   const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, integer_px_), trunc_px((t1.y() - t0.y()) * px_per_m, integer_px_));
-  for (int j = 0; j < nm; ++j) xd[j] += s * std::exp(-lambda_s_ * (xd[j] - G).squaredNorm());
+  // Each kernel's exps in one vectorised batch (exp_in_place, <= 1e-14 relative; exponents below -700
+  // are clamped, which changes a weight of < 1e-304 by less than itself). The twist is evaluated at the
+  // sheared positions, so its batch follows the shear's.
+  sc.args.resize(static_cast<std::size_t>(nm));
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_s_ * (xd[j] - G).squaredNorm(), -700.0);
+  exp_in_place(sc.args.data(), nm);
+  for (int j = 0; j < nm; ++j) xd[j] += s * sc.args[j];
   // Twist about G by the in-plane rotation since first contact, clipped, at the sheared positions.
   const double raw = twist_about_z(X_EI.linear() * slot.X_ref.linear().transpose());
   const double theta = std::clamp(raw, -twist_clip_rad_, twist_clip_rad_);
   const double ct = std::cos(theta), st = std::sin(theta);
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_t_ * (xd[j] - G).squaredNorm(), -700.0);
+  exp_in_place(sc.args.data(), nm);
   for (int j = 0; j < nm; ++j) {
     const Vec2 d = xd[j] - G;
-    xd[j] += (rotate(d, ct, st) - d) * std::exp(-lambda_t_ * d.squaredNorm());
+    xd[j] += (rotate(d, ct, st) - d) * sc.args[j];
   }
   for (int j = 0; j < nm; ++j) disp[j] = xd[j] - m_px_[j];
   clock.lap(Phase::Shear);
