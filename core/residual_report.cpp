@@ -11,6 +11,7 @@
 
 #include "core/reproducible.hpp"
 #include "core/error.hpp"
+#include "core/effects.hpp"
 #include "core/residual.hpp"
 #include "core/tsd.hpp"
 
@@ -281,10 +282,22 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
           "the residual is not attributed.\n\n";
   } else {
     md += "**Selected: " + effect_set_key(r.selection.selected) + ".** Parameters found:\n\n";
+    bool any_bound = false;
     for (const auto& id : r.selection.selected) {
       const auto pj = effect_params_json(r.after.fit.params, id);
-      for (const auto& [k, v] : pj.items()) md += "- `" + id + "." + k + "` = " + fmt(v.get<double>()) + "\n";
+      for (const auto& [k, v] : pj.items()) {
+        md += "- `" + id + "." + k + "` = " + fmt(v.get<double>());
+        const std::string name = id + kEffectParamSeparator + k;
+        const ParamSpec& spec = r.after.fit.params.specs()[r.after.fit.params.index_of(name)];
+        const bool at_min = v.get<double>() <= spec.min, at_max = v.get<double>() >= spec.max;
+        if (at_min || at_max) md += std::string(" **(at its ") + (at_min ? "lower" : "upper") + " bound)**";
+        any_bound = any_bound || at_min || at_max;
+        md += "\n";
+      }
     }
+    if (any_bound)
+      md += "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
+            "effect is standing in for something the model lacks rather than measuring that physics.\n";
     md += "\n";
   }
   md += "## Error before and after (validation)\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
