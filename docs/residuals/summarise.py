@@ -1,0 +1,39 @@
+#!/usr/bin/env python3
+"""Prints the summary table of every residual analysis in this folder (docs/residuals/README.md)."""
+import json
+import pathlib
+
+here = pathlib.Path(__file__).resolve().parent
+
+
+def pct(before, after):
+    return 100.0 * (after - before) / before if before else float("nan")
+
+
+def fmt_effects(d):
+    sel = d["selected"]
+    if not sel:
+        return "nothing"
+    parts = []
+    for e in sel:
+        params = d["selected_params"].get(e, {})
+        parts.append(e + " (" + ", ".join(f"{k.split('.', 1)[-1]} {v:.3g}" for k, v in params.items()) + ")")
+    return " + ".join(parts)
+
+
+def best_rejected(d):
+    cands = [c for c in d["candidates"] if c["effect"] not in d["selected"] and c["improvement_pct"] is not None]
+    if not cands:
+        return "-"
+    c = max(cands, key=lambda c: c["improvement_pct"])
+    lo, hi = c["ci95_pct"]
+    return f"{c['effect']} {c['improvement_pct']:+.1f} % [{lo:.1f}, {hi:.1f}]"
+
+
+print("| dataset | model | validation RMSE before -> after (px) | change | selected (fitted parameters) | best candidate not selected (95 % CI) |")
+print("|---|---|---|---|---|---|")
+for f in sorted(here.glob("*/residual.json")):
+    d = json.loads(f.read_text())
+    b, a = d["before"]["validation_rmse_px"], d["after"]["validation_rmse_px"]
+    print(f"| [{d['dataset']}]({f.parent.name}/report.md) | {d['model']} | {b:.3f} -> {a:.3f} | {pct(b, a):+.1f} % | "
+          f"{fmt_effects(d)} | {best_rejected(d)} |")
