@@ -243,6 +243,9 @@ SessionFile Frontend::current_session_file() const {
   f.auto_scale = wb.auto_scale_enabled();
   f.arrow_gain = wb.scale().arrow_gain;
   f.colour_max_px = wb.scale().colour_max_px;
+  f.residual_file = absolute(wb.residual_file());
+  f.residual_fields = wb.residual_fields_shown();
+  f.residual_corrected = wb.corrected_shown();
   return f;
 }
 
@@ -279,6 +282,10 @@ void Frontend::apply_session_file(const SessionFile& f) {
   workbench_.auto_scale_enabled() = f.auto_scale;
   if (f.arrow_gain > 0) workbench_.scale().arrow_gain = static_cast<float>(f.arrow_gain);
   if (f.colour_max_px > 0) workbench_.scale().colour_max_px = static_cast<float>(f.colour_max_px);
+  if (!f.residual_file.empty()) {
+    load_residual(f.residual_file);
+    workbench_.set_residual_view(f.residual_fields, f.residual_corrected);
+  }
 }
 
 void Frontend::open_session_file(const std::string& path) {

@@ -47,11 +47,14 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
   j["path_X_EI"] = path;
   j["step"] = s.step;
   j["display"] = {{"auto_scale", s.auto_scale}, {"arrow_gain", s.arrow_gain}, {"colour_max_px", s.colour_max_px}};
+  if (!s.residual_file.empty())
+    j["residual"] = {{"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
   return j;
 }
 
 SessionFile session_from_json(const json& j, const std::string& file) {
-  jsonin::reject_unknown_keys(j, {"format", "version", "open", "params", "path_X_EI", "step", "display"}, file, "");
+  jsonin::reject_unknown_keys(j, {"format", "version", "open", "params", "path_X_EI", "step", "display", "residual"},
+                              file, "");
   if (jsonin::string(jsonin::member(j, "format", file, ""), file, "/format") != "shearbench-session")
     jsonin::fail(file, "/format", "not a shearbench session file");
   const int version = jsonin::integer(jsonin::member(j, "version", file, ""), file, "/version");
@@ -99,6 +102,12 @@ SessionFile session_from_json(const json& j, const std::string& file) {
       s.colour_max_px = jsonin::finite_number(*v, file, "/display/colour_max_px");
       if (s.colour_max_px < 0) jsonin::fail(file, "/display/colour_max_px", "must be >= 0");
     }
+  }
+  if (const json* r = jsonin::find(j, "residual")) {
+    jsonin::reject_unknown_keys(*r, {"file", "residual_fields", "corrected"}, file, "/residual");
+    s.residual_file = jsonin::string(jsonin::member(*r, "file", file, "/residual"), file, "/residual/file");
+    if (const json* v = jsonin::find(*r, "residual_fields")) s.residual_fields = jsonin::boolean(*v, file, "/residual/residual_fields");
+    if (const json* v = jsonin::find(*r, "corrected")) s.residual_corrected = jsonin::boolean(*v, file, "/residual/corrected");
   }
   return s;
 }

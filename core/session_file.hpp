@@ -30,6 +30,10 @@ struct SessionFile {
   bool auto_scale = true;
   double arrow_gain = 0.0;       // 0: the workbench's default
   double colour_max_px = 0.0;
+  // A residual analysis shown in the Residual section (empty: none) and its two switches.
+  std::string residual_file;
+  bool residual_fields = false;
+  bool residual_corrected = true;
 };
 
 nlohmann::ordered_json session_to_json(const SessionFile& s);

@@ -41,6 +41,9 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   s.step = 1;
   s.auto_scale = false;
   s.arrow_gain = 150;
+  s.residual_file = "/analyses/twin_sphere8_tacsl.json";
+  s.residual_fields = true;
+  s.residual_corrected = false;
   const std::string path = temp_file("rt.json", "");
   sb::save_session_file(path, s);
   const sb::SessionFile r = sb::load_session_file(path);
@@ -53,6 +56,13 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   CHECK(r.step == 1);
   CHECK_FALSE(r.auto_scale);
   CHECK(r.arrow_gain == 150);
+  CHECK(r.residual_file == s.residual_file);
+  CHECK(r.residual_fields);
+  CHECK_FALSE(r.residual_corrected);
+  // Without an analysis the section is left out, and reads back as none.
+  s.residual_file.clear();
+  sb::save_session_file(path, s);
+  CHECK(sb::load_session_file(path).residual_file.empty());
   fs::remove(path);
 }
 

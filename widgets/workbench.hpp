@@ -97,6 +97,10 @@ class Workbench {
   // Sets the analysed model's panel to the analysis' fitted base parameters (the fair reference for the
   // corrected model); false when that model is not shown.
   bool apply_residual_base_params();
+  // The loaded analysis' file ("" when none) and the two switches, for the session file.
+  std::string residual_file() const { return residual_ ? residual_->file : std::string(); }
+  bool residual_fields_shown() const { return show_residual_fields_; }
+  bool corrected_shown() const { return show_corrected_; }
 
  private:
   struct Textures;
