@@ -12,6 +12,7 @@
 #include "core/mesh.hpp"
 #include "core/model.hpp"
 #include "core/scene.hpp"
+#include "core/residual_view.hpp"
 #include "core/session_file.hpp"
 #include "core/tsd.hpp"
 #include "fuzz/fuzz_common.hpp"
@@ -80,6 +81,12 @@ inline void one_params(const std::uint8_t* data, std::size_t size) {
 inline void one_session(const std::uint8_t* data, std::size_t size) {
   const std::string path = write_input(data, size, "session.json");
   expect_load_or_input_error([&] { (void)load_session_file(path); });
+}
+
+// A residual analysis as the workbench reads it (shearbench residual --json).
+inline void one_residual(const std::uint8_t* data, std::size_t size) {
+  const std::string path = write_input(data, size, "residual.json");
+  expect_load_or_input_error([&] { (void)load_residual_summary(path); });
 }
 
 }  // namespace sb::fuzz
