@@ -114,6 +114,7 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     }
     if (req.open_session) open_session_file(*req.open_session);
     if (req.load_residual) load_residual(*req.load_residual);
+    if (req.switch_model) switch_model(req.switch_model->first, req.switch_model->second);
     if (req.export_fields) {
       const int n = export_fields(*req.export_fields);
       workbench_.set_message("exported " + std::to_string(n) + " fields (tsd/1) to " + *req.export_fields);
@@ -209,6 +210,15 @@ int Frontend::export_fields(const std::string& dir) {
     write_prediction_dataset((fs::path(dir) / m.id).string(), e);
   }
   return static_cast<int>(snap.models.size());
+}
+
+void Frontend::switch_model(int slot, const std::string& model_id) {
+  AppState& state = *session_.state;
+  state.request_model(static_cast<std::size_t>(slot), make_model(model_id, state.sensor(), state.indenter()));
+  // The session remembers the variant (what `gui --fots/--tacsl` would open).
+  if (model_id.rfind("fots", 0) == 0) session_options_.fots_id = model_id;
+  if (model_id.rfind("tacsl", 0) == 0) session_options_.tacsl_id = model_id;
+  workbench_.set_message("switched to " + ui::display_name(model_id));
 }
 
 void Frontend::load_residual(const std::string& path) {

@@ -50,6 +50,8 @@ class Frontend {
   int export_fields(const std::string& dir);
   // The named region of the last drawn frame (ui::Workbench::regions) cut out of `image`.
   ui::Image crop_to_region(const ui::Image& image, const std::string& region) const;
+  // Replaces a panel's model by another variant (fots | fots-reimpl, tacsl | tacsl-normalized).
+  void switch_model(int slot, const std::string& model_id);
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
   // When an autosave from an unclean exit exists, asks whether to restore it.

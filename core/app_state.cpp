@@ -70,6 +70,12 @@ void AppState::request_path(std::vector<Pose> path) {
   { std::lock_guard lock(edits_mutex_); edits_.push_back(ReplacePath{std::move(path)}); }
   wake_.notify_one();
 }
+void AppState::request_model(std::size_t slot, std::unique_ptr<ShearModel> model) {
+  if (slot >= slots_.size()) throw std::out_of_range("AppState: no model " + std::to_string(slot));
+  if (!model) throw std::invalid_argument("AppState: null model");
+  { std::lock_guard lock(edits_mutex_); edits_.push_back(ReplaceModel{slot, std::move(model)}); }
+  wake_.notify_one();
+}
 void AppState::set_playing(bool playing) {
   playing_ = playing;
   { std::lock_guard lock(snapshot_mutex_); snapshot_.playing = playing; }
@@ -217,6 +223,14 @@ void AppState::apply(const ReplacePath& e) {
   measured_steps_ = static_cast<int>(path_.size());
   step_ = -1;
   for (Slot& s : slots_) rewind_slot(s);
+}
+
+void AppState::apply(const ReplaceModel& e) {
+  Slot& slot = slots_.at(e.model);
+  slot.model = e.replacement->clone();
+  slot.timing = StepTiming{};
+  rewind_slot(slot);
+  for (int k = 0; k <= step_; ++k) step_slot(slot, k);
 }
 
 void AppState::publish() {

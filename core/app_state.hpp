@@ -86,6 +86,9 @@ class AppState {
   void request_seek(int step);
   void request_drag(const Pose& X_EI_target);
   void request_path(std::vector<Pose> path);  // replaces the path (e.g. another sample) and rewinds
+  // Replaces one slot's model (e.g. FOTS by FOTS re-impl.): the new model replays the path up to the
+  // current step, so its field is consistent with the history; the other slots are untouched.
+  void request_model(std::size_t slot, std::unique_ptr<ShearModel> model);
   void set_playing(bool playing);
   void set_speed(double speed);
   AppSnapshot snapshot() const;
@@ -127,7 +130,8 @@ class AppState {
   struct Seek { int step; };
   struct Drag { Pose target; };
   struct ReplacePath { std::vector<Pose> path; };
-  using Edit = std::variant<SetParams, Seek, Drag, ReplacePath>;
+  struct ReplaceModel { std::size_t model; std::shared_ptr<ShearModel> replacement; };
+  using Edit = std::variant<SetParams, Seek, Drag, ReplacePath, ReplaceModel>;
 
   struct Checkpoint {
     std::unique_ptr<ShearModel> model;
@@ -144,6 +148,7 @@ class AppState {
   void apply(const Seek& e);
   void apply(const Drag& e);
   void apply(const ReplacePath& e);
+  void apply(const ReplaceModel& e);
   void step_slot(Slot& slot, int k);
   void rewind_slot(Slot& slot);
   void seek_slot(Slot& slot, int target);

@@ -199,3 +199,30 @@ TEST_CASE("several parameter tables for one model in one batch replay once, with
   CHECK(dynamic_cast<const HistoryModel&>(state->model(0)).set_params_calls == 1);
   CHECK(state->output(0).disp_px[0].x() == direct_output(path, 4, 7.0).x());
 }
+
+TEST_CASE("a replaced model replays the path to the current step; the other slot is untouched", "[ui]") {
+  auto state = make_state(12, 4);
+  const auto path = state->path();
+  for (int i = 0; i < 7; ++i) state->step();  // at step 6
+  const Vec2 other_before = state->output(0).disp_px[0];
+  auto replacement = std::make_unique<HistoryModel>();
+  ParamSet p = replacement->params();
+  p.set("gain", 2.0);   // a different model: here the same kind with another gain, so its output differs
+  replacement->set_params(p);
+  state->request_model(1, std::move(replacement));
+  CHECK(state->pending_edits() == 1);
+  state->sync();
+  CHECK(state->pending_edits() == 0);
+  CHECK(state->current_step() == 6);
+  // acc_6 = sum_{i=0..6} 2 * 0.001 (i + 1) * (i + 1), from a fresh model: 7 steps, nothing repeated.
+  CHECK(state->output(1).disp_px[0].x() == direct_output(path, 6, 2.0).x());
+  CHECK(state->output(1).disp_px[0].y() == 7);
+  CHECK(state->output(0).disp_px[0] == other_before);
+  CHECK(state->snapshot().models[1].params.get("gain") == 2.0);
+  // Its checkpoints are its own: seeking back replays the replacement.
+  state->request_seek(2);
+  state->sync();
+  CHECK(state->output(1).disp_px[0].x() == direct_output(path, 2, 2.0).x());
+  CHECK_THROWS_AS(state->request_model(5, std::make_unique<HistoryModel>()), std::out_of_range);
+  CHECK_THROWS_AS(state->request_model(0, nullptr), std::invalid_argument);
+}

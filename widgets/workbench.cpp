@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <array>
 #include <cfloat>
 #include <chrono>
 #include <thread>
@@ -259,6 +260,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("writes <folder>/<model>/ (tsd/1) for every model");
   }
   if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
+    draw_variant_switches(req);
     ImGui::SetNextItemWidth(-110);
     ImGui::InputText("##params", params_path_, sizeof params_path_);
     ImGui::SameLine();
@@ -284,6 +286,25 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
     if (unsaved_) ImGui::TextDisabled("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
     else ImGui::TextDisabled("saved");
+  }
+}
+
+// FOTS: original | re-implementation; TacSL: raw | normalised. The choice replaces that panel's model at
+// the sync point (AppState::request_model), which replays the path to the current step.
+void Workbench::draw_variant_switches(WorkbenchRequest& req) {
+  struct Family { const char* label; std::array<const char*, 2> ids; };
+  static constexpr std::array<Family, 2> kFamilies{{{"FOTS", {"fots", "fots-reimpl"}}, {"TacSL", {"tacsl", "tacsl-normalized"}}}};
+  for (const Family& f : kFamilies) {
+    for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m) {
+      const std::string& id = snap_.models[m].id;
+      if (id != f.ids[0] && id != f.ids[1]) continue;
+      ImGui::SetNextItemWidth(-110);
+      if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
+        for (const char* v : f.ids)
+          if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, std::string(v));
+        ImGui::EndCombo();
+      }
+    }
   }
 }
 

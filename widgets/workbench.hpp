@@ -55,6 +55,7 @@ struct WorkbenchRequest {
   std::optional<std::string> open_session;
   std::optional<std::string> load_residual;  // a residual JSON (shearbench residual --json)
   std::optional<std::string> export_fields;  // a folder: every model's field along the path, tsd/1 each
+  std::optional<std::pair<int, std::string>> switch_model;   // (slot, model id): FOTS / TacSL variant
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };
@@ -111,6 +112,7 @@ class Workbench {
   void update_rmse_series();
   void draw_fit_panel();
   void draw_residual_panel(WorkbenchRequest& req);
+  void draw_variant_switches(WorkbenchRequest& req);
   void update_corrected_series();
   int corrected_slot() const;   // the model panel the residual analysis belongs to (-1: none shown)
   const std::vector<Vec2>* corrected_at_step();
