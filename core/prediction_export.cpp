@@ -46,12 +46,14 @@ void write_prediction_dataset(const std::string& dir, const PredictionExport& e)
   write_dataset(dir, ds, {data});
 }
 
-std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s) {
+std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s,
+                                             const std::atomic<bool>* cancel) {
   std::vector<std::vector<Vec2>> fields;
   fields.reserve(path.size());
   model.reset();
   FieldOutput out;
   for (const Pose& X : path) {
+    if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return {};
     model.step(X, dt_s, &out);
     fields.push_back(out.disp_px);
   }

@@ -2,6 +2,7 @@
 // A model's predicted marker field along a pose path, written as a tsd/1 dataset (one sample: the poses,
 // the predicted markers.csv, the indenter mesh under meshes/), so predictions and measurements share one
 // format. Used by `shearbench simulate` and the workbench's field export.
+#include <atomic>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -29,7 +30,9 @@ struct PredictionExport {
 // dangling reference; every file atomically). Throws std::invalid_argument when the frame counts differ.
 void write_prediction_dataset(const std::string& dir, const PredictionExport& e);
 
-// Steps `model` (reset first) along `path` and returns its field at every pose.
-std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s);
+// Steps `model` (reset first) along `path` and returns its field at every pose; empty when `cancel`
+// is set before the end.
+std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s,
+                                             const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace sb

@@ -8,6 +8,7 @@
 #include "core/effects.hpp"
 #include "core/error.hpp"
 #include "core/json_read.hpp"
+#include "core/prediction_export.hpp"
 
 namespace sb {
 
@@ -140,18 +141,7 @@ void FieldSeriesJob::start(std::unique_ptr<ShearModel> model, std::vector<Pose> 
   cancel_ = false;
   // The model moves into the task: the worker owns everything it touches.
   future_ = std::async(std::launch::async, [this, m = std::shared_ptr<ShearModel>(std::move(model)),
-                                            path = std::move(path), dt_s] {
-    std::vector<std::vector<Vec2>> fields;
-    fields.reserve(path.size());
-    m->reset();
-    FieldOutput out;
-    for (const Pose& X_EI : path) {
-      if (cancel_) return std::vector<std::vector<Vec2>>{};
-      m->step(X_EI, dt_s, &out);
-      fields.push_back(out.disp_px);
-    }
-    return fields;
-  });
+                                            path = std::move(path), dt_s] { return predict_along(*m, path, dt_s, &cancel_); });
 }
 
 bool FieldSeriesJob::running() const {
