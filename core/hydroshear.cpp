@@ -1,5 +1,7 @@
 #include "core/hydroshear.hpp"
 
+#include "core/hydroshear_kernels.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -10,6 +12,8 @@
 #include <stdexcept>
 
 namespace sb {
+
+namespace kernels = hydroshear_kernels;
 
 namespace {
 
@@ -68,22 +72,39 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   return k;
 }
 
+// Inputs of one tracker step, one entry per point (kernels::advance_points).
+struct HydroShearBatch::StepColumns {
+  std::vector<double> s_prev, qx, qy, qz, s, px, py, pz, ox, oy, oz, nx, ny, nz;
+  void resize(int n) {
+    for (auto* v : {&s_prev, &qx, &qy, &qz, &s, &px, &py, &pz, &ox, &oy, &oz, &nx, &ny, &nz}) v->resize(n);
+  }
+  kernels::AdvanceColumns view() const {
+    return {s_prev.data(), qx.data(), qy.data(), qz.data(), s.data(), px.data(), py.data(), pz.data(),
+            ox.data(),     oy.data(), oz.data(), nx.data(), ny.data(), nz.data()};
+  }
+};
+
 // Per-thread buffers, reused across steps (no allocation once the largest contact has been seen).
 struct HydroShearBatch::Scratch {
-  // Candidates: points of the clusters that can reach the gel, in point order, with phi_E < 0 now or
-  // (augmentation) at the shifted pose.
-  std::vector<int> pos;
-  std::vector<Vec3> p;
-  std::vector<double> s, s_aug;
-  std::vector<HydroShearPoint> next, out;
-  std::vector<Vec3> p_of_field;            // the real point o_i of each field point (anchor = o_i + u_i)
-  std::vector<Vec3> m_I;
-  std::vector<double> phi_I;
+  // Visited: the points of the clusters that can reach the gel, as ranges of the point order, with o_i
+  // in E and phi_E(o_i) (and at the augmentation's shifted pose).
+  std::vector<std::pair<int, int>> ranges;
+  std::vector<double> vx, vy, vz, vs, vs_aug;
+  // Candidates: visited points with phi_E < 0 now or at the shifted pose.
+  std::vector<int> cpos;
+  std::vector<double> cx, cy, cz, cs, cs_aug;
+  StepColumns commit, augment;             // the committed step's and the augmentation's inputs
+  PointColumns next, aug;                  // their outputs (next is swapped into the slot)
+  // The field's points: state columns, the real point o_i of each (anchor = o_i + u_i) and the normal.
+  const PointColumns* field = nullptr;
+  const double *fx = nullptr, *fy = nullptr, *fz = nullptr, *fnx = nullptr, *fny = nullptr, *fnz = nullptr;
+  // Shear sum operands (kernels::shear_operands, shear_matrices).
+  std::vector<double> wvx, wvy, args, Xt, Wt, Yt, S;
+  std::vector<std::uint8_t> fast;
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
-  // Batched shear: per fast point its (vx, vy), 3 exponents then exps, and the GEMM operands.
-  std::vector<Vec2> v;
-  std::vector<double> args, w_rows, ex_rows, s_mat;
+  std::vector<Vec3> m_I;
+  std::vector<double> phi_I;
 };
 struct HydroShearBatch::ScratchPool {
   tbb::enumerable_thread_specific<Scratch> local;
@@ -110,7 +131,8 @@ HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
       grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), dil_x_(o.dil_x_), dil_y_(o.dil_y_),
-      marker_z_max_(o.marker_z_max_), perm_(o.perm_), pos_of_(o.pos_of_), p_I_(o.p_I_), n_I_(o.n_I_),
+      marker_z_max_(o.marker_z_max_), perm_(o.perm_), pos_of_(o.pos_of_), p_I_(o.p_I_), n_I_(o.n_I_), pIx_(o.pIx_), pIy_(o.pIy_),
+      pIz_(o.pIz_),
       clusters_(o.clusters_), groups_(o.groups_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
       pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}
 
@@ -157,10 +179,16 @@ void HydroShearBatch::build_clusters() {
   }
   pos_of_.resize(n);
   p_I_.resize(n);
+  pIx_.clear();
+  pIy_.clear();
+  pIz_.clear();
   n_I_.resize(n);
   for (int pos = 0; pos < n; ++pos) {
     pos_of_[perm_[pos]] = pos;
     p_I_[pos] = P[perm_[pos]];
+    pIx_.push_back(p_I_[pos].x());
+    pIy_.push_back(p_I_[pos].y());
+    pIz_.push_back(p_I_[pos].z());
     n_I_[pos] = indenter_->samples.n_IS[perm_[pos]];
   }
 }
@@ -195,46 +223,35 @@ void HydroShearBatch::reset() {
 
 void HydroShearBatch::reset_slot(int slot) {
   Slot& s = slots_.at(slot);
-  s.points.clear();
+  s.points.resize(0);
   s.first = true;
   s.X_prev = Pose::Identity();
 }
 
 
-// Normal of the n/t split, pointing out of the gel: +z_E (code) or minus the indenter's outward normal
-// (paper).
-Vec3 HydroShearBatch::n_hat_at(int pos, const Mat3& R_EI) const {
-  return k_.normal_indenter ? Vec3(-(R_EI * n_I_[pos])) : Vec3::UnitZ();
+void HydroShearBatch::PointColumns::resize(int n) {
+  pos.resize(n);
+  for (auto* v : {&phi, &ux, &uy, &uz, &un}) v->resize(n);
+  slip.resize(n);
 }
 
-// One point's tracker step from (s_prev, p_prev) to (s, p), s < 0 (the caller drops points outside).
-HydroShearPoint HydroShearBatch::advance(const HydroShearPoint* old, int index, const Vec3& n_hat, double s_prev,
-                                         const Vec3& p_prev, double s, const Vec3& p) const {
-  // In-gel fraction of the segment. 0/0 (s unchanged) falls back to the authors' -(sign(s) - 1)/2,
-  // which is 1 here since s < 0.
-  const double den = s_prev - s;
-  const double alpha = den != 0 ? (std::max(-s, 0.0) - std::max(-s_prev, 0.0)) / den : 1.0;
-  const Vec3 delta = alpha * (p_prev - p);
-  const Vec3 u_old = old ? old->u_E : Vec3::Zero();
-  const double un_trial = u_old.dot(n_hat) + delta.dot(n_hat);
-  const Vec3 ut_trial = (u_old - u_old.dot(n_hat) * n_hat) + (delta - delta.dot(n_hat) * n_hat);
-  const double un = std::max(un_trial, 0.0);
-  // The cone |K u_t| <= mu |E u_n| on the metre-valued state.
-  const double cap = k_.mu * k_.E / k_.K * un;
-  const double ut_norm = ut_trial.norm();
-  HydroShearPoint q;
-  q.index = index;
-  q.phi_E = s;
-  q.u_n = un;
-  if (ut_norm > cap) {
-    // Exact projection; the authors divide by |f_t| + 1e-8 m (a relative change <= 1e-4 for 0.1 mm).
-    q.u_E = un * n_hat + ut_trial * (cap / ut_norm);
-    q.state = PointState::Slip;
-  } else {
-    q.u_E = un * n_hat + ut_trial;
-    q.state = PointState::Stick;
-  }
-  return q;
+void HydroShearBatch::PointColumns::swap(PointColumns& o) noexcept {
+  pos.swap(o.pos);
+  phi.swap(o.phi);
+  ux.swap(o.ux);
+  uy.swap(o.uy);
+  uz.swap(o.uz);
+  un.swap(o.un);
+  slip.swap(o.slip);
+}
+
+std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
+  const PointColumns& c = slots_.at(slot).points;
+  std::vector<HydroShearPoint> out(c.size());
+  for (int i = 0; i < c.size(); ++i)
+    out[i] = {perm_[c.pos[i]], c.phi[i], Vec3(c.ux[i], c.uy[i], c.uz[i]), c.un[i],
+              c.slip[i] ? PointState::Slip : PointState::Stick};
+  return out;
 }
 
 void HydroShearBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px,
@@ -260,6 +277,26 @@ void HydroShearBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2
   }
 }
 
+namespace {
+// The rotation of X row-major and its translation, as the kernels take them.
+struct PoseArrays {
+  double r[9], t[3];
+  explicit PoseArrays(const Pose& X) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) r[3 * i + j] = X.linear()(i, j);
+      t[i] = X.translation()[i];
+    }
+  }
+};
+}  // namespace
+
+// phi[i] = phi_E(p_i + shift) for columns of points.
+void HydroShearBatch::phi_columns(const double* x, const double* y, const double* z, const Vec3& shift, int n,
+                                  double* phi) const {
+  if (flat_) return kernels::flat_pad_phi(pad_, shift.data(), x, y, z, n, phi);
+  for (int i = 0; i < n; ++i) phi[i] = sensor_->gel_sdf->value(Vec3(x[i], y[i], z[i]) + shift);
+}
+
 // The points that may be in the gel now (or at the augmented pose), with o_i in E and phi_E(o_i).
 void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
   const Mat3 R = X_EI.linear();
@@ -270,83 +307,161 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
   // augmentation the shifted points must be tested too, so the lower of the two heights counts.
   const Vec3 r_z = R.row(2).transpose();
   const double z_shift_down = aug ? std::min(shift.z(), 0.0) : 0.0;
-  sc.pos.clear();
-  sc.p.clear();
-  sc.s.clear();
-  sc.s_aug.clear();
   // A sphere (centre c, radius r in I) is entirely above the cull plane, also after the shift.
   auto above = [&](const Cluster& c) {
     return cull_ && r_z.dot(c.centre_I) + t.z() + z_shift_down - c.radius > cull_z_ + kCullMargin;
   };
-  auto gather = [&](const Cluster& c) {
-    for (int pos = c.begin; pos < c.end; ++pos) {
-      // Most points of a kept cluster are still above the pad: z_E >= 0 means phi_E >= 0.
-      if (cull_ && !aug && r_z.dot(p_I_[pos]) + t.z() >= cull_z_) continue;
-      const Vec3 p = R * p_I_[pos] + t;
-      const double s = phi_E(p);
-      const double s_aug = aug ? phi_E(p + shift) : kInf;
-      if (s >= 0 && s_aug >= 0) continue;
-      sc.pos.push_back(pos);
-      sc.p.push_back(p);
-      sc.s.push_back(s);
-      if (aug) sc.s_aug.push_back(s_aug);
-    }
+  sc.ranges.clear();
+  int visited = 0;
+  auto keep = [&](const Cluster& c) {
+    if (!sc.ranges.empty() && sc.ranges.back().second == c.begin)
+      sc.ranges.back().second = c.end;
+    else
+      sc.ranges.emplace_back(c.begin, c.end);
+    visited += c.end - c.begin;
   };
   for (const Cluster& g : groups_) {
     if (above(g)) continue;
     for (int ci = g.begin; ci < g.end; ++ci)
-      if (!above(clusters_[ci])) gather(clusters_[ci]);
+      if (!above(clusters_[ci])) keep(clusters_[ci]);
+  }
+  for (auto* v : {&sc.vx, &sc.vy, &sc.vz, &sc.vs}) v->resize(visited);
+  const PoseArrays X(X_EI);
+  int off = 0;
+  for (const auto& [b, e] : sc.ranges) {
+    kernels::transform_points(X.r, X.t, &pIx_[b], &pIy_[b], &pIz_[b], e - b, &sc.vx[off], &sc.vy[off], &sc.vz[off]);
+    off += e - b;
+  }
+  phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), Vec3::Zero(), visited, sc.vs.data());
+  if (aug) {
+    sc.vs_aug.resize(visited);
+    phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), shift, visited, sc.vs_aug.data());
+  }
+  sc.cpos.clear();
+  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->clear();
+  int i = 0;
+  for (const auto& [b, e] : sc.ranges)
+    for (int pos = b; pos < e; ++pos, ++i) {
+      const double s_aug = aug ? sc.vs_aug[i] : kInf;
+      if (sc.vs[i] >= 0 && s_aug >= 0) continue;
+      sc.cpos.push_back(pos);
+      sc.cx.push_back(sc.vx[i]);
+      sc.cy.push_back(sc.vy[i]);
+      sc.cz.push_back(sc.vz[i]);
+      sc.cs.push_back(sc.vs[i]);
+      sc.cs_aug.push_back(s_aug);
+    }
+}
+
+// Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the
+// indenter's outward normal (paper).
+void HydroShearBatch::normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const {
+  const int n = static_cast<int>(pos.size());
+  for (int j = 0; j < n; ++j) {
+    const Vec3 nh = k_.normal_indenter ? Vec3(-(R_EI * n_I_[pos[j]])) : Vec3::UnitZ();
+    in.nx[j] = nh.x();
+    in.ny[j] = nh.y();
+    in.nz[j] = nh.z();
   }
 }
 
 // The tracker step: candidates inside the gel advance from their old state (or from zero when they
 // enter); every other point's state is reset to zero, i.e. dropped from the sparse list.
 void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const {
-  const Mat3 R = X_EI.linear();
   // The authors' first call after a reset sets prev = current, so penetration already present then
   // is lost (BASELINES §3.5).
   if (slot.first) slot.X_prev = X_EI;
-  sc.next.clear();
-  sc.p_of_field.clear();  // the real point of each committed point, for the anchors
-  std::size_t k = 0;
-  const std::size_t nc = sc.pos.size();
-  for (std::size_t c = 0; c < nc; ++c) {
-    if (sc.s[c] >= 0) continue;
-    const int pos = sc.pos[c];
-    while (k < slot.points.size() && pos_of_[slot.points[k].index] < pos) ++k;
-    const HydroShearPoint* old =
-        k < slot.points.size() && pos_of_[slot.points[k].index] == pos ? &slot.points[k] : nullptr;
-    const Vec3& p = sc.p[c];
-    const Vec3 p_prev = slot.first ? p : Vec3(slot.X_prev * p_I_[pos]);
-    // A point not tracked last step was outside then; its exact phi_E is needed for alpha.
-    const double s_prev = slot.first ? sc.s[c] : old ? old->phi_E : phi_E(p_prev);
-    sc.next.push_back(advance(old, perm_[pos], n_hat_at(pos, R), s_prev, p_prev, sc.s[c], p));
-    sc.p_of_field.push_back(p);
+  const int nc = static_cast<int>(sc.cpos.size());
+  int n_in = 0;
+  for (int c = 0; c < nc; ++c) n_in += sc.cs[c] < 0;
+  StepColumns& in = sc.commit;
+  PointColumns& next = sc.next;
+  in.resize(n_in);
+  next.resize(n_in);
+  const PointColumns& old = slot.points;
+  int k = 0, j = 0;
+  for (int c = 0; c < nc; ++c) {
+    if (sc.cs[c] >= 0) continue;
+    const int pos = sc.cpos[c];
+    while (k < old.size() && old.pos[k] < pos) ++k;
+    const bool tracked = k < old.size() && old.pos[k] == pos;
+    in.ox[j] = tracked ? old.ux[k] : 0.0;
+    in.oy[j] = tracked ? old.uy[k] : 0.0;
+    in.oz[j] = tracked ? old.uz[k] : 0.0;
+    in.px[j] = sc.cx[c];
+    in.py[j] = sc.cy[c];
+    in.pz[j] = sc.cz[c];
+    in.s[j] = sc.cs[c];
+    in.qx[j] = pIx_[pos];
+    in.qy[j] = pIy_[pos];
+    in.qz[j] = pIz_[pos];
+    next.pos[j] = pos;
+    ++j;
   }
-  slot.points.swap(sc.next);
+  if (slot.first) {
+    in.qx = in.px;
+    in.qy = in.py;
+    in.qz = in.pz;
+    in.s_prev = in.s;
+  } else {
+    // Every point's previous position and depth from the previous pose, computed exactly as this
+    // step's (same kernel), so a point tracked last step gets back the phi_E it was committed with.
+    const PoseArrays X_prev(slot.X_prev);
+    kernels::transform_points(X_prev.r, X_prev.t, in.qx.data(), in.qy.data(), in.qz.data(), n_in, in.qx.data(),
+                              in.qy.data(), in.qz.data());
+    phi_columns(in.qx.data(), in.qy.data(), in.qz.data(), Vec3::Zero(), n_in, in.s_prev.data());
+  }
+  normals(X_EI.linear(), next.pos, in);
+  kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(), next.uz.data(),
+                          next.un.data(), next.slip.data());
+  next.phi = in.s;
+  slot.points.swap(next);
   slot.X_prev = X_EI;
   slot.first = false;
+  sc.field = &slot.points;
+  sc.fx = in.px.data(), sc.fy = in.py.data(), sc.fz = in.pz.data();
+  sc.fnx = in.nx.data(), sc.fny = in.ny.data(), sc.fnz = in.nz.data();
 }
 
 // The state the field uses with the augmentation: one virtual, uncommitted step from the committed
 // state toward the points shifted by g_aug dir.
-const std::vector<HydroShearPoint>& HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI,
-                                                                    Scratch& sc) const {
-  const Mat3 R = X_EI.linear();
+void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const {
   const Vec3 shift = k_.g_aug * k_.g_dir_E;
-  sc.out.clear();
-  sc.p_of_field.clear();
-  std::size_t k = 0;
-  for (std::size_t c = 0; c < sc.pos.size(); ++c) {
-    const int pos = sc.pos[c];
-    while (k < slot.points.size() && pos_of_[slot.points[k].index] < pos) ++k;
-    if (sc.s_aug[c] >= 0) continue;
-    const HydroShearPoint* old =
-        k < slot.points.size() && pos_of_[slot.points[k].index] == pos ? &slot.points[k] : nullptr;
-    sc.out.push_back(advance(old, perm_[pos], n_hat_at(pos, R), sc.s[c], sc.p[c], sc.s_aug[c], sc.p[c] + shift));
-    sc.p_of_field.push_back(sc.p[c]);
+  const int nc = static_cast<int>(sc.cpos.size());
+  int n_aug = 0;
+  for (int c = 0; c < nc; ++c) n_aug += sc.cs_aug[c] < 0;
+  StepColumns& in = sc.augment;
+  PointColumns& out = sc.aug;
+  in.resize(n_aug);
+  out.resize(n_aug);
+  const PointColumns& committed = slot.points;
+  int k = 0, j = 0;
+  for (int c = 0; c < nc; ++c) {
+    if (sc.cs_aug[c] >= 0) continue;
+    const int pos = sc.cpos[c];
+    while (k < committed.size() && committed.pos[k] < pos) ++k;
+    const bool tracked = k < committed.size() && committed.pos[k] == pos;
+    in.ox[j] = tracked ? committed.ux[k] : 0.0;
+    in.oy[j] = tracked ? committed.uy[k] : 0.0;
+    in.oz[j] = tracked ? committed.uz[k] : 0.0;
+    in.qx[j] = sc.cx[c];
+    in.qy[j] = sc.cy[c];
+    in.qz[j] = sc.cz[c];
+    in.s_prev[j] = sc.cs[c];
+    in.px[j] = sc.cx[c] + shift.x();
+    in.py[j] = sc.cy[c] + shift.y();
+    in.pz[j] = sc.cz[c] + shift.z();
+    in.s[j] = sc.cs_aug[c];
+    out.pos[j] = pos;
+    ++j;
   }
-  return sc.out;
+  normals(X_EI.linear(), out.pos, in);
+  kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(), out.uz.data(),
+                          out.un.data(), out.slip.data());
+  out.phi = in.s;
+  sc.field = &out;
+  sc.fx = in.qx.data(), sc.fy = in.qy.data(), sc.fz = in.qz.data();  // the real, unshifted points
+  sc.fnx = in.nx.data(), sc.fny = in.ny.data(), sc.fnz = in.nz.data();
 }
 
 // M_s(m_j) = sum_i w_i (-f_i^xy) exp(-lambda_s |m_j - a_i|^2), anchor a_i = o_i + u_i at the real (not
@@ -355,93 +470,88 @@ const std::vector<HydroShearPoint>& HydroShearBatch::augmented_state(const Slot&
 // On a uniform marker grid the Gaussian of point i at marker (r, c) is
 //   exp(-l |m_rc - a_i|^2) = E_i * X_i[c] * Y_i[r],  E_i = exp(-l (d0x^2 + d0y^2 + dz^2)),
 // with X_i, Y_i the per-axis ratio recurrences (GaussianAxis): 3 exps per point, batched through
-// exp_in_place. The sum over points is then one small matrix product (add_outer_products)
-//   S (2 rows x cols) = W^T X,  W_i = (vx_i E_i Y_i[r], vy_i E_i Y_i[r]),  X_i = (X_i[c]).
-void HydroShearBatch::shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const {
+// exp_in_place. The sum over points is then one small matrix product over the points
+//   S_x[r][c] = sum_i (vx_i E_i Y_i[r]) X_i[c]  (and S_y with vy),
+// formed with the points as the long, vectorised dimension (kernels::shear_matrices, add_products_nt).
+void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
   // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
   constexpr double kMaxTotalExponent = 650;
-  const Mat3 R = X_EI.linear();
-  const auto& M = sensor_->p_EM;
-  const int nm = static_cast<int>(M.size());
+  const int nm = markers();
   sc.shear_x.assign(nm, 0.0);
   sc.shear_y.assign(nm, 0.0);
+  const PointColumns& F = *sc.field;
+  const int n = F.size();
+  if (n == 0) return;
+  const bool factored = grid_.is_grid && gauss_x_.uniform() && gauss_y_.uniform();
+  const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
+  for (auto* v : {&sc.wvx, &sc.wvy}) v->assign(mp, 0.0);
+  sc.args.assign(3 * static_cast<std::size_t>(mp), 0.0);
+  sc.fast.assign(mp, 0);
+  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), F.un.data(),
+                                   F.phi.data(), sc.fnx, sc.fny, sc.fnz};
+  kernels::ShearConstants k{k_.E, k_.K, k_.lambda_s, grid_.z0, k_.weight_paper, 0, 0, 0, 0, 0, 0,
+                            factored ? kMaxTotalExponent : -kInf};
+  if (factored) {
+    k.x0 = gauss_x_.front(), k.xn = gauss_x_.back(), k.hx = gauss_x_.pitch();
+    k.y0 = gauss_y_.front(), k.yn = gauss_y_.back(), k.hy = gauss_y_.pitch();
+  }
+  double* lead = sc.args.data();
+  kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
+  for (int i = 0; i < n; ++i)
+    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0)) shear_point_slow(sc, i, sc.wvx[i], sc.wvy[i]);
+  if (factored) shear_sum_fast(sc, mp);
+}
+
+// The fast points' share of the shear sum (see shear_sum).
+void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
+  const int rows = grid_.rows, cols = grid_.cols;
+  exp_in_place(sc.args.data(), 3 * mp);
+  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 1) / 2 * 2;
+  sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
+  sc.Yt.resize(static_cast<std::size_t>(rows) * mp);
+  sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
+  sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
+  const double* e = sc.args.data();
+  kernels::shear_matrices(e, e + mp, e + 2 * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows, cols,
+                          gauss_x_.q(), gauss_y_.q(), sc.Xt.data(), sc.Wt.data(), sc.Yt.data());
+  kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
+  const int nm = rows * cols;
+  for (int j = 0; j < nm; ++j) {
+    sc.shear_x[j] += sc.S[j];
+    sc.shear_y[j] += sc.S[nm + j];
+  }
+}
+
+// One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
+// grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
+void HydroShearBatch::shear_point_slow(Scratch& sc, int i, double vx, double vy) const {
+  const PointColumns& F = *sc.field;
+  const Vec3 a(sc.fx[i] + F.ux[i], sc.fy[i] + F.uy[i], sc.fz[i] + F.uz[i]);
   const double ls = k_.lambda_s;
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
-  const bool factored = grid_.is_grid && gauss_x_.uniform() && gauss_y_.uniform();
-  const int rows = grid_.rows, cols = grid_.cols;
   if (grid_.is_grid) {
+    const int rows = grid_.rows, cols = grid_.cols;
     sc.ex.resize(cols);
     sc.ey.resize(rows);
-  }
-  sc.v.clear();
-  sc.args.clear();
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const HydroShearPoint& q = points[i];
-    const Vec3 n_hat = n_hat_at(pos_of_[q.index], R);
-    const Vec3 ut = q.u_E - q.u_n * n_hat;
-    const Vec3 f = k_.E * q.u_n * n_hat + k_.K * ut;
-    const double w = k_.weight_paper ? -q.phi_E : k_.E * q.u_n;
-    const double vx = -w * f.x(), vy = -w * f.y();
-    if (vx == 0 && vy == 0) continue;
-    const Vec3 a = sc.p_of_field[i] + q.u_E;
-    if (factored) {
-      const double lz = ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z());
-      if (gauss_x_.max_exponent(a.x()) + gauss_y_.max_exponent(a.y()) + lz <= kMaxTotalExponent) {
-        sc.v.emplace_back(vx, vy);
-        sc.args.push_back(gauss_x_.lead_exponent(a.x()) + gauss_y_.lead_exponent(a.y()) - lz);
-        sc.args.push_back(gauss_x_.ratio_exponent(a.x()));
-        sc.args.push_back(gauss_y_.ratio_exponent(a.y()));
-        continue;
+    gauss_x_.eval(a.x(), sc.ex.data());
+    gauss_y_.eval(a.y(), sc.ey.data());
+    const double ez = std::exp(-ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z()));
+    for (int r = 0; r < rows; ++r)
+      for (int c = 0; c < cols; ++c) {
+        const double g = ez * sc.ey[r] * sc.ex[c];
+        sx[r * cols + c] += vx * g;
+        sy[r * cols + c] += vy * g;
       }
-    }
-    if (grid_.is_grid) {
-      gauss_x_.eval(a.x(), sc.ex.data());
-      gauss_y_.eval(a.y(), sc.ey.data());
-      const double ez = std::exp(-ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z()));
-      for (int r = 0; r < rows; ++r)
-        for (int c = 0; c < cols; ++c) {
-          const double e = ez * sc.ey[r] * sc.ex[c];
-          sx[r * cols + c] += vx * e;
-          sy[r * cols + c] += vy * e;
-        }
-    } else {
-      for (int j = 0; j < nm; ++j) {
-        const double e = std::exp(-ls * (M[j] - a).squaredNorm());
-        sx[j] += vx * e;
-        sy[j] += vy * e;
-      }
-    }
+    return;
   }
-  const int m = static_cast<int>(sc.v.size());
-  if (m == 0) return;
-  exp_in_place(sc.args.data(), 3 * m);
-  const int stride = (cols + 3) / 4 * 4;  // whole 4-double vectors per row
-  // kOverreadPad doubles past the operands: the vectorised add_outer_products (GCC, AVX2) may load a
-  // full vector that straddles the end of W or X (seen as a fault at a page boundary without it).
-  constexpr std::size_t kOverreadPad = 64;
-  sc.w_rows.resize(static_cast<std::size_t>(m) * 2 * rows + kOverreadPad);
-  // Not zeroed: the padding columns (cols..stride) only feed S's padding columns, which are discarded.
-  sc.ex_rows.resize(static_cast<std::size_t>(m) * stride + kOverreadPad);
-  sc.s_mat.assign(static_cast<std::size_t>(2 * rows) * stride, 0.0);
-  for (int i = 0; i < m; ++i) {
-    const double E = sc.args[3 * i];
-    gauss_x_.ratios(sc.args[3 * i + 1], &sc.ex_rows[static_cast<std::size_t>(i) * stride]);
-    gauss_y_.ratios(sc.args[3 * i + 2], sc.ey.data());
-    double* wr = &sc.w_rows[static_cast<std::size_t>(i) * 2 * rows];
-    for (int r = 0; r < rows; ++r) {
-      const double g = E * sc.ey[r];
-      wr[r] = sc.v[i].x() * g;
-      wr[rows + r] = sc.v[i].y() * g;
-    }
+  const auto& M = sensor_->p_EM;
+  for (std::size_t j = 0; j < M.size(); ++j) {
+    const double g = std::exp(-ls * (M[j] - a).squaredNorm());
+    sx[j] += vx * g;
+    sy[j] += vy * g;
   }
-  add_outer_products(sc.w_rows.data(), 2 * rows, sc.ex_rows.data(), stride, m, sc.s_mat.data());
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      sx[r * cols + c] += sc.s_mat[r * stride + c];
-      sy[r * cols + c] += sc.s_mat[(rows + r) * stride + c];
-    }
 }
 
 // Output: kappa_s M_s plus the dilation from markers inside the indenter, h_k = relu(-phi_I(X_IE m_k)).
@@ -478,9 +588,9 @@ void HydroShearBatch::step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldO
   gather_candidates(X_EI, sc);
   clock.lap(Phase::TransformCull);
   commit_state(slot, X_EI, sc);
-  const std::vector<HydroShearPoint>& field_points = k_.g_aug > 0 ? augmented_state(slot, X_EI, sc) : slot.points;
+  if (k_.g_aug > 0) augmented_state(slot, X_EI, sc);
   clock.lap(Phase::State);
-  shear_sum(field_points, X_EI, sc);
+  shear_sum(X_EI, sc);
   clock.lap(Phase::Shear);
   dilation(X_EI, disp, sc, clock);
   clock.lap(Phase::Dilation);
@@ -490,13 +600,14 @@ void HydroShearBatch::step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldO
     diag->disp_px.assign(disp, disp + nm);
     diag->marker_in_contact.resize(nm);
     for (int j = 0; j < nm; ++j) diag->marker_in_contact[j] = sc.phi_I[j] < 0 ? 1 : 0;
-    diag->p_EP.clear();
-    diag->anchor_EP.clear();
-    diag->point_state.clear();
-    for (std::size_t i = 0; i < field_points.size(); ++i) {
-      diag->p_EP.push_back(sc.p_of_field[i]);
-      diag->anchor_EP.push_back(sc.p_of_field[i] + field_points[i].u_E);
-      diag->point_state.push_back(field_points[i].state);
+    const PointColumns& F = *sc.field;
+    diag->p_EP.resize(F.size());
+    diag->anchor_EP.resize(F.size());
+    diag->point_state.resize(F.size());
+    for (int i = 0; i < F.size(); ++i) {
+      diag->p_EP[i] = Vec3(sc.fx[i], sc.fy[i], sc.fz[i]);
+      diag->anchor_EP[i] = diag->p_EP[i] + Vec3(F.ux[i], F.uy[i], F.uz[i]);
+      diag->point_state[i] = F.slip[i] ? PointState::Slip : PointState::Stick;
     }
   }
 }

@@ -13,6 +13,7 @@
 //   M_d(m_j) = kappa_d sum_k relu(-phi_I(m_k)) (m_j - m_k) exp(-lambda_d |m_j - m_k|^2)
 //   M_s(m_j) = kappa_s sum_i w_i (-f_i^xy) exp(-lambda_s |m_j - (o_i + u_i)|^2)
 // with w_i = f_n,i (the authors' code) or -phi_E(o_i) (the paper). See docs/models.md.
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -70,13 +71,22 @@ class HydroShearBatch {
   void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
   // The committed tracked points of one slot (for tests and the GUI), in the batch's point order
   // (clusters), not sorted by index.
-  const std::vector<HydroShearPoint>& tracked(int slot) const { return slots_[slot].points; }
+  std::vector<HydroShearPoint> tracked(int slot) const;
   // Phase timing of later steps into `profile` (nullptr: off). Not owned.
   void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
+  // Points as columns (structure of arrays), in point order: what the vectorised kernels read and write.
+  struct PointColumns {
+    std::vector<int> pos;                  // position in the point order (perm_)
+    std::vector<double> phi, ux, uy, uz, un;
+    std::vector<std::uint8_t> slip;
+    int size() const { return static_cast<int>(pos.size()); }
+    void resize(int n);
+    void swap(PointColumns& other) noexcept;
+  };
   struct Slot {
-    std::vector<HydroShearPoint> points;   // in point order (pos_of_); exactly the points with phi_E < 0
+    PointColumns points;                   // exactly the points with phi_E < 0 at the last step
     Pose X_prev = Pose::Identity();
     bool first = true;
   };
@@ -87,19 +97,21 @@ class HydroShearBatch {
     double radius;
   };
   struct Scratch;
+  struct StepColumns;
   void build_clusters();
   void step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag, Scratch& scratch,
                  PhaseClock& clock) const;
   void gather_candidates(const Pose& X_EI, Scratch& sc) const;
+  void phi_columns(const double* x, const double* y, const double* z, const Vec3& shift, int n, double* phi) const;
   void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
-  const std::vector<HydroShearPoint>& augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
-  void shear_sum(const std::vector<HydroShearPoint>& points, const Pose& X_EI, Scratch& sc) const;
+  void augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
+  void normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const;
+  void shear_sum(const Pose& X_EI, Scratch& sc) const;
+  void shear_sum_fast(Scratch& sc, int mp) const;
+  void shear_point_slow(Scratch& sc, int i, double vx, double vy) const;
   void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
-  // Inline: called for every candidate point (the flat pad is the common case).
+  // Inline: called for every candidate point when the gel is not a flat pad.
   double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
-  Vec3 n_hat_at(int pos, const Mat3& R_EI) const;
-  HydroShearPoint advance(const HydroShearPoint* old, int index, const Vec3& n_hat, double s_prev,
-                          const Vec3& p_prev, double s, const Vec3& p) const;
 
   std::shared_ptr<const Sensor> sensor_;
   std::shared_ptr<const Indenter> indenter_;
@@ -115,6 +127,7 @@ class HydroShearBatch {
   // The point order: pos -> index into samples.p_IS (perm_) and back (pos_of_); p_I_/n_I_ in that order.
   std::vector<int> perm_, pos_of_;
   std::vector<Vec3> p_I_, n_I_;
+  std::vector<double> pIx_, pIy_, pIz_;     // p_I_ as columns
   std::vector<Cluster> clusters_;
   // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
   // their points: one test skips the whole group. begin/end index clusters_ here.

@@ -1,4 +1,5 @@
 #include "core/model_common.hpp"
+#include "core/vector_clones.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -75,13 +76,7 @@ void GaussianAxis::eval(double a, double* e) const {
   }
 }
 
-// Both loops are compiled twice, for AVX2/FMA (x86-64-v3) and the baseline, and picked at load time
-// (GCC target_clones), so the binary stays portable.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define SB_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define SB_VECTOR_CLONES
-#endif
+// Both loops are compiled twice, for AVX2/FMA and the baseline (core/vector_clones.hpp).
 
 namespace {
 

@@ -63,6 +63,11 @@ class GaussianAxis {
   // where r_0 = exp(ratio_exponent(a)). lead_exponent(a) = -lambda d_0^2; max_exponent(a) =
   // lambda max_c d_c^2 bounds every partial product. false when the axis is not uniform.
   bool uniform() const { return uniform_; }
+  double front() const { return x_.front(); }
+  double back() const { return x_.back(); }
+  double pitch() const { return h_; }
+  double lambda() const { return lambda_; }
+  double q() const { return q_; }
   double lead_exponent(double a) const { return -lambda_ * (x_.front() - a) * (x_.front() - a); }
   double ratio_exponent(double a) const { return -lambda_ * (h_ * h_ + 2 * h_ * (x_.front() - a)); }
   double max_exponent(double a) const {

@@ -133,7 +133,7 @@ TEST_CASE("HydroShear: crossing fraction alpha and the reset on leaving", "[mode
     step(box_pose(2e-3, 0, 0, 0.1e-3));
     step(box_pose(2e-3, 0.4e-3, 0, -0.3e-3));
     REQUIRE(batch.tracked(0).size() == 1);
-    const auto& q = batch.tracked(0)[0];
+    const HydroShearPoint q = batch.tracked(0)[0];  // a copy: tracked() returns by value
     CHECK(q.u_n == Approx(0.3e-3).margin(kTol));
     // mu = 2: |u_t| = 0.3 <= 0.6 mm, stick; mu = 0.5: clipped to 0.15 mm, slip.
     CHECK(q.u_E.x() == Approx(mu == 2.0 ? -0.3e-3 : -0.15e-3).margin(kTol));

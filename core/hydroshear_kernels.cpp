@@ -1,0 +1,203 @@
+#include "core/hydroshear_kernels.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include "core/vector_clones.hpp"
+
+namespace sb::hydroshear_kernels {
+
+// Selects instead of std::max / branches: the loops stay branch-free, so they vectorise.
+namespace {
+inline double relu(double v) { return v > 0 ? v : 0.0; }
+inline double max2(double a, double b) { return a > b ? a : b; }
+}  // namespace
+
+SB_VECTOR_CLONES
+void transform_points(const double* r, const double* t, const double* x, const double* y, const double* z, int n,
+                      double* ox, double* oy, double* oz) {
+  const double r0 = r[0], r1 = r[1], r2 = r[2], r3 = r[3], r4 = r[4], r5 = r[5], r6 = r[6], r7 = r[7], r8 = r[8];
+  const double t0 = t[0], t1 = t[1], t2 = t[2];
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double a = x[i], b = y[i], c = z[i];
+    ox[i] = r0 * a + r1 * b + r2 * c + t0;
+    oy[i] = r3 * a + r4 * b + r5 * c + t1;
+    oz[i] = r6 * a + r7 * b + r8 * c + t2;
+  }
+}
+
+SB_VECTOR_CLONES
+void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, const double* y, const double* z, int n,
+                  double* phi) {
+  const double hx = pad.hx, hy = pad.hy, hz = 0.5 * pad.thickness;
+  const double sx = shift[0], sy = shift[1], sz = shift[2];
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double qx = std::fabs(x[i] + sx) - hx;
+    const double qy = std::fabs(y[i] + sy) - hy;
+    const double qz = std::fabs(z[i] + sz + hz) - hz;
+    const double ox = relu(qx), oy = relu(qy), oz = relu(qz);
+    const double outside2 = ox * ox + oy * oy + oz * oz;
+    const double inside = max2(qx, max2(qy, qz));
+    phi[i] = outside2 > 0 ? std::sqrt(outside2) : inside;
+  }
+}
+
+SB_VECTOR_CLONES
+void advance_points(const AdvanceColumns& in, double cone, int n, double* ux, double* uy, double* uz, double* un,
+                    std::uint8_t* slip) {
+  const AdvanceColumns c = in;
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    // In-gel fraction of the segment; 0/0 (s unchanged) is 1 as in the authors' code (s < 0 here).
+    const double s = c.s[i], sp = c.s_prev[i];
+    const double den = sp - s;
+    const double den_safe = den != 0 ? den : 1.0;
+    const double alpha = den != 0 ? (relu(-s) - relu(-sp)) / den_safe : 1.0;
+    // Trial state: old state minus the point's in-gel motion, split along n.
+    const double tx = c.ox[i] + alpha * (c.qx[i] - c.px[i]);
+    const double ty = c.oy[i] + alpha * (c.qy[i] - c.py[i]);
+    const double tz = c.oz[i] + alpha * (c.qz[i] - c.pz[i]);
+    const double nx = c.nx[i], ny = c.ny[i], nz = c.nz[i];
+    const double tn = tx * nx + ty * ny + tz * nz;
+    const double utx = tx - tn * nx, uty = ty - tn * ny, utz = tz - tn * nz;
+    const double u_n = relu(tn);
+    // The cone |K u_t| <= mu E u_n, by exact projection (the authors divide by |f_t| + 1e-8).
+    const double cap = cone * u_n;
+    const double ut_norm = std::sqrt(utx * utx + uty * uty + utz * utz);
+    const bool slipping = ut_norm > cap;
+    const double scale = slipping ? cap / (ut_norm > 0 ? ut_norm : 1.0) : 1.0;
+    ux[i] = u_n * nx + utx * scale;
+    uy[i] = u_n * ny + uty * scale;
+    uz[i] = u_n * nz + utz * scale;
+    un[i] = u_n;
+    slip[i] = slipping ? 1 : 0;
+  }
+}
+
+namespace {
+// The loop of shear_operands for one weight choice: a select on a loop-invariant bool stops GCC's
+// vectoriser, two instantiations do not.
+template <bool kWeightPaper>
+[[gnu::always_inline]] inline void shear_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
+                                                       double* vx, double* vy, double* lead, double* rx, double* ry,
+                                                       std::uint8_t* fast) {
+  const double l = k.lambda_s;
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double u_n = c.un[i], nx = c.nx[i], ny = c.ny[i];
+    const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
+    const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
+    const double w = kWeightPaper ? -c.phi[i] : k.E * u_n;
+    vx[i] = -w * fx;
+    vy[i] = -w * fy;
+    const double ax = c.px[i] + c.ux[i], ay = c.py[i] + c.uy[i], az = c.pz[i] + c.uz[i];
+    const double dx0 = k.x0 - ax, dxn = k.xn - ax, dy0 = k.y0 - ay, dyn = k.yn - ay, dz = k.z0 - az;
+    const double lz = l * dz * dz;
+    const double worst = l * max2(dx0 * dx0, dxn * dxn) + l * max2(dy0 * dy0, dyn * dyn) + lz;
+    const bool ok = worst <= k.max_total_exponent;
+    lead[i] = ok ? -l * dx0 * dx0 - l * dy0 * dy0 - lz : 0.0;
+    rx[i] = ok ? -l * (k.hx * k.hx + 2 * k.hx * dx0) : 0.0;
+    ry[i] = ok ? -l * (k.hy * k.hy + 2 * k.hy * dy0) : 0.0;
+    fast[i] = ok ? 1 : 0;
+  }
+}
+}  // namespace
+
+SB_VECTOR_CLONES
+void shear_operands(const ShearColumns& in, const ShearConstants& constants, int n, double* vx, double* vy,
+                    double* lead, double* rx, double* ry, std::uint8_t* fast) {
+  // Local copies: the compiler cannot prove that the outputs do not alias a referenced struct.
+  const ShearColumns c = in;
+  const ShearConstants k = constants;
+  if (k.weight_paper)
+    shear_operands_loop<true>(c, k, n, vx, vy, lead, rx, ry, fast);
+  else
+    shear_operands_loop<false>(c, k, n, vx, vy, lead, rx, ry, fast);
+}
+
+namespace {
+// rows of R[r * mp + i] = prod_{c < r} ratio, ratio_0 = e0[i], ratio_{c+1} = ratio_c q; R[0] = 1.
+[[gnu::always_inline]] inline void ratio_rows(const double* e0, int mp, int rows, double q, double* R) {
+  for (int i = 0; i < mp; ++i) R[i] = 1.0;
+  if (rows < 2) return;
+  // Row 1 is e0; row r+1 = row r * (e0 q^r): the ratio of the row itself advances by q each row.
+  double qr = 1.0;
+  for (int r = 1; r < rows; ++r) {
+    const double* prev = R + static_cast<std::ptrdiff_t>(r - 1) * mp;
+    double* row = R + static_cast<std::ptrdiff_t>(r) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e0[i] * qr);
+    qr *= q;
+  }
+}
+}  // namespace
+
+SB_VECTOR_CLONES
+void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
+                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
+                    double* Wt, double* Yt) {
+  ratio_rows(e_rx, mp, cols, qx, Xt);
+  const int cols_pad = (cols + 2) / 3 * 3;
+  std::memset(Xt + static_cast<std::ptrdiff_t>(cols) * mp, 0, sizeof(double) * mp * (cols_pad - cols));
+  ratio_rows(e_ry, mp, rows, qy, Yt);
+  for (int r = 0; r < rows; ++r) {
+    const double* y = Yt + static_cast<std::ptrdiff_t>(r) * mp;
+    double* wx = Wt + static_cast<std::ptrdiff_t>(r) * mp;
+    double* wy = Wt + static_cast<std::ptrdiff_t>(rows + r) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) {
+      const double g0 = e_lead[i] * y[i];
+      const double g = fast[i] ? g0 : 0.0;
+      wx[i] = vx[i] * g;
+      wy[i] = vy[i] * g;
+    }
+  }
+  const int nw = 2 * rows, nw_pad = (nw + 1) / 2 * 2;
+  std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
+}
+
+namespace {
+// GCC notes that a 32-byte vector passed by value has another ABI with AVX; these helpers are always
+// inlined, never called across that boundary.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using v4d = double __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline v4d load4(const double* p) {
+  v4d v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+[[gnu::always_inline]] inline double hsum(v4d v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+}  // namespace
+
+// Register-blocked 2 x 3 (six vector accumulators): each point vector of W and X is loaded once per
+// block and used three or two times.
+SB_VECTOR_CLONES
+void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
+  for (int a = 0; a < nw; a += 2) {
+    const double* w0 = Wt + static_cast<std::ptrdiff_t>(a) * mp;
+    const double* w1 = w0 + mp;
+    for (int c = 0; c < cols; c += 3) {
+      const double* x0 = Xt + static_cast<std::ptrdiff_t>(c) * mp;
+      const double* x1 = x0 + mp;
+      const double* x2 = x1 + mp;
+      v4d s00 = {}, s01 = {}, s02 = {}, s10 = {}, s11 = {}, s12 = {};
+      for (int i = 0; i < mp; i += 4) {
+        const v4d a0 = load4(w0 + i), a1 = load4(w1 + i);
+        const v4d b0 = load4(x0 + i), b1 = load4(x1 + i), b2 = load4(x2 + i);
+        s00 += a0 * b0;
+        s01 += a0 * b1;
+        s02 += a0 * b2;
+        s10 += a1 * b0;
+        s11 += a1 * b1;
+        s12 += a1 * b2;
+      }
+      const double out[2][3] = {{hsum(s00), hsum(s01), hsum(s02)}, {hsum(s10), hsum(s11), hsum(s12)}};
+      for (int da = 0; da < 2 && a + da < nw; ++da)
+        for (int dc = 0; dc < 3 && c + dc < cols; ++dc) S[(a + da) * cols + c + dc] += out[da][dc];
+    }
+  }
+}
+
+}  // namespace sb::hydroshear_kernels

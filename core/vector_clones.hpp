@@ -1,0 +1,9 @@
+#pragma once
+// SB_VECTOR_CLONES before a function compiles it twice, for AVX2/FMA (x86-64-v3) and the baseline, and
+// picks one at load time (GCC target_clones), so the binary stays portable. Only code inlined into the
+// function gets the wider vectors: keep the hot loops inside it. Other compilers get the baseline.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SB_VECTOR_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define SB_VECTOR_CLONES
+#endif
