@@ -101,6 +101,7 @@ struct HydroShearBatch::Scratch {
   // Shear sum operands (kernels::shear_operands, shear_matrices).
   std::vector<double> wvx, wvy, args, Xt, Wt, Yt, S;
   std::vector<std::uint8_t> fast;
+  std::vector<int> old_index;              // lookup_state's merge
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<Vec3> m_I;
@@ -337,20 +338,24 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
     sc.vs_aug.resize(visited);
     phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), shift, visited, sc.vs_aug.data());
   }
-  sc.cpos.clear();
-  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->clear();
-  int i = 0;
+  // Branch-free compaction (whether a point is in the gel is not predictable): every point is written
+  // at slot n and n advances only for a kept one, so the columns need one spare entry.
+  sc.cpos.resize(visited + 1);
+  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->resize(visited + 1);
+  int n = 0, i = 0;
   for (const auto& [b, e] : sc.ranges)
     for (int pos = b; pos < e; ++pos, ++i) {
       const double s_aug = aug ? sc.vs_aug[i] : kInf;
-      if (sc.vs[i] >= 0 && s_aug >= 0) continue;
-      sc.cpos.push_back(pos);
-      sc.cx.push_back(sc.vx[i]);
-      sc.cy.push_back(sc.vy[i]);
-      sc.cz.push_back(sc.vz[i]);
-      sc.cs.push_back(sc.vs[i]);
-      sc.cs_aug.push_back(s_aug);
+      sc.cpos[n] = pos;
+      sc.cx[n] = sc.vx[i];
+      sc.cy[n] = sc.vy[i];
+      sc.cz[n] = sc.vz[i];
+      sc.cs[n] = sc.vs[i];
+      sc.cs_aug[n] = s_aug;
+      n += (sc.vs[i] < 0) | (s_aug < 0);
     }
+  sc.cpos.resize(n);
+  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->resize(n);
 }
 
 // Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the
@@ -362,6 +367,29 @@ void HydroShearBatch::normals(const Mat3& R_EI, const std::vector<int>& pos, Ste
     in.nx[j] = nh.x();
     in.ny[j] = nh.y();
     in.nz[j] = nh.z();
+  }
+}
+
+// in.o*[j] = the state u of the point at pos[j] in `from` (sorted by position), or 0 when `from` does
+// not hold it (the point was outside the gel). A merge of two sorted lists, then the copies.
+void HydroShearBatch::lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index,
+                                   StepColumns& in) {
+  const int n = static_cast<int>(pos.size()), m = from.size();
+  index.resize(n);
+  const int* fp = from.pos.data();
+  const int* p = pos.data();
+  int* ix = index.data();
+  for (int j = 0, k = 0; j < n; ++j) {
+    while (k < m && fp[k] < p[j]) ++k;
+    ix[j] = k < m && fp[k] == p[j] ? k : -1;
+  }
+  const double *ux = from.ux.data(), *uy = from.uy.data(), *uz = from.uz.data();
+  double *ox = in.ox.data(), *oy = in.oy.data(), *oz = in.oz.data();
+  for (int j = 0; j < n; ++j) {
+    const int i = ix[j];
+    ox[j] = i >= 0 ? ux[i] : 0.0;
+    oy[j] = i >= 0 ? uy[i] : 0.0;
+    oz[j] = i >= 0 ? uz[i] : 0.0;
   }
 }
 
@@ -378,25 +406,32 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   PointColumns& next = sc.next;
   in.resize(n_in);
   next.resize(n_in);
-  const PointColumns& old = slot.points;
-  int k = 0, j = 0;
-  for (int c = 0; c < nc; ++c) {
-    if (sc.cs[c] >= 0) continue;
-    const int pos = sc.cpos[c];
-    while (k < old.size() && old.pos[k] < pos) ++k;
-    const bool tracked = k < old.size() && old.pos[k] == pos;
-    in.ox[j] = tracked ? old.ux[k] : 0.0;
-    in.oy[j] = tracked ? old.uy[k] : 0.0;
-    in.oz[j] = tracked ? old.uz[k] : 0.0;
-    in.px[j] = sc.cx[c];
-    in.py[j] = sc.cy[c];
-    in.pz[j] = sc.cz[c];
-    in.s[j] = sc.cs[c];
-    in.qx[j] = pIx_[pos];
-    in.qy[j] = pIy_[pos];
-    in.qz[j] = pIz_[pos];
-    next.pos[j] = pos;
-    ++j;
+  if (n_in == nc) {  // every candidate is in the gel (always without the augmentation)
+    next.pos = sc.cpos;
+    in.px = sc.cx;
+    in.py = sc.cy;
+    in.pz = sc.cz;
+    in.s = sc.cs;
+  } else {
+    for (int c = 0, j = 0; c < nc; ++c) {
+      if (sc.cs[c] >= 0) continue;
+      next.pos[j] = sc.cpos[c];
+      in.px[j] = sc.cx[c];
+      in.py[j] = sc.cy[c];
+      in.pz[j] = sc.cz[c];
+      in.s[j] = sc.cs[c];
+      ++j;
+    }
+  }
+  lookup_state(slot.points, next.pos, sc.old_index, in);
+  {
+    const int* pos = next.pos.data();
+    double *qx = in.qx.data(), *qy = in.qy.data(), *qz = in.qz.data();
+    for (int j = 0; j < n_in; ++j) {
+      qx[j] = pIx_[pos[j]];
+      qy[j] = pIy_[pos[j]];
+      qz[j] = pIz_[pos[j]];
+    }
   }
   if (slot.first) {
     in.qx = in.px;
@@ -434,16 +469,8 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
   PointColumns& out = sc.aug;
   in.resize(n_aug);
   out.resize(n_aug);
-  const PointColumns& committed = slot.points;
-  int k = 0, j = 0;
-  for (int c = 0; c < nc; ++c) {
+  for (int c = 0, j = 0; c < nc; ++c) {
     if (sc.cs_aug[c] >= 0) continue;
-    const int pos = sc.cpos[c];
-    while (k < committed.size() && committed.pos[k] < pos) ++k;
-    const bool tracked = k < committed.size() && committed.pos[k] == pos;
-    in.ox[j] = tracked ? committed.ux[k] : 0.0;
-    in.oy[j] = tracked ? committed.uy[k] : 0.0;
-    in.oz[j] = tracked ? committed.uz[k] : 0.0;
     in.qx[j] = sc.cx[c];
     in.qy[j] = sc.cy[c];
     in.qz[j] = sc.cz[c];
@@ -452,9 +479,10 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
     in.py[j] = sc.cy[c] + shift.y();
     in.pz[j] = sc.cz[c] + shift.z();
     in.s[j] = sc.cs_aug[c];
-    out.pos[j] = pos;
+    out.pos[j] = sc.cpos[c];
     ++j;
   }
+  lookup_state(slot.points, out.pos, sc.old_index, in);
   normals(X_EI.linear(), out.pos, in);
   kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(), out.uz.data(),
                           out.un.data(), out.slip.data());
@@ -485,9 +513,15 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   if (n == 0) return;
   const bool factored = grid_.is_grid && gauss_x_.uniform() && gauss_y_.uniform();
   const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
-  for (auto* v : {&sc.wvx, &sc.wvy}) v->assign(mp, 0.0);
-  sc.args.assign(3 * static_cast<std::size_t>(mp), 0.0);
-  sc.fast.assign(mp, 0);
+  // Padding points (n..mp): zero weight, exponents 0 (finite after exp), not fast.
+  for (auto* v : {&sc.wvx, &sc.wvy}) v->resize(mp);
+  sc.args.resize(3 * static_cast<std::size_t>(mp));
+  sc.fast.resize(mp);
+  for (int i = n; i < mp; ++i) {
+    sc.wvx[i] = sc.wvy[i] = 0;
+    sc.args[i] = sc.args[mp + i] = sc.args[2 * mp + i] = 0;
+    sc.fast[i] = 0;
+  }
   const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), F.un.data(),
                                    F.phi.data(), sc.fnx, sc.fny, sc.fnz};
   kernels::ShearConstants k{k_.E, k_.K, k_.lambda_s, grid_.z0, k_.weight_paper, 0, 0, 0, 0, 0, 0,

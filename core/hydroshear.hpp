@@ -103,6 +103,8 @@ class HydroShearBatch {
                  PhaseClock& clock) const;
   void gather_candidates(const Pose& X_EI, Scratch& sc) const;
   void phi_columns(const double* x, const double* y, const double* z, const Vec3& shift, int n, double* phi) const;
+  static void lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index,
+                           StepColumns& in);
   void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
   void augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
   void normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const;
