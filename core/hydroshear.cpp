@@ -90,9 +90,8 @@ struct HydroShearBatch::Scratch {
   // in E and phi_E(o_i) (and at the augmentation's shifted pose).
   std::vector<std::pair<int, int>> ranges;
   std::vector<double> vx, vy, vz, vs, vs_aug;
-  // Candidates: visited points with phi_E < 0 now or at the shifted pose.
-  std::vector<int> cpos;
-  std::vector<double> cx, cy, cz, cs, cs_aug;
+  // Candidates: visited points with phi_E < 0 now or at the shifted pose (position, visited index).
+  std::vector<int> cpos, ci;
   StepColumns commit, augment;             // the committed step's and the augmentation's inputs
   PointColumns next, aug;                  // their outputs (next is swapped into the slot)
   // The field's points: state columns, the real point o_i of each (anchor = o_i + u_i) and the normal.
@@ -338,24 +337,19 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
     sc.vs_aug.resize(visited);
     phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), shift, visited, sc.vs_aug.data());
   }
-  // Branch-free compaction (whether a point is in the gel is not predictable): every point is written
-  // at slot n and n advances only for a kept one, so the columns need one spare entry.
+  // Branch-free compaction of the indices alone (whether a point is in the gel is not predictable):
+  // every point is written at entry n and n advances only for a kept one, so one spare entry.
   sc.cpos.resize(visited + 1);
-  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->resize(visited + 1);
+  sc.ci.resize(visited + 1);
   int n = 0, i = 0;
   for (const auto& [b, e] : sc.ranges)
     for (int pos = b; pos < e; ++pos, ++i) {
-      const double s_aug = aug ? sc.vs_aug[i] : kInf;
       sc.cpos[n] = pos;
-      sc.cx[n] = sc.vx[i];
-      sc.cy[n] = sc.vy[i];
-      sc.cz[n] = sc.vz[i];
-      sc.cs[n] = sc.vs[i];
-      sc.cs_aug[n] = s_aug;
-      n += (sc.vs[i] < 0) | (s_aug < 0);
+      sc.ci[n] = i;
+      n += (sc.vs[i] < 0) | (aug && sc.vs_aug[i] < 0);
     }
   sc.cpos.resize(n);
-  for (auto* v : {&sc.cx, &sc.cy, &sc.cz, &sc.cs, &sc.cs_aug}) v->resize(n);
+  sc.ci.resize(n);
 }
 
 // Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the
@@ -400,29 +394,30 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   // is lost (BASELINES §3.5).
   if (slot.first) slot.X_prev = X_EI;
   const int nc = static_cast<int>(sc.cpos.size());
+  const int* ci = sc.ci.data();
+  const double* vs = sc.vs.data();
   int n_in = 0;
-  for (int c = 0; c < nc; ++c) n_in += sc.cs[c] < 0;
+  for (int c = 0; c < nc; ++c) n_in += vs[ci[c]] < 0;
   StepColumns& in = sc.commit;
   PointColumns& next = sc.next;
-  in.resize(n_in);
-  next.resize(n_in);
-  if (n_in == nc) {  // every candidate is in the gel (always without the augmentation)
-    next.pos = sc.cpos;
-    in.px = sc.cx;
-    in.py = sc.cy;
-    in.pz = sc.cz;
-    in.s = sc.cs;
-  } else {
+  in.resize(n_in + 1);  // + 1: the branch-free compaction writes one entry past the last kept
+  next.resize(n_in + 1);
+  {
+    const double *vx = sc.vx.data(), *vy = sc.vy.data(), *vz = sc.vz.data();
+    double *px = in.px.data(), *py = in.py.data(), *pz = in.pz.data(), *s = in.s.data();
+    int* pos = next.pos.data();
     for (int c = 0, j = 0; c < nc; ++c) {
-      if (sc.cs[c] >= 0) continue;
-      next.pos[j] = sc.cpos[c];
-      in.px[j] = sc.cx[c];
-      in.py[j] = sc.cy[c];
-      in.pz[j] = sc.cz[c];
-      in.s[j] = sc.cs[c];
-      ++j;
+      const int i = ci[c];
+      pos[j] = sc.cpos[c];
+      px[j] = vx[i];
+      py[j] = vy[i];
+      pz[j] = vz[i];
+      s[j] = vs[i];
+      j += vs[i] < 0;
     }
   }
+  in.resize(n_in);
+  next.resize(n_in);
   lookup_state(slot.points, next.pos, sc.old_index, in);
   {
     const int* pos = next.pos.data();
@@ -464,21 +459,22 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
   const Vec3 shift = k_.g_aug * k_.g_dir_E;
   const int nc = static_cast<int>(sc.cpos.size());
   int n_aug = 0;
-  for (int c = 0; c < nc; ++c) n_aug += sc.cs_aug[c] < 0;
+  for (int c = 0; c < nc; ++c) n_aug += sc.vs_aug[sc.ci[c]] < 0;
   StepColumns& in = sc.augment;
   PointColumns& out = sc.aug;
   in.resize(n_aug);
   out.resize(n_aug);
   for (int c = 0, j = 0; c < nc; ++c) {
-    if (sc.cs_aug[c] >= 0) continue;
-    in.qx[j] = sc.cx[c];
-    in.qy[j] = sc.cy[c];
-    in.qz[j] = sc.cz[c];
-    in.s_prev[j] = sc.cs[c];
-    in.px[j] = sc.cx[c] + shift.x();
-    in.py[j] = sc.cy[c] + shift.y();
-    in.pz[j] = sc.cz[c] + shift.z();
-    in.s[j] = sc.cs_aug[c];
+    const int i = sc.ci[c];
+    if (sc.vs_aug[i] >= 0) continue;
+    in.qx[j] = sc.vx[i];
+    in.qy[j] = sc.vy[i];
+    in.qz[j] = sc.vz[i];
+    in.s_prev[j] = sc.vs[i];
+    in.px[j] = sc.vx[i] + shift.x();
+    in.py[j] = sc.vy[i] + shift.y();
+    in.pz[j] = sc.vz[i] + shift.z();
+    in.s[j] = sc.vs_aug[i];
     out.pos[j] = sc.cpos[c];
     ++j;
   }
