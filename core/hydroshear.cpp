@@ -75,8 +75,9 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
 // Inputs of one tracker step, one entry per point (kernels::advance_points).
 struct HydroShearBatch::StepColumns {
   std::vector<double> s_prev, qx, qy, qz, s, px, py, pz, ox, oy, oz, nx, ny, nz;
+  std::vector<double> un;                  // output: the normal part of the new state
   void resize(int n) {
-    for (auto* v : {&s_prev, &qx, &qy, &qz, &s, &px, &py, &pz, &ox, &oy, &oz, &nx, &ny, &nz}) v->resize(n);
+    for (auto* v : {&s_prev, &qx, &qy, &qz, &s, &px, &py, &pz, &ox, &oy, &oz, &nx, &ny, &nz, &un}) v->resize(n);
   }
   kernels::AdvanceColumns view() const {
     return {s_prev.data(), qx.data(), qy.data(), qz.data(), s.data(), px.data(), py.data(), pz.data(),
@@ -96,6 +97,7 @@ struct HydroShearBatch::Scratch {
   PointColumns next, aug;                  // their outputs (next is swapped into the slot)
   // The field's points: state columns, the real point o_i of each (anchor = o_i + u_i) and the normal.
   const PointColumns* field = nullptr;
+  const double *field_un = nullptr, *field_phi = nullptr;
   const double *fx = nullptr, *fy = nullptr, *fz = nullptr, *fnx = nullptr, *fny = nullptr, *fnz = nullptr;
   // Shear sum operands (kernels::shear_operands, shear_matrices).
   std::vector<double> wvx, wvy, args, Xt, Wt, Yt, S;
@@ -231,26 +233,30 @@ void HydroShearBatch::reset_slot(int slot) {
 
 void HydroShearBatch::PointColumns::resize(int n) {
   pos.resize(n);
-  for (auto* v : {&phi, &ux, &uy, &uz, &un}) v->resize(n);
+  for (auto* v : {&ux, &uy, &uz}) v->resize(n);
   slip.resize(n);
 }
 
 void HydroShearBatch::PointColumns::swap(PointColumns& o) noexcept {
   pos.swap(o.pos);
-  phi.swap(o.phi);
   ux.swap(o.ux);
   uy.swap(o.uy);
   uz.swap(o.uz);
-  un.swap(o.un);
   slip.swap(o.slip);
 }
 
 std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
   const PointColumns& c = slots_.at(slot).points;
   std::vector<HydroShearPoint> out(c.size());
-  for (int i = 0; i < c.size(); ++i)
-    out[i] = {perm_[c.pos[i]], c.phi[i], Vec3(c.ux[i], c.uy[i], c.uz[i]), c.un[i],
+  for (int i = 0; i < c.size(); ++i) {
+    // phi_E and u_n are not kept (they cost memory traffic every step): recomputed at the committed pose.
+    const Pose& X = slots_.at(slot).X_prev;
+    const int pos = c.pos[i];
+    const Vec3 u(c.ux[i], c.uy[i], c.uz[i]);
+    const Vec3 n_hat = k_.normal_indenter ? Vec3(-(X.linear() * n_I_[pos])) : Vec3::UnitZ();
+    out[i] = {perm_[pos], phi_E(X * p_I_[pos]), u, std::max(u.dot(n_hat), 0.0),
               c.slip[i] ? PointState::Slip : PointState::Stick};
+  }
   return out;
 }
 
@@ -443,12 +449,12 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   }
   normals(X_EI.linear(), next.pos, in);
   kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(), next.uz.data(),
-                          next.un.data(), next.slip.data());
-  next.phi = in.s;
+                          in.un.data(), next.slip.data());
   slot.points.swap(next);
   slot.X_prev = X_EI;
   slot.first = false;
   sc.field = &slot.points;
+  sc.field_un = in.un.data(), sc.field_phi = in.s.data();
   sc.fx = in.px.data(), sc.fy = in.py.data(), sc.fz = in.pz.data();
   sc.fnx = in.nx.data(), sc.fny = in.ny.data(), sc.fnz = in.nz.data();
 }
@@ -481,9 +487,9 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
   lookup_state(slot.points, out.pos, sc.old_index, in);
   normals(X_EI.linear(), out.pos, in);
   kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(), out.uz.data(),
-                          out.un.data(), out.slip.data());
-  out.phi = in.s;
+                          in.un.data(), out.slip.data());
   sc.field = &out;
+  sc.field_un = in.un.data(), sc.field_phi = in.s.data();  // phi_E at the shifted point
   sc.fx = in.qx.data(), sc.fy = in.qy.data(), sc.fz = in.qz.data();  // the real, unshifted points
   sc.fnx = in.nx.data(), sc.fny = in.ny.data(), sc.fnz = in.nz.data();
 }
@@ -518,8 +524,8 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
     sc.args[i] = sc.args[mp + i] = sc.args[2 * mp + i] = 0;
     sc.fast[i] = 0;
   }
-  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), F.un.data(),
-                                   F.phi.data(), sc.fnx, sc.fny, sc.fnz};
+  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
+                                   sc.field_phi, sc.fnx, sc.fny, sc.fnz};
   kernels::ShearConstants k{k_.E, k_.K, k_.lambda_s, grid_.z0, k_.weight_paper, 0, 0, 0, 0, 0, 0,
                             factored ? kMaxTotalExponent : -kInf};
   if (factored) {

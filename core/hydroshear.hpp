@@ -79,7 +79,7 @@ class HydroShearBatch {
   // Points as columns (structure of arrays), in point order: what the vectorised kernels read and write.
   struct PointColumns {
     std::vector<int> pos;                  // position in the point order (perm_)
-    std::vector<double> phi, ux, uy, uz, un;
+    std::vector<double> ux, uy, uz;        // the state u (metres)
     std::vector<std::uint8_t> slip;
     int size() const { return static_cast<int>(pos.size()); }
     void resize(int n);
