@@ -146,9 +146,14 @@ class CappedCylinderSdf final : public Sdf {
     return dz;
   }
   // Batch forms without a virtual call per point (the shear models query 63 markers per slot).
+  // The value alone, as value_and_gradient computes it (same operations, no normal).
   void values(std::span<const Vec3> p, std::span<double> phi) const override {
-    Vec3 g;
-    for (std::size_t i = 0; i < p.size(); ++i) phi[i] = CappedCylinderSdf::value_and_gradient(p[i], &g);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const double rho = std::sqrt(p[i].x() * p[i].x() + p[i].y() * p[i].y());
+      const double dr = rho - r_, dz = std::abs(p[i].z()) - h_;
+      const double er = std::max(dr, 0.0), ez = std::max(dz, 0.0);
+      phi[i] = dr > 0 || dz > 0 ? std::sqrt(er * er + ez * ez) : std::max(dr, dz);
+    }
   }
   void values_and_gradients(std::span<const Vec3> p, std::span<double> phi, std::span<Vec3> g) const override {
     for (std::size_t i = 0; i < p.size(); ++i) phi[i] = CappedCylinderSdf::value_and_gradient(p[i], &g[i]);
