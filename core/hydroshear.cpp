@@ -544,7 +544,7 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
 void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
   const int rows = grid_.rows, cols = grid_.cols;
   exp_in_place(sc.args.data(), 3 * mp);
-  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 1) / 2 * 2;
+  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
   sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
   sc.Yt.resize(static_cast<std::size_t>(rows) * mp);
   sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);

@@ -154,7 +154,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
       wy[i] = vy[i] * g;
     }
   }
-  const int nw = 2 * rows, nw_pad = (nw + 1) / 2 * 2;
+  const int nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
 }
 
@@ -171,20 +171,21 @@ using v4d = double __attribute__((vector_size(32)));
 [[gnu::always_inline]] inline double hsum(v4d v) { return (v[0] + v[1]) + (v[2] + v[3]); }
 }  // namespace
 
-// Register-blocked 2 x 3 (six vector accumulators): each point vector of W and X is loaded once per
-// block and used three or two times.
+// Register-blocked 3 x 3: nine vector accumulators, enough independent FMA chains to cover the FMA
+// latency on two pipes; each point vector of W and X is loaded once per block and used three times.
 SB_VECTOR_CLONES
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
-  for (int a = 0; a < nw; a += 2) {
+  for (int a = 0; a < nw; a += 3) {
     const double* w0 = Wt + static_cast<std::ptrdiff_t>(a) * mp;
     const double* w1 = w0 + mp;
+    const double* w2 = w1 + mp;
     for (int c = 0; c < cols; c += 3) {
       const double* x0 = Xt + static_cast<std::ptrdiff_t>(c) * mp;
       const double* x1 = x0 + mp;
       const double* x2 = x1 + mp;
-      v4d s00 = {}, s01 = {}, s02 = {}, s10 = {}, s11 = {}, s12 = {};
+      v4d s00 = {}, s01 = {}, s02 = {}, s10 = {}, s11 = {}, s12 = {}, s20 = {}, s21 = {}, s22 = {};
       for (int i = 0; i < mp; i += 4) {
-        const v4d a0 = load4(w0 + i), a1 = load4(w1 + i);
+        const v4d a0 = load4(w0 + i), a1 = load4(w1 + i), a2 = load4(w2 + i);
         const v4d b0 = load4(x0 + i), b1 = load4(x1 + i), b2 = load4(x2 + i);
         s00 += a0 * b0;
         s01 += a0 * b1;
@@ -192,9 +193,14 @@ void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int m
         s10 += a1 * b0;
         s11 += a1 * b1;
         s12 += a1 * b2;
+        s20 += a2 * b0;
+        s21 += a2 * b1;
+        s22 += a2 * b2;
       }
-      const double out[2][3] = {{hsum(s00), hsum(s01), hsum(s02)}, {hsum(s10), hsum(s11), hsum(s12)}};
-      for (int da = 0; da < 2 && a + da < nw; ++da)
+      const double out[3][3] = {{hsum(s00), hsum(s01), hsum(s02)},
+                                {hsum(s10), hsum(s11), hsum(s12)},
+                                {hsum(s20), hsum(s21), hsum(s22)}};
+      for (int da = 0; da < 3 && a + da < nw; ++da)
         for (int dc = 0; dc < 3 && c + dc < cols; ++dc) S[(a + da) * cols + c + dc] += out[da][dc];
     }
   }

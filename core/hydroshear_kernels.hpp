@@ -58,7 +58,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
                     double* Wt, double* Yt);
 
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
-// 4; Wt must hold round_up(nw, 2) rows and Xt round_up(cols, 3) rows (the extra rows zero).
+// 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
 
 }  // namespace sb::hydroshear_kernels
