@@ -426,28 +426,23 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   in.resize(n_in);
   next.resize(n_in);
   lookup_state(slot.points, next.pos, sc.old_index, in);
-  {
-    const int* pos = next.pos.data();
-    double *qx = in.qx.data(), *qy = in.qy.data(), *qz = in.qz.data();
-    for (int j = 0; j < n_in; ++j) {
-      qx[j] = pIx_[pos[j]];
-      qy[j] = pIy_[pos[j]];
-      qz[j] = pIz_[pos[j]];
-    }
-  }
+  // Each point's previous position o_{t-1} = X_prev X^-1 o_t (one transform of the columns at hand).
+  // On the first step o_{t-1} = o_t exactly (the authors' prev = current), not through a rounded identity.
   if (slot.first) {
     in.qx = in.px;
     in.qy = in.py;
     in.qz = in.pz;
-    in.s_prev = in.s;
   } else {
-    // Every point's previous position and depth from the previous pose, computed exactly as this
-    // step's (same kernel), so a point tracked last step gets back the phi_E it was committed with.
-    const PoseArrays X_prev(slot.X_prev);
-    kernels::transform_points(X_prev.r, X_prev.t, in.qx.data(), in.qy.data(), in.qz.data(), n_in, in.qx.data(),
+    const PoseArrays X_PE(slot.X_prev * X_EI.inverse(Eigen::Isometry));
+    kernels::transform_points(X_PE.r, X_PE.t, in.px.data(), in.py.data(), in.pz.data(), n_in, in.qx.data(),
                               in.qy.data(), in.qz.data());
-    phi_columns(in.qx.data(), in.qy.data(), in.qz.data(), Vec3::Zero(), n_in, in.s_prev.data());
   }
+  // phi_E at the previous pose only matters for a point that enters the gel: for one that was in the
+  // gel (s_prev < 0) and still is, alpha = (-s + s_prev) / (s_prev - s) = 1 exactly, whatever s_prev,
+  // and s_prev = s gives that 1 through the 0/0 rule.
+  const int* ix = sc.old_index.data();
+  for (int j = 0; j < n_in; ++j)
+    in.s_prev[j] = ix[j] >= 0 ? in.s[j] : phi_E(Vec3(in.qx[j], in.qy[j], in.qz[j]));
   normals(X_EI.linear(), next.pos, in);
   kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(), next.uz.data(),
                           in.un.data(), next.slip.data());
