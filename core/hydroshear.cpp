@@ -107,6 +107,8 @@ struct HydroShearBatch::Scratch {
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
+  std::vector<int> dil_k;                  // markers inside the indenter
+  std::vector<double> dil_h;               // and their depths
   std::vector<double> dil_sum_x, dil_sum_y;  // the dilation's sums before kappa_d
 };
 struct HydroShearBatch::ScratchPool {
@@ -206,13 +208,14 @@ void HydroShearBatch::set_params(const ParamSet& params) {
   cull_z_ = 0;
   const auto& m = sensor_->p_EM;
   const int n = static_cast<int>(m.size());
-  dil_x_.resize(static_cast<std::size_t>(n) * n);
-  dil_y_.resize(static_cast<std::size_t>(n) * n);
+  const int stride = kernels::dilation_stride(n);
+  dil_x_.assign(static_cast<std::size_t>(n) * stride, 0.0);
+  dil_y_.assign(static_cast<std::size_t>(n) * stride, 0.0);
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       const double w = std::exp(-k_.lambda_d * (m[j] - m[k]).squaredNorm());
-      dil_x_[k * n + j] = w * (m[j] - m[k]).x();
-      dil_y_[k * n + j] = w * (m[j] - m[k]).y();
+      dil_x_[k * stride + j] = w * (m[j] - m[k]).x();
+      dil_y_[k * stride + j] = w * (m[j] - m[k]).y();
     }
   if (grid_.is_grid) {
     gauss_x_ = GaussianAxis(grid_.xs, k_.lambda_s);
@@ -605,24 +608,23 @@ void HydroShearBatch::dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseC
   clock.lap(Phase::Dilation);
   indenter_->sdf->values(sc.m_I, sc.phi_I);
   clock.lap(Phase::Sdf);
-  // Summed per axis in their own columns (vectorised), scaled once.
-  sc.dil_sum_x.assign(nm, 0.0);
-  sc.dil_sum_y.assign(nm, 0.0);
-  double* dx = sc.dil_sum_x.data();
-  double* dy = sc.dil_sum_y.data();
-  bool any = false;
+  // The markers inside (h > 0), then their kernel rows summed per axis and scaled once.
+  sc.dil_k.clear();
+  sc.dil_h.clear();
   for (int kk = 0; kk < nm; ++kk) {
     const double h = std::max(-sc.phi_I[kk], 0.0);
     if (h == 0) continue;
-    any = true;
-    const double* wx = &dil_x_[static_cast<std::size_t>(kk) * nm];
-    const double* wy = &dil_y_[static_cast<std::size_t>(kk) * nm];
-    for (int j = 0; j < nm; ++j) {
-      dx[j] += h * wx[j];
-      dy[j] += h * wy[j];
-    }
+    sc.dil_k.push_back(kk);
+    sc.dil_h.push_back(h);
   }
-  if (!any) return;
+  if (sc.dil_k.empty()) return;
+  const int stride = kernels::dilation_stride(nm);
+  sc.dil_sum_x.resize(stride);
+  sc.dil_sum_y.resize(stride);
+  kernels::dilation_sum(dil_x_.data(), dil_y_.data(), stride, sc.dil_k.data(), sc.dil_h.data(),
+                        static_cast<int>(sc.dil_k.size()), sc.dil_sum_x.data(), sc.dil_sum_y.data());
+  const double* dx = sc.dil_sum_x.data();
+  const double* dy = sc.dil_sum_y.data();
   for (int j = 0; j < nm; ++j) disp[j] += k_.kappa_d * Vec2(dx[j], dy[j]);
 }
 

@@ -123,7 +123,8 @@ class HydroShearBatch {
   FlatPad pad_;
   MarkerGridLayout grid_;
   GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
-  // Dilation kernel, k-major: dil_x_[k * nm + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and .y).
+  // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
+  // .y), rows padded with zeros to kernels::dilation_stride(nm).
   std::vector<double> dil_x_, dil_y_;
   double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
   // The point order: pos -> index into samples.p_IS (perm_) and back (pos_of_); p_I_/n_I_ in that order.

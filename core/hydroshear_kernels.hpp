@@ -61,4 +61,10 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
 
+// The dilation's sums over the markers inside the indenter: d[j] = sum_q h[q] K[ks[q] * stride + j] for
+// j < stride, for both axes (Kx, Ky k-major, rows padded with zeros to dilation_stride(markers)).
+inline int dilation_stride(int markers) { return (markers + 7) / 8 * 8; }
+void dilation_sum(const double* Kx, const double* Ky, int stride, const int* ks, const double* h, int nk, double* dx,
+                  double* dy);
+
 }  // namespace sb::hydroshear_kernels
