@@ -100,7 +100,7 @@ struct HydroShearBatch::Scratch {
   const double *field_un = nullptr, *field_phi = nullptr;
   const double *fx = nullptr, *fy = nullptr, *fz = nullptr, *fnx = nullptr, *fny = nullptr, *fnz = nullptr;
   // Shear sum operands (kernels::shear_operands, shear_matrices).
-  std::vector<double> wvx, wvy, args, Xt, Wt, Yt, S;
+  std::vector<double> wvx, wvy, args, Xt, Wt, S;
   std::vector<std::uint8_t> fast;
   std::vector<int> old_index;              // lookup_state's merge
   std::vector<double> ex, ey;
@@ -544,12 +544,11 @@ void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
   exp_in_place(sc.args.data(), 3 * mp);
   const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
   sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
-  sc.Yt.resize(static_cast<std::size_t>(rows) * mp);
   sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
   sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
   const double* e = sc.args.data();
   kernels::shear_matrices(e, e + mp, e + 2 * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows, cols,
-                          gauss_x_.q(), gauss_y_.q(), sc.Xt.data(), sc.Wt.data(), sc.Yt.data());
+                          gauss_x_.q(), gauss_y_.q(), sc.Xt.data(), sc.Wt.data());
   kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
   const int nm = rows * cols;
   for (int j = 0; j < nm; ++j) {

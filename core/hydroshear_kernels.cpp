@@ -117,42 +117,45 @@ void shear_operands(const ShearColumns& in, const ShearConstants& constants, int
     shear_operands_loop<false>(c, k, n, vx, vy, lead, rx, ry, fast);
 }
 
-namespace {
-// rows of R[r * mp + i] = prod_{c < r} ratio, ratio_0 = e0[i], ratio_{c+1} = ratio_c q; R[0] = 1.
-[[gnu::always_inline]] inline void ratio_rows(const double* e0, int mp, int rows, double q, double* R) {
-  for (int i = 0; i < mp; ++i) R[i] = 1.0;
-  if (rows < 2) return;
-  // Row 1 is e0; row r+1 = row r * (e0 q^r): the ratio of the row itself advances by q each row.
-  double qr = 1.0;
-  for (int r = 1; r < rows; ++r) {
-    const double* prev = R + static_cast<std::ptrdiff_t>(r - 1) * mp;
-    double* row = R + static_cast<std::ptrdiff_t>(r) * mp;
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e0[i] * qr);
-    qr *= q;
-  }
-}
-}  // namespace
-
 SB_VECTOR_CLONES
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt, double* Yt) {
-  ratio_rows(e_rx, mp, cols, qx, Xt);
+                    double* Wt) {
+  // Xt: row 0 = E_i, row c = row c-1 * r_i q^(c-1), the ratio recurrence of GaussianAxis carried
+  // across rows (each row is one vectorised pass over the points).
+  for (int i = 0; i < mp; ++i) Xt[i] = e_lead[i];
+  double q_pow = 1.0;
+  for (int c = 1; c < cols; ++c) {
+    const double* prev = Xt + static_cast<std::ptrdiff_t>(c - 1) * mp;
+    double* row = Xt + static_cast<std::ptrdiff_t>(c) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_rx[i] * q_pow);
+    q_pow *= qx;
+  }
   const int cols_pad = (cols + 2) / 3 * 3;
   std::memset(Xt + static_cast<std::ptrdiff_t>(cols) * mp, 0, sizeof(double) * mp * (cols_pad - cols));
-  ratio_rows(e_ry, mp, rows, qy, Yt);
-  for (int r = 0; r < rows; ++r) {
-    const double* y = Yt + static_cast<std::ptrdiff_t>(r) * mp;
-    double* wx = Wt + static_cast<std::ptrdiff_t>(r) * mp;
-    double* wy = Wt + static_cast<std::ptrdiff_t>(rows + r) * mp;
+  // Wt: rows 0 = (fast) vx_i and vy_i, then the y axis' recurrence applied to both.
+  double* wx0 = Wt;
+  double* wy0 = Wt + static_cast<std::ptrdiff_t>(rows) * mp;
+#pragma GCC ivdep
+  for (int i = 0; i < mp; ++i) {
+    const double x = vx[i], y = vy[i];  // loaded unconditionally: a conditional load stops vectorisation
+    wx0[i] = fast[i] ? x : 0.0;
+    wy0[i] = fast[i] ? y : 0.0;
+  }
+  q_pow = 1.0;
+  for (int r = 1; r < rows; ++r) {
+    const double* px = wx0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
+    const double* py = wy0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
+    double* rx = wx0 + static_cast<std::ptrdiff_t>(r) * mp;
+    double* ry = wy0 + static_cast<std::ptrdiff_t>(r) * mp;
 #pragma GCC ivdep
     for (int i = 0; i < mp; ++i) {
-      const double g0 = e_lead[i] * y[i];
-      const double g = fast[i] ? g0 : 0.0;
-      wx[i] = vx[i] * g;
-      wy[i] = vy[i] * g;
+      const double ratio = e_ry[i] * q_pow;
+      rx[i] = px[i] * ratio;
+      ry[i] = py[i] * ratio;
     }
+    q_pow *= qy;
   }
   const int nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));

@@ -49,13 +49,16 @@ struct ShearConstants {
 void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* lead,
                     double* rx, double* ry, std::uint8_t* fast);
 
-// From exp(lead), exp(rx), exp(ry) (already exponentiated) the transposed operands of the sum:
-//   Xt[c * mp + i] = exp(-l (x_c - a_x)^2) / exp(-l (x_0 - a_x)^2)      (ratio recurrence, c < cols)
-//   Wt[r * mp + i] = fast_i vx_i E_i Y_i[r],  Wt[(rows + r) * mp + i] = fast_i vy_i E_i Y_i[r]
-// for i < mp (points past n must have zero weight and finite exponents). qx, qy: the axes' constants.
+// From exp(lead), exp(rx), exp(ry) (already exponentiated) the transposed operands of the sum, with
+// the point's E_i = exp(lead) folded into X and its weight into W:
+//   Xt[c * mp + i] = E_i X_i[c]            (X_i[c] the ratio recurrence of GaussianAxis, X_i[0] = 1)
+//   Wt[r * mp + i] = fast_i vx_i Y_i[r],  Wt[(rows + r) * mp + i] = fast_i vy_i Y_i[r]
+// so that sum_i Wt[r] Xt[c] = sum_i vx_i exp(-l |m_rc - a_i|^2). For i < mp (points past n must have
+// zero weight and finite exponents); qx, qy: the axes' constants. Zeroes the padding rows that
+// add_products_nt reads.
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt, double* Yt);
+                    double* Wt);
 
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
