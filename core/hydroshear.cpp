@@ -365,9 +365,10 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
 // Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the
 // indenter's outward normal (paper).
 void HydroShearBatch::normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const {
+  if (!k_.normal_indenter) return;  // +z: the kernels do not read the columns
   const int n = static_cast<int>(pos.size());
   for (int j = 0; j < n; ++j) {
-    const Vec3 nh = k_.normal_indenter ? Vec3(-(R_EI * n_I_[pos[j]])) : Vec3::UnitZ();
+    const Vec3 nh = -(R_EI * n_I_[pos[j]]);
     in.nx[j] = nh.x();
     in.ny[j] = nh.y();
     in.nz[j] = nh.z();
@@ -447,7 +448,8 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   for (int j = 0; j < n_in; ++j)
     in.s_prev[j] = ix[j] >= 0 ? in.s[j] : phi_E(Vec3(in.qx[j], in.qy[j], in.qz[j]));
   normals(X_EI.linear(), next.pos, in);
-  kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(), next.uz.data(),
+  kernels::advance_points(in.view(), !k_.normal_indenter, k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(),
+                          next.uz.data(),
                           in.un.data(), next.slip.data());
   slot.points.swap(next);
   slot.X_prev = X_EI;
@@ -485,7 +487,8 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
   }
   lookup_state(slot.points, out.pos, sc.old_index, in);
   normals(X_EI.linear(), out.pos, in);
-  kernels::advance_points(in.view(), k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(), out.uz.data(),
+  kernels::advance_points(in.view(), !k_.normal_indenter, k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(),
+                          out.uz.data(),
                           in.un.data(), out.slip.data());
   sc.field = &out;
   sc.field_un = in.un.data(), sc.field_phi = in.s.data();  // phi_E at the shifted point
@@ -525,8 +528,10 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   }
   const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
                                    sc.field_phi, sc.fnx, sc.fny, sc.fnz};
-  kernels::ShearConstants k{k_.E, k_.K, k_.lambda_s, grid_.z0, k_.weight_paper, 0, 0, 0, 0, 0, 0,
-                            factored ? kMaxTotalExponent : -kInf};
+  kernels::ShearConstants k{};
+  k.E = k_.E, k.K = k_.K, k.lambda_s = k_.lambda_s, k.z0 = grid_.z0;
+  k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
+  k.max_total_exponent = factored ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
   if (factored) {
     k.x0 = gauss_x_.front(), k.xn = gauss_x_.back(), k.hx = gauss_x_.pitch();
     k.y0 = gauss_y_.front(), k.yn = gauss_y_.back(), k.hy = gauss_y_.pitch();

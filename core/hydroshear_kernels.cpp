@@ -44,10 +44,11 @@ void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, cons
   }
 }
 
-SB_VECTOR_CLONES
-void advance_points(const AdvanceColumns& in, double cone, int n, double* ux, double* uy, double* uz, double* un,
-                    std::uint8_t* slip) {
-  const AdvanceColumns c = in;
+namespace {
+// The loop of advance_points; kNormalZ: n = +z for every point (the authors' split), its columns unread.
+template <bool kNormalZ>
+[[gnu::always_inline]] inline void advance_loop(const AdvanceColumns& c, double cone, int n, double* ux, double* uy,
+                                                double* uz, double* un, std::uint8_t* slip) {
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
     // In-gel fraction of the segment; 0/0 (s unchanged) is 1 as in the authors' code (s < 0 here).
@@ -59,7 +60,7 @@ void advance_points(const AdvanceColumns& in, double cone, int n, double* ux, do
     const double tx = c.ox[i] + alpha * (c.qx[i] - c.px[i]);
     const double ty = c.oy[i] + alpha * (c.qy[i] - c.py[i]);
     const double tz = c.oz[i] + alpha * (c.qz[i] - c.pz[i]);
-    const double nx = c.nx[i], ny = c.ny[i], nz = c.nz[i];
+    const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i], nz = kNormalZ ? 1.0 : c.nz[i];
     const double tn = tx * nx + ty * ny + tz * nz;
     const double utx = tx - tn * nx, uty = ty - tn * ny, utz = tz - tn * nz;
     const double u_n = relu(tn);
@@ -75,18 +76,30 @@ void advance_points(const AdvanceColumns& in, double cone, int n, double* ux, do
     slip[i] = slipping ? 1 : 0;
   }
 }
+}  // namespace
+
+SB_VECTOR_CLONES
+void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n, double* ux, double* uy, double* uz,
+                    double* un, std::uint8_t* slip) {
+  const AdvanceColumns c = in;  // a local copy: the outputs cannot alias it
+  if (normal_z)
+    advance_loop<true>(c, cone, n, ux, uy, uz, un, slip);
+  else
+    advance_loop<false>(c, cone, n, ux, uy, uz, un, slip);
+}
 
 namespace {
 // The loop of shear_operands for one weight choice: a select on a loop-invariant bool stops GCC's
 // vectoriser, two instantiations do not.
-template <bool kWeightPaper>
+template <bool kWeightPaper, bool kNormalZ>
 [[gnu::always_inline]] inline void shear_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
                                                        double* vx, double* vy, double* lead, double* rx, double* ry,
                                                        std::uint8_t* fast) {
   const double l = k.lambda_s;
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
-    const double u_n = c.un[i], nx = c.nx[i], ny = c.ny[i];
+    const double u_n = c.un[i];
+    const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
     const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
     const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
     const double w = kWeightPaper ? -c.phi[i] : k.E * u_n;
@@ -112,9 +125,11 @@ void shear_operands(const ShearColumns& in, const ShearConstants& constants, int
   const ShearColumns c = in;
   const ShearConstants k = constants;
   if (k.weight_paper)
-    shear_operands_loop<true>(c, k, n, vx, vy, lead, rx, ry, fast);
+    k.normal_z ? shear_operands_loop<true, true>(c, k, n, vx, vy, lead, rx, ry, fast)
+               : shear_operands_loop<true, false>(c, k, n, vx, vy, lead, rx, ry, fast);
   else
-    shear_operands_loop<false>(c, k, n, vx, vy, lead, rx, ry, fast);
+    k.normal_z ? shear_operands_loop<false, true>(c, k, n, vx, vy, lead, rx, ry, fast)
+               : shear_operands_loop<false, false>(c, k, n, vx, vy, lead, rx, ry, fast);
 }
 
 SB_VECTOR_CLONES

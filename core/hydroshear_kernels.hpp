@@ -19,15 +19,16 @@ void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, cons
                   double* phi);
 
 // One tracker step per point from (s_prev, q) to (s, p) with old state o, split along n (unit); cone =
-// mu E / K. Writes u (metres), u_n and slip (1: clipped to the cone, 0: stick).
+// mu E / K. Writes u (metres), u_n and slip (1: clipped to the cone, 0: stick). normal_z: n = +z for
+// every point (the authors' split) and the n columns are not read.
 struct AdvanceColumns {
   const double *s_prev, *qx, *qy, *qz;   // phi_E and position at the previous pose
   const double *s, *px, *py, *pz;        // now (s < 0: the caller passes only points in the gel)
   const double *ox, *oy, *oz;            // old state (0 for a point that enters)
   const double *nx, *ny, *nz;            // split normal, out of the gel
 };
-void advance_points(const AdvanceColumns& in, double cone, int n, double* ux, double* uy, double* uz, double* un,
-                    std::uint8_t* slip);
+void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n, double* ux, double* uy, double* uz,
+                    double* un, std::uint8_t* slip);
 
 // The shear sum's per-point operands on a uniform marker grid (see HydroShearBatch::shear_sum):
 // (vx, vy) = -w f^xy, and the three exponents of the factored Gaussian of the anchor a = p + u:
@@ -38,11 +39,12 @@ struct ShearColumns {
   const double *px, *py, *pz;            // the real point o_i (the anchor is o_i + u_i)
   const double *ux, *uy, *uz, *un;       // state
   const double *phi;                     // phi_E used by the paper's weight
-  const double *nx, *ny, *nz;            // split normal
+  const double *nx, *ny, *nz;            // split normal (not read when normal_z)
 };
 struct ShearConstants {
   double E, K, lambda_s, z0;
   bool weight_paper;
+  bool normal_z;                         // n = +z for every point
   double x0, xn, hx, y0, yn, hy;         // the grid axes' first and last coordinates and pitches
   double max_total_exponent;
 };
