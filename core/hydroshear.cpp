@@ -503,7 +503,7 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
 //   exp(-l |m_rc - a_i|^2) = E_i * X_i[c] * Y_i[r],  E_i = exp(-l (d0x^2 + d0y^2 + dz^2)),
 // with X_i, Y_i the per-axis ratio recurrences (GaussianAxis): 3 exps per point, batched through
 // exp_in_place. The sum over points is then one small matrix product over the points
-//   S_x[r][c] = sum_i (vx_i E_i Y_i[r]) X_i[c]  (and S_y with vy),
+//   S_x[r][c] = sum_i (vx_i Y_i[r]) (E_i X_i[c])  (and S_y with vy),
 // formed with the points as the long, vectorised dimension (kernels::shear_matrices, add_products_nt).
 void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,

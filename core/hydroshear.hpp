@@ -53,7 +53,10 @@ struct HydroShearPoint {
 // have a point in the gel (phi_E >= z_E > 0), so it costs one dot product and its points are never
 // transformed: their state is zero and stays zero, exactly as the dense loop computes it. The shear
 // Gaussians factor per grid axis and use a two-exp recurrence (GaussianAxis); the dilation runs only
-// when the indenter's SDF bounds reach the marker plane, and only over the markers inside.
+// when the indenter's SDF bounds reach the marker plane, and only over the markers inside. Per slot,
+// the points are handled as columns (structure of arrays) by the branch-free loops of
+// core/hydroshear_kernels, which the compiler vectorises across points; the slot keeps only each
+// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed).
 class HydroShearBatch {
  public:
   HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
