@@ -1,0 +1,172 @@
+// HydroShear's column kernels (core/hydroshear_kernels) on cases worked out by hand. The whole batch is
+// checked against a dense reference loop in test_model_kernels.cpp; these pin each kernel alone.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "core/hydroshear_kernels.hpp"
+#include "core/model_common.hpp"
+
+using namespace sb;
+namespace kernels = sb::hydroshear_kernels;
+
+namespace {
+
+// Metres: the states are 1e-5..1e-4 m, computed with a few roundings.
+constexpr double kStateTol = 1e-18;
+// Relative: sums of a few exps and products.
+constexpr double kRelTol = 1e-12;
+
+struct StepCase {
+  double s_prev, q[3], s, p[3], o[3];
+};
+
+struct StepResult {
+  std::vector<double> ux, uy, uz, un;
+  std::vector<std::uint8_t> slip;
+};
+
+// Runs advance_points on the cases (split along +z, cone mu E / K = 0.5), both through the +z
+// instantiation and through explicit normal columns (0, 0, 1): the two must agree exactly.
+StepResult advance(const std::vector<StepCase>& cases, bool normal_z) {
+  const int n = static_cast<int>(cases.size());
+  std::vector<double> sp(n), qx(n), qy(n), qz(n), s(n), px(n), py(n), pz(n), ox(n), oy(n), oz(n), nx(n, 0.0),
+      ny(n, 0.0), nz(n, 1.0);
+  for (int i = 0; i < n; ++i) {
+    const StepCase& c = cases[i];
+    sp[i] = c.s_prev, qx[i] = c.q[0], qy[i] = c.q[1], qz[i] = c.q[2];
+    s[i] = c.s, px[i] = c.p[0], py[i] = c.p[1], pz[i] = c.p[2];
+    ox[i] = c.o[0], oy[i] = c.o[1], oz[i] = c.o[2];
+  }
+  const kernels::AdvanceColumns in{sp.data(), qx.data(), qy.data(), qz.data(), s.data(),  px.data(), py.data(),
+                                   pz.data(), ox.data(), oy.data(), oz.data(), nx.data(), ny.data(), nz.data()};
+  StepResult r{std::vector<double>(n), std::vector<double>(n), std::vector<double>(n), std::vector<double>(n),
+               std::vector<std::uint8_t>(n)};
+  kernels::advance_points(in, normal_z, 0.5, n, r.ux.data(), r.uy.data(), r.uz.data(), r.un.data(), r.slip.data());
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("advance_points: stick, slip, entry fraction and release of the normal part", "[hydroshear][kernels]") {
+  const std::vector<StepCase> cases = {
+      // 0. Tracked (s_prev = s: alpha = 1 by the 0/0 rule), moved +x by 0.02 mm with u = (0, 0, 0.1 mm):
+      //    trial (-0.02, 0, 0.1) mm; |u_t| = 0.02 <= cap 0.5 * 0.1 = 0.05 mm: stick, u = trial.
+      {-1e-4, {0, 0, -1e-4}, -1e-4, {2e-5, 0, -1e-4}, {0, 0, 1e-4}},
+      // 1. The same moved 0.08 mm: |u_t| = 0.08 > 0.05: slip, u_t clipped to -0.05 mm.
+      {-1e-4, {0, 0, -1e-4}, -1e-4, {8e-5, 0, -1e-4}, {0, 0, 1e-4}},
+      // 2. Entering: s_prev = +0.02 mm, s = -0.06 mm after moving 0.08 mm down: alpha = (0.06 - 0) /
+      //    (0.02 + 0.06) = 0.75, so u = 0.75 * 0.08 = 0.06 mm along +z, stick.
+      {2e-5, {0, 0, 2e-5}, -6e-5, {0, 0, -6e-5}, {0, 0, 0}},
+      // 3. Moved up 0.03 mm with u = (0.01, 0, 0.01) mm: trial normal 0.01 - 0.03 < 0, u_n = 0, the cone
+      //    closes and u_t = 0.01 mm is clipped to 0: u = 0, slip.
+      {-1e-4, {0, 0, -1e-4}, -1e-4, {0, 0, -7e-5}, {1e-5, 0, 1e-5}},
+      // 4. A fifth point (not a whole vector of four) diagonal stick: moved (+0.01, -0.01) mm, u_n 0.1 mm:
+      //    u_t = (-0.01, 0.01) mm, |u_t| = 0.0141 <= 0.05.
+      {-1e-4, {0, 0, -1e-4}, -1e-4, {1e-5, -1e-5, -1e-4}, {0, 0, 1e-4}},
+  };
+  for (bool normal_z : {true, false}) {
+    const StepResult r = advance(cases, normal_z);
+    CHECK(r.ux[0] == Approx(-2e-5).margin(kStateTol));
+    CHECK(r.uz[0] == Approx(1e-4).margin(kStateTol));
+    CHECK(r.un[0] == Approx(1e-4).margin(kStateTol));
+    CHECK(r.slip[0] == 0);
+    CHECK(r.ux[1] == Approx(-5e-5).margin(kStateTol));
+    CHECK(r.slip[1] == 1);
+    CHECK(r.uz[2] == Approx(6e-5).margin(kStateTol));
+    CHECK(r.ux[2] == 0.0);
+    CHECK(r.slip[2] == 0);
+    CHECK(r.un[3] == 0.0);
+    CHECK(r.ux[3] == 0.0);
+    CHECK(r.uz[3] == 0.0);
+    CHECK(r.slip[3] == 1);
+    CHECK(r.ux[4] == Approx(-1e-5).margin(kStateTol));
+    CHECK(r.uy[4] == Approx(1e-5).margin(kStateTol));
+    CHECK(r.slip[4] == 0);
+  }
+}
+
+TEST_CASE("flat_pad_phi equals the box distance of FlatPad", "[hydroshear][kernels]") {
+  // Pad 20 x 16 mm, 4 mm thick: z in [-4, 0] mm.
+  const FlatPad pad{10e-3, 8e-3, 4e-3};
+  // Inside 1 mm deep: -1 mm. Above the centre by 3 mm: +3 mm. Outside a corner by (2, 3, 1) mm:
+  // sqrt(4 + 9 + 1) mm.
+  const std::vector<double> x = {0, 0, 12e-3, 5e-3, -9e-3}, y = {0, 0, 11e-3, -7.5e-3, 1e-3},
+                            z = {-1e-3, 3e-3, 1e-3, -0.2e-3, -3.9e-3};
+  std::vector<double> phi(x.size());
+  const std::array<double, 3> no_shift = {0, 0, 0};
+  kernels::flat_pad_phi(pad, no_shift.data(), x.data(), y.data(), z.data(), static_cast<int>(x.size()), phi.data());
+  CHECK(phi[0] == Approx(-1e-3).epsilon(kRelTol));
+  CHECK(phi[1] == Approx(3e-3).epsilon(kRelTol));
+  CHECK(phi[2] == Approx(std::sqrt(14.0) * 1e-3).epsilon(kRelTol));
+  for (std::size_t i = 0; i < x.size(); ++i)
+    CHECK(phi[i] == Approx(pad.value(Vec3(x[i], y[i], z[i]))).epsilon(kRelTol));
+  // The shift moves the query point: (0, 0, -1 mm) shifted up 3 mm is 2 mm above the pad.
+  const std::array<double, 3> up = {0, 0, 3e-3};
+  kernels::flat_pad_phi(pad, up.data(), x.data(), y.data(), z.data(), 1, phi.data());
+  CHECK(phi[0] == Approx(2e-3).epsilon(kRelTol));
+}
+
+TEST_CASE("shear kernels: one anchor on a marker gives the Gaussian of the grid", "[hydroshear][kernels]") {
+  // Grid 4 columns x 3 rows at 1 mm pitch, z0 = 0; lambda_s = 1e6 m^-2, so a marker at (c, r) mm from
+  // the anchor weighs exp(-(c^2 + r^2)).
+  constexpr double l = 1e6, h = 1e-3;
+  constexpr int cols = 4, rows = 3;
+  // One point with state u = (0.1, 0, 0.2) mm and anchor a = o + u at marker (0, 0): o = -u. With
+  // E = K = 1 and the code's weight w = E u_n = 0.2 mm, f_x = K u_x = 0.1 mm:
+  // vx = -w f_x = -2e-8 m^2, vy = 0, and S_x[r][c] = -2e-8 exp(-(c^2 + r^2)).
+  // A second point with its anchor 1 m away exceeds the exponent budget: fast = 0 and zero weight here.
+  const std::vector<double> px = {-1e-4, 1.0}, py = {0, 0}, pz = {-2e-4, 0}, ux = {1e-4, 0}, uy = {0, 0},
+                            uz = {2e-4, 0}, un = {2e-4, 1e-4}, phi = {-1e-4, -1e-4};
+  const kernels::ShearColumns in{px.data(), py.data(), pz.data(), ux.data(), uy.data(), uz.data(),
+                                 un.data(), phi.data(), nullptr,   nullptr,   nullptr};
+  kernels::ShearConstants k{};
+  k.E = 1, k.K = 1, k.lambda_s = l, k.z0 = 0, k.weight_paper = false, k.normal_z = true;
+  k.x0 = 0, k.xn = (cols - 1) * h, k.hx = h, k.y0 = 0, k.yn = (rows - 1) * h, k.hy = h;
+  k.max_total_exponent = 650;
+  constexpr int mp = 4;  // two points padded to one vector: zero weight, zero exponents
+  std::vector<double> vx(mp, 0.0), vy(mp, 0.0), args(3 * mp, 0.0);
+  std::vector<std::uint8_t> fast(mp, 0);
+  kernels::shear_operands(in, k, 2, vx.data(), vy.data(), args.data(), args.data() + mp, args.data() + 2 * mp,
+                          fast.data());
+  CHECK(vx[0] == Approx(-2e-8).epsilon(kRelTol));
+  CHECK(vy[0] == 0.0);
+  CHECK(fast[0] == 1);
+  CHECK(fast[1] == 0);
+  exp_in_place(args.data(), 3 * mp);
+  const double q = std::exp(-2 * l * h * h);
+  std::vector<double> Xt(6 * mp), Wt(6 * mp), S(2 * rows * cols, 0.0);  // 4 -> 6 columns, 6 rows of W
+  kernels::shear_matrices(args.data(), args.data() + mp, args.data() + 2 * mp, vx.data(), vy.data(), fast.data(), mp,
+                          rows, cols, q, q, Xt.data(), Wt.data());
+  kernels::add_products_nt(Wt.data(), 2 * rows, Xt.data(), cols, mp, S.data());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      CHECK(S[r * cols + c] == Approx(-2e-8 * std::exp(-(c * c + r * r))).epsilon(kRelTol));
+      CHECK(S[rows * cols + r * cols + c] == 0.0);
+    }
+}
+
+TEST_CASE("dilation_sum adds the depth-weighted kernel rows of the inside markers", "[hydroshear][kernels]") {
+  // Three markers (stride 8): rows K[k][j] = 10 k + j for x and -(10 k + j) for y. Markers 0 and 2 inside
+  // at depths 1 and 2: d_x[j] = (0 + j) + 2 (20 + j) = 40 + 3 j, d_y = -d_x.
+  constexpr int markers = 3;
+  const int stride = kernels::dilation_stride(markers);
+  REQUIRE(stride == 8);
+  std::vector<double> Kx(markers * stride, 0.0), Ky(markers * stride, 0.0);
+  for (int kk = 0; kk < markers; ++kk)
+    for (int j = 0; j < markers; ++j) {
+      Kx[kk * stride + j] = 10.0 * kk + j;
+      Ky[kk * stride + j] = -(10.0 * kk + j);
+    }
+  const std::vector<int> ks = {0, 2};
+  const std::vector<double> h = {1, 2};
+  std::vector<double> dx(stride), dy(stride);
+  kernels::dilation_sum(Kx.data(), Ky.data(), stride, ks.data(), h.data(), 2, dx.data(), dy.data());
+  for (int j = 0; j < markers; ++j) {
+    CHECK(dx[j] == 40.0 + 3 * j);
+    CHECK(dy[j] == -(40.0 + 3 * j));
+  }
+  for (int j = markers; j < stride; ++j) CHECK(dx[j] == 0.0);  // the zero padding stays zero
+}
