@@ -399,6 +399,133 @@ ExpectedCounts scan_stl(const std::string& path) {
   return {-1, facets};
 }
 
+// The record layout a PLY header declares, for walking its body.
+struct PlyProperty {
+  std::string name, type, count_type;  // count_type empty: a scalar property
+};
+struct PlyElement {
+  std::string name;
+  long count = 0;
+  std::vector<PlyProperty> properties;
+};
+
+// Most vertices a list (a polygon) may declare: a larger count is a corrupt file, not a mesh (OpenMesh's
+// reader hangs on a negative or huge count instead of failing).
+constexpr long kMaxPlyListCount = 1 << 16;
+
+bool ply_integer_type(const std::string& t) { return t != "float" && t != "double" && t != "float32" && t != "float64"; }
+
+int ply_type_size(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "double" || t == "float64") return 8;
+  return 4;
+}
+
+// A list count read from a binary body (integer types only; the header check rejects float counts).
+long read_ply_count(const unsigned char* p, const std::string& type, bool big_endian) {
+  const int n = ply_type_size(type);
+  std::uint64_t u = 0;
+  for (int i = 0; i < n; ++i) u |= static_cast<std::uint64_t>(p[big_endian ? i : n - 1 - i]) << (8 * (n - 1 - i));
+  const bool is_signed = type == "char" || type == "int8" || type == "short" || type == "int16" || type == "int" ||
+                         type == "int32";
+  if (is_signed && (u >> (8 * n - 1)) != 0) return static_cast<long>(u) - (1L << (8 * n));  // two's complement
+  return static_cast<long>(u);
+}
+
+void check_ply_list_count(long count, const PlyElement& e, long record, const PlyProperty& prop,
+                          const std::string& path, const std::string& where) {
+  const long lowest = e.name == "face" ? 3 : 0;
+  if (count < lowest || count > kMaxPlyListCount)
+    throw InputError(path, where + ": " + e.name + " " + std::to_string(record) + " declares " +
+                               std::to_string(count) + " entries in list '" + prop.name + "' (expected " +
+                               std::to_string(lowest) + ".." + std::to_string(kMaxPlyListCount) + ")");
+}
+
+// Walks a binary body record by record: every list count in range and every record inside the file.
+void check_ply_binary_body(std::istream& in, const std::vector<PlyElement>& layout, bool big_endian,
+                           const std::string& path) {
+  const std::streampos start = in.tellg();
+  std::vector<unsigned char> body((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t at = 0;
+  auto need = [&](std::size_t bytes, const PlyElement& e, long record) {
+    if (body.size() - at < bytes)
+      throw InputError(path, "binary body ends inside " + e.name + " " + std::to_string(record) + " (byte " +
+                                 std::to_string(static_cast<std::uintmax_t>(start) + at) + "; truncated)");
+  };
+  for (const PlyElement& e : layout)
+    for (long r = 0; r < e.count; ++r)
+      for (const PlyProperty& prop : e.properties) {
+        if (prop.count_type.empty()) {
+          need(ply_type_size(prop.type), e, r);
+          at += ply_type_size(prop.type);
+          continue;
+        }
+        const int count_bytes = ply_type_size(prop.count_type);
+        need(count_bytes, e, r);
+        const long count = read_ply_count(&body[at], prop.count_type, big_endian);
+        check_ply_list_count(count, e, r, prop, path,
+                             "byte " + std::to_string(static_cast<std::uintmax_t>(start) + at));
+        at += count_bytes;
+        need(static_cast<std::size_t>(count) * ply_type_size(prop.type), e, r);
+        at += static_cast<std::size_t>(count) * ply_type_size(prop.type);
+      }
+}
+
+// Walks an ASCII body: one record per line (as every PLY writer emits), each value a number, every list
+// count an integer in range followed by that many values, nothing left over.
+void check_ply_ascii_body(std::istream& in, const std::vector<PlyElement>& layout, int line_no,
+                          const std::string& path) {
+  std::string line;
+  auto number = [&](const std::string& tok, int col) {
+    double v = 0;
+    const auto [end, ec] = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+    if (ec != std::errc() || end != tok.data() + tok.size())
+      throw InputError(path, line_no, col, "'" + tok + "' is not a number");
+    return v;
+  };
+  for (const PlyElement& e : layout)
+    for (long r = 0; r < e.count; ++r) {
+      do {
+        if (!std::getline(in, line))
+          throw InputError(path, "file declares " + std::to_string(e.count) + " " + e.name + " records but ends at " +
+                                     e.name + " " + std::to_string(r) + " (truncated)");
+        ++line_no;
+      } while (line.find_first_not_of(" \t\r") == std::string::npos);
+      std::istringstream s(line);
+      std::vector<std::string> tok;
+      for (std::string t; s >> t;) tok.push_back(t);
+      std::size_t k = 0;
+      auto next = [&](const PlyProperty& prop) -> const std::string& {
+        if (k >= tok.size())
+          throw InputError(path, line_no, 0, e.name + " " + std::to_string(r) + " ends before property '" +
+                                                 prop.name + "'");
+        return tok[k++];
+      };
+      for (const PlyProperty& prop : e.properties) {
+        if (prop.count_type.empty()) {
+          number(next(prop), static_cast<int>(k) + 1);
+          continue;
+        }
+        const double count = number(next(prop), static_cast<int>(k) + 1);
+        if (count != std::floor(count))
+          throw InputError(path, line_no, static_cast<int>(k), "list count '" + tok[k - 1] + "' is not an integer");
+        check_ply_list_count(static_cast<long>(std::clamp(count, -1e12, 1e12)), e, r, prop, path,
+                             "line " + std::to_string(line_no));
+        if (tok.size() - k < static_cast<std::size_t>(count))
+          throw InputError(path, line_no, static_cast<int>(k), e.name + " " + std::to_string(r) + ": list '" +
+                                                                   prop.name + "' declares " + tok[k - 1] +
+                                                                   " values, the line holds " +
+                                                                   std::to_string(tok.size() - k));
+        for (long i = 0; i < static_cast<long>(count); ++i) number(next(prop), static_cast<int>(k) + 1);
+      }
+      if (k != tok.size())
+        throw InputError(path, line_no, static_cast<int>(k) + 1,
+                         e.name + " " + std::to_string(r) + " has " + std::to_string(tok.size() - k) +
+                             " values more than its properties declare");
+    }
+}
+
 // PLY: the header declares the element counts. OpenMesh's PLY reader invents records at the end of a
 // cut file, so the body is measured here: ASCII files need one line per declared element, binary
 // ones at least the bytes of fixed-size records (faces counted as triangles, the smallest polygon).
@@ -407,17 +534,12 @@ ExpectedCounts scan_ply(const std::string& path) {
   std::string line;
   ExpectedCounts c;
   int line_no = 0;
-  bool ascii = false;
-  long total_elements = 0;
+  bool ascii = false, big_endian = false;
+  std::vector<PlyElement> layout;
   std::uintmax_t min_body_bytes = 0, record_bytes = 0;
   long current_count = 0;
   std::string current;
-  auto type_size = [](const std::string& t) -> int {
-    if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
-    if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
-    if (t == "double" || t == "float64") return 8;
-    return 4;
-  };
+  const auto type_size = ply_type_size;
   auto close_element = [&] { min_body_bytes += record_bytes * static_cast<std::uintmax_t>(current_count); };
   // The header is checked against the PLY grammar before OpenMesh sees it: its reader crashes on a
   // property with no element before it or an unknown keyword (found by fuzz_mesh).
@@ -452,6 +574,7 @@ ExpectedCounts scan_ply(const std::string& path) {
         throw InputError(path, line_no, 0, "unknown PLY format '" + f + "'");
       if (version != "1.0") throw InputError(path, line_no, 0, "unsupported PLY version '" + version + "'");
       ascii = f == "ascii";
+      big_endian = f == "binary_big_endian";
       have_format = true;
     } else if (word == "comment" || word == "obj_info" || word.empty()) {
       // free text
@@ -465,7 +588,7 @@ ExpectedCounts scan_ply(const std::string& path) {
       if (!(s >> current >> current_count) || current_count < 0 || (s >> rest))
         throw InputError(path, line_no, 0, "PLY header: expected 'element <name> <count>'");
       record_bytes = 0;
-      total_elements += current_count;
+      layout.push_back({current, current_count, {}});
       if (current == "vertex") c.vertices = current_count;
       if (current == "face") c.faces = current_count;
     } else if (word == "property") {
@@ -479,28 +602,28 @@ ExpectedCounts scan_ply(const std::string& path) {
         std::string name, extra;
         if (!(s >> name) || (s >> extra))   // OpenMesh loops on a property without a name (fuzz_mesh)
           throw InputError(path, line_no, 0, "PLY header: expected 'property list <type> <type> <name>'");
+        if (!ply_integer_type(count_type))
+          throw InputError(path, line_no, 0, "PLY header: list count type '" + count_type + "' is not an integer");
+        layout.back().properties.push_back({name, item_type, count_type});
         record_bytes += type_size(count_type) + (current == "face" ? 3 * type_size(item_type) : 0);
       } else {
         if (!known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
         std::string name, extra;
         if (!(s >> name) || (s >> extra))
           throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
+        layout.back().properties.push_back({name, type, ""});
         record_bytes += type_size(type);
       }
     } else if (word == "end_header") {
       close_element();
       if (ascii) {
-        long records = 0;
-        while (std::getline(in, line))
-          if (line.find_first_not_of(" \t\r") != std::string::npos) ++records;
-        if (records < total_elements)
-          throw InputError(path, "file declares " + std::to_string(total_elements) + " element records but holds " +
-                                     std::to_string(records) + " (truncated)");
+        check_ply_ascii_body(in, layout, line_no, path);
       } else {
         const auto body = fs::file_size(path) - static_cast<std::uintmax_t>(in.tellg());
         if (body < min_body_bytes)
           throw InputError(path, "binary body of " + std::to_string(body) + " bytes is shorter than the " +
                                      std::to_string(min_body_bytes) + " its header declares (truncated)");
+        check_ply_binary_body(in, layout, big_endian, path);
       }
       return c;
     } else {

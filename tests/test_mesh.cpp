@@ -252,6 +252,38 @@ TEST_CASE("bad mesh files are rejected with an error naming the file", "[mesh]")
     const std::string full = tet_binary_ply();
     expect_error(write_text("cut_bin.ply", full.substr(0, full.size() - 13)), "truncated");
   }
+  // OpenMesh's PLY reader hangs on a negative or huge list count: the body is walked first.
+  SECTION("binary PLY whose first face declares 255 vertices: runs past the end") {
+    std::string bin = tet_binary_ply();
+    bin[bin.find("end_header\n") + 11 + 4 * 12] = '\xff';  // the count byte of face 0
+    expect_error(write_text("long_face.ply", bin), "ends inside face 0");
+  }
+  SECTION("binary PLY with a negative int list count") {
+    std::string bin =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n";
+    const float v[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+    const int face[4] = {-5, 0, 1, 2};
+    bin.append(reinterpret_cast<const char*>(v), sizeof v);
+    bin.append(reinterpret_cast<const char*>(face), sizeof face);
+    expect_error(write_text("neg_count.ply", bin), "face 0 declares -5 entries");
+  }
+  SECTION("ASCII PLY: a list count larger than its line, a negative one, a two-vertex face, a word") {
+    const std::string full = tet_ply();
+    const std::size_t first_face = full.find("3 ", full.find("end_header"));
+    std::string text = full;
+    text.replace(first_face, 1, "200");
+    expect_error(write_text("count_200.ply", text), "declares 200 values, the line holds 3");
+    text = full;
+    text.replace(first_face, 1, "-4");
+    expect_error(write_text("count_neg.ply", text), "declares -4 entries");
+    text = full;
+    text.replace(first_face, 1, "2");
+    expect_error(write_text("count_2.ply", text), "declares 2 entries");
+    text = full;
+    text.replace(full.find("\n", full.find("end_header")) + 1, 1, "x");
+    expect_error(write_text("word.ply", text), "is not a number");
+  }
   SECTION("NaN vertex in OBJ: names the vertex and the line") {
     std::string text = tet_obj();
     text.replace(text.find("v 0 1 0"), 7, "v 0 nan 0");
