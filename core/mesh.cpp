@@ -331,15 +331,30 @@ ExpectedCounts scan_off(const std::string& path) {
     // OpenMesh's binary OFF reader trusts every count in the body (per-face vertex counts included) and
     // allocates what they say (fuzz_mesh found 2 GB requests); checking it would mean re-implementing it.
     throw InputError(path, 1, 0, "binary OFF is not supported: save the mesh as ASCII OFF, PLY, STL or OBJ");
-  // The counts follow the magic on the same line or on the next record.
+  // OpenMesh reads the magic line whole and the counts from what follows it, so counts written on the
+  // magic line would be read from the vertex records instead (fuzz_mesh: "OFF 0 0" then "0-4 55" made it
+  // reserve (size_t)-4 faces): the counts must be the next record, three whole integers.
+  std::string extra;
+  if (s >> extra)
+    throw InputError(path, 1, 0, "OFF header: '" + extra + "' after '" + magic +
+                                     "'; write the vertex, face and edge counts on the next line");
+  if (!next_record(s)) throw InputError(path, line_no, 0, "OFF header without vertex, face and edge counts");
   ExpectedCounts c;
-  if (!(s >> c.vertices)) {
-    if (!next_record(s) || !(s >> c.vertices))
-      throw InputError(path, line_no, 0, "OFF header without vertex and face counts");
+  long counts[3] = {0, 0, 0};
+  for (int k = 0; k < 3; ++k) {
+    std::string tok;
+    const bool have = static_cast<bool>(s >> tok);
+    const auto [end, ec] = have ? std::from_chars(tok.data(), tok.data() + tok.size(), counts[k])
+                                : std::from_chars_result{tok.data(), std::errc::invalid_argument};
+    if (!have || ec != std::errc() || end != tok.data() + tok.size())
+      throw InputError(path, line_no, 0, "OFF header: expected three whole counts 'vertices faces edges'" +
+                                             (have ? " (found '" + tok + "')" : std::string()));
   }
-  if (!(s >> c.faces)) throw InputError(path, line_no, 0, "OFF header without a face count");
-  if (c.vertices < 0 || c.faces < 0)   // OpenMesh would reserve (size_t)-4 records (found by fuzz_mesh)
-    throw InputError(path, line_no, 0, "negative vertex or face count in the OFF header");
+  if (s >> extra) throw InputError(path, line_no, 0, "OFF header: '" + extra + "' after the three counts");
+  c.vertices = counts[0];
+  c.faces = counts[1];
+  if (c.vertices < 0 || c.faces < 0 || counts[2] < 0)   // OpenMesh would reserve (size_t)-4 records (fuzz_mesh)
+    throw InputError(path, line_no, 0, "negative vertex, face or edge count in the OFF header");
   for (long i = 0; i < c.vertices; ++i) {
     double v[3];
     if (!next_record(s))

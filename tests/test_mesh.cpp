@@ -232,6 +232,11 @@ TEST_CASE("bad mesh files are rejected with an error naming the file", "[mesh]")
     const std::string full = cube_off();
     expect_error(write_text("cut.off", full.substr(0, full.find("4 1 3 7 5"))), "1 of 6 declared faces");
   }
+  SECTION("OFF with its counts on the magic line (OpenMesh would read them from the vertices)") {
+    expect_error(write_text("one_line.off", "OFF 3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                 "write the vertex, face and edge counts on the next line");
+    expect_error(write_text("glued.off", "OFF\n0-4 55\n"), "expected three whole counts");
+  }
   SECTION("binary STL missing its last bytes") {
     const std::string full = tet_binary_stl();
     expect_error(write_text("cut.stl", full.substr(0, full.size() - 10)), "84 + 50");
