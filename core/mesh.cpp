@@ -362,6 +362,11 @@ ExpectedCounts scan_off(const std::string& path) {
                                              std::to_string(c.vertices) + " declared vertices (truncated)");
     if (!parse_doubles(s, 3, v)) throw InputError(path, line_no, 0, "vertex record without three numbers");
     check_finite_at(v, path, line_no, i);
+    // OpenMesh reads the records as one stream of numbers, not line by line: a value left over on a
+    // line would become the next record's first (plain "OFF" has nothing after x y z).
+    std::string extra;
+    if (magic == "OFF" && (s >> extra))
+      throw InputError(path, line_no, 0, "vertex record has '" + extra + "' after its three coordinates");
   }
   for (long i = 0; i < c.faces; ++i) {
     if (!next_record(s))
@@ -381,6 +386,12 @@ ExpectedCounts scan_off(const std::string& path) {
         throw InputError(path, line_no, 0, "face refers to vertex " + std::to_string(idx) + " but the file declares " +
                                                std::to_string(c.vertices) + " vertices");
     }
+    // A leftover value would be read by OpenMesh as the next face's count (fuzz_mesh: a 90-digit number
+    // there made it append vertex handles until out of memory).
+    std::string extra;
+    if (s >> extra)
+      throw InputError(path, line_no, 0, "face record has '" + extra.substr(0, 20) + "' after its " +
+                                             std::to_string(n) + " vertex indices (face colours are not supported)");
   }
   return c;
 }

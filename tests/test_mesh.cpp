@@ -237,6 +237,12 @@ TEST_CASE("bad mesh files are rejected with an error naming the file", "[mesh]")
                  "write the vertex, face and edge counts on the next line");
     expect_error(write_text("glued.off", "OFF\n0-4 55\n"), "expected three whole counts");
   }
+  SECTION("OFF records with values left over (OpenMesh would read them as the next record)") {
+    expect_error(write_text("face_extra.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2 86666\n"),
+                 "after its 3 vertex indices");
+    expect_error(write_text("vertex_extra.off", "OFF\n3 1 0\n0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                 "after its three coordinates");
+  }
   SECTION("binary STL missing its last bytes") {
     const std::string full = tet_binary_stl();
     expect_error(write_text("cut.stl", full.substr(0, full.size() - 10)), "84 + 50");
