@@ -16,9 +16,9 @@
 #include <imgui.h>
 
 #include "core/data_root.hpp"
-#include "core/json_read.hpp"
-#include "core/prediction_export.hpp"
 #include "core/error.hpp"
+#include "core/field_export.hpp"
+#include "core/json_read.hpp"
 #include "widgets/panels.hpp"
 
 namespace sb::app {
@@ -115,10 +115,7 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     if (req.open_session) open_session_file(*req.open_session);
     if (req.load_residual) load_residual(*req.load_residual);
     if (req.switch_model) switch_model(req.switch_model->first, req.switch_model->second);
-    if (req.export_fields) {
-      const int n = export_fields(*req.export_fields);
-      workbench_.set_message("exported " + std::to_string(n) + " fields (tsd/1) to " + *req.export_fields);
-    }
+    if (req.export_fields) start_export(*req.export_fields);
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
     if (req.open_dataset) {
       SessionOptions o = session_options_;
@@ -171,45 +168,37 @@ std::string file_slug(const std::string& text) {
   return slug;
 }
 
-// Every model at its current parameters, run afresh (not the physics thread's instances) along the
-// current path, written as <dir>/<model id>/ (tsd/1). A folder that holds anything but an earlier field
-// export is never overwritten.
-int Frontend::export_fields(const std::string& dir) {
-  namespace fs = std::filesystem;
+// Every model at its current parameters, run afresh on the export worker (not the physics thread's
+// instances) along a copy of the current path.
+FieldExportRequest Frontend::export_request(const std::string& dir) const {
   const AppState& state = *session_.state;
   const AppSnapshot snap = state.snapshot();
-  const std::vector<Pose> path = state.path();
-  if (path.empty()) throw InputError(dir, "nothing to export: the path is empty");
-  for (const auto& m : snap.models) {
-    const fs::path json = fs::path(dir) / m.id / "dataset.json";
-    if (!fs::exists(fs::path(dir) / m.id)) continue;
-    const bool ours = fs::exists(json) && [&] {
-      try {
-        return jsonin::load_file(json.string()).value("shearbench", nlohmann::json::object()).value("export", false);
-      } catch (const std::exception&) {
-        return false;
-      }
-    }();
-    if (!ours) throw InputError((fs::path(dir) / m.id).string(), "exists and is not a shearbench field export; choose another folder");
-  }
-  for (const auto& m : snap.models) {
-    auto model = make_model(m.id, state.sensor(), state.indenter());
-    model->set_params(m.params);
-    PredictionExport e;
-    e.name = session_.title + " " + m.id;
-    e.sample_id = session_options_.sample_id.empty() ? "path" : session_options_.sample_id;
-    e.provenance = "shearbench " SHEARBENCH_VERSION " workbench field export: model " + m.id + ", params " +
-                   m.params.to_json().dump() + ", the session's pose path (" + std::to_string(path.size()) +
-                   " poses) of " + session_.title;
-    e.shearbench = {{"export", true}, {"model", m.id}, {"params", m.params.to_json()}};
-    e.sensor = state.sensor();
-    e.indenter = state.indenter();
-    e.dt_s = snap.dt_s;
-    e.X_EI = path;
-    e.disp_px = predict_along(*model, path, snap.dt_s);
-    write_prediction_dataset((fs::path(dir) / m.id).string(), e);
-  }
-  return static_cast<int>(snap.models.size());
+  FieldExportRequest r;
+  r.dir = dir;
+  r.title = session_.title;
+  if (!session_options_.sample_id.empty()) r.sample_id = session_options_.sample_id;
+  r.sensor = state.sensor();
+  r.indenter = state.indenter();
+  for (const auto& m : snap.models) r.models.push_back({m.id, m.params});
+  r.path = state.path();
+  r.dt_s = snap.dt_s;
+  return r;
+}
+
+void Frontend::start_export(const std::string& dir) {
+  FieldExportRequest r = export_request(dir);
+  check_export_target(r);   // a refused folder is reported now, not by the worker
+  workbench_.start_export(std::move(r));
+  workbench_.set_message("exporting fields to " + dir + " ...");
+}
+
+int Frontend::export_fields(const std::string& dir) {
+  start_export(dir);
+  workbench_.wait_for_export();
+  const FieldExportStatus st = workbench_.export_status();
+  if (st.phase != FieldExportStatus::Phase::Done)
+    throw std::runtime_error("field export to " + dir + ": " + (st.error.empty() ? "did not finish" : st.error));
+  return st.written;
 }
 
 void Frontend::switch_model(int slot, const std::string& model_id) {

@@ -45,8 +45,11 @@ class Frontend {
   // Session files (core/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
   void open_session_file(const std::string& path);
-  // Writes every model's field along the current path as <dir>/<model id>/ (tsd/1); returns how many.
-  // Throws InputError when a target folder exists and is not an earlier export.
+  // Every model's field along the current path as <dir>/<model id>/ (tsd/1), on the workbench's export
+  // worker (core/field_export). start_export returns at once; InputError when a target folder exists
+  // and is not an earlier export (checked before the worker starts). export_fields (headless renders)
+  // also waits and returns how many were written; it throws when the export did not finish.
+  void start_export(const std::string& dir);
   int export_fields(const std::string& dir);
   // The named region of the last drawn frame (ui::Workbench::regions) cut out of `image`.
   ui::Image crop_to_region(const ui::Image& image, const std::string& region) const;
@@ -59,6 +62,7 @@ class Frontend {
 
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
+  FieldExportRequest export_request(const std::string& dir) const;
   void handle_answer(const std::string& id, int button);
   void apply_session_file(const SessionFile& file);
   std::string work_fingerprint() const;

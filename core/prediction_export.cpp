@@ -47,7 +47,8 @@ void write_prediction_dataset(const std::string& dir, const PredictionExport& e)
 }
 
 std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s,
-                                             const std::atomic<bool>* cancel) {
+                                             const std::atomic<bool>* cancel,
+                                             const std::function<void(std::size_t)>& on_steps) {
   std::vector<std::vector<Vec2>> fields;
   fields.reserve(path.size());
   model.reset();
@@ -56,7 +57,9 @@ std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vecto
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return {};
     model.step(X, dt_s, &out);
     fields.push_back(out.disp_px);
+    if (on_steps && fields.size() % kPredictReportEvery == 0) on_steps(fields.size());
   }
+  if (on_steps && fields.size() % kPredictReportEvery != 0) on_steps(fields.size());
   return fields;
 }
 

@@ -3,6 +3,7 @@
 // the predicted markers.csv, the indenter mesh under meshes/), so predictions and measurements share one
 // format. Used by `shearbench simulate` and the workbench's field export.
 #include <atomic>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -31,8 +32,11 @@ struct PredictionExport {
 void write_prediction_dataset(const std::string& dir, const PredictionExport& e);
 
 // Steps `model` (reset first) along `path` and returns its field at every pose; empty when `cancel`
-// is set before the end.
+// is set before the end. `on_steps`, when given, is called with the number of steps done every
+// kPredictReportEvery steps and once at the end (progress bars).
+inline constexpr std::size_t kPredictReportEvery = 64;
 std::vector<std::vector<Vec2>> predict_along(ShearModel& model, const std::vector<Pose>& path, double dt_s,
-                                             const std::atomic<bool>* cancel = nullptr);
+                                             const std::atomic<bool>* cancel = nullptr,
+                                             const std::function<void(std::size_t)>& on_steps = {});
 
 }  // namespace sb

@@ -252,12 +252,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
       if (screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size()))
         req.screenshot_region = regions_[screenshot_region_ - 1].name;
     }
-    // Every model's field along the current path (replay or drags) as tsd/1 datasets, one per model.
-    ImGui::SetNextItemWidth(-110);
-    ImGui::InputText("##exportdir", export_path_, sizeof export_path_);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Export fields")) req.export_fields = std::string(export_path_);
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("writes <folder>/<model>/ (tsd/1) for every model");
+    draw_export_row(req);
   }
   if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
     draw_variant_switches(req);
@@ -327,6 +322,45 @@ void Workbench::update_rmse_series() {
   req.measured_px = measured_.disp_px;
   rmse_job_.start(std::move(req));
   rmse_params_ = std::move(values);
+}
+
+// Every model's field along the current path (replay or drags) as tsd/1 datasets, one per model; while
+// the worker computes them, a progress bar and Cancel take the row's place.
+void Workbench::draw_export_row(WorkbenchRequest& req) {
+  const FieldExportStatus st = export_job_.status();
+  if (st.running()) {
+    char label[96];
+    std::snprintf(label, sizeof label, "exporting  %s  %.0f %%", st.stage.c_str(), 100.0 * st.fraction);
+    ImGui::ProgressBar(static_cast<float>(st.fraction), ImVec2(-70, 0), label);
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Cancel##export")) export_job_.cancel();
+    return;
+  }
+  ImGui::SetNextItemWidth(-110);
+  ImGui::InputText("##exportdir", export_path_, sizeof export_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Export fields")) req.export_fields = std::string(export_path_);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("writes <folder>/<model>/ (tsd/1) for every model");
+}
+
+void Workbench::start_export(FieldExportRequest request) {
+  export_reported_ = false;
+  export_job_.start(std::move(request));
+}
+
+// Once per export, when it has ended: what happened goes to the status bar.
+void Workbench::report_export() {
+  if (export_reported_) return;
+  const FieldExportStatus st = export_job_.status();
+  using Phase = FieldExportStatus::Phase;
+  if (st.phase == Phase::Running || st.phase == Phase::Idle) return;
+  export_reported_ = true;
+  if (st.phase == Phase::Done)
+    message_ = "exported " + std::to_string(st.written) + " fields (tsd/1) to " + st.dir;
+  else if (st.phase == Phase::Cancelled)
+    message_ = "export cancelled; nothing was written to " + st.dir;
+  else
+    message_ = "error: export to " + st.dir + ": " + st.error;
 }
 
 void Workbench::wait_for_background() const {
@@ -531,7 +565,7 @@ void Workbench::draw_fields(float width) {
 
 bool Workbench::animating() const {
   return state_ != nullptr && (snap_.playing || viewport_.busy() || state_->version() != snap_.version ||
-                               state_->pending_edits() > 0);
+                               state_->pending_edits() > 0 || export_job_.status().running() || !export_reported_);
 }
 
 WorkbenchRequest Workbench::draw(double frame_ms) {
@@ -546,6 +580,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   if (auto_scale_) auto_scale();
   update_rmse_series();
   update_corrected_series();
+  report_export();
   if (options_.interactive && question_id_.empty()) apply_actions(req);
 
   const ImGuiViewport* vp = ImGui::GetMainViewport();

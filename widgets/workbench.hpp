@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/app_state.hpp"
+#include "core/field_export.hpp"
 #include "core/fit_job.hpp"
 #include "core/residual_view.hpp"
 #include "core/rmse_series.hpp"
@@ -83,6 +84,11 @@ class Workbench {
   // Headless renders: blocks until background computations (RMSE series) are done, so a render is
   // deterministic.
   void wait_for_background() const;
+  // The field export on its worker thread (core/field_export): the Export row shows its progress and a
+  // Cancel button; the status bar says how it ended.
+  void start_export(FieldExportRequest request);
+  FieldExportStatus export_status() const { return export_job_.status(); }
+  void wait_for_export() const { export_job_.wait(); }
   // Shown in the Session section ("unsaved changes").
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
   void set_session_path(const std::string& path);
@@ -113,6 +119,8 @@ class Workbench {
   void draw_fit_panel();
   void draw_residual_panel(WorkbenchRequest& req);
   void draw_variant_switches(WorkbenchRequest& req);
+  void draw_export_row(WorkbenchRequest& req);
+  void report_export();
   void update_corrected_series();
   int corrected_slot() const;   // the model panel the residual analysis belongs to (-1: none shown)
   const std::vector<Vec2>* corrected_at_step();
@@ -153,6 +161,8 @@ class Workbench {
   std::vector<ScreenRegion> regions_;
   int screenshot_region_ = 0;   // 0: window, i: regions_[i - 1]
   char export_path_[512] = "fields_export";
+  FieldExportJob export_job_;
+  bool export_reported_ = true;   // the last export's end is in the status bar
   std::optional<ResidualSummary> residual_;
   char residual_path_[512] = "residual.json";
   bool show_residual_fields_ = false;
