@@ -157,8 +157,8 @@ void exp_in_place(double* x, int n) {
   }
 }
 
-void require_finite_pose(const Pose& X_EI, const std::string& model_id) {
-  if (!is_finite(X_EI)) throw std::invalid_argument(model_id + ": the indenter pose X_EI is not finite");
+void require_finite_pose(const Pose& X_EI, std::string_view model_id) {
+  if (!is_finite(X_EI)) throw std::invalid_argument(std::string(model_id) + ": the indenter pose X_EI is not finite");
 }
 
 }  // namespace sb

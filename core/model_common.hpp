@@ -7,6 +7,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/model.hpp"
@@ -105,7 +106,8 @@ void add_outer_products(const double* W, int nw, const double* X, int stride, in
 // A parameter that is really a switch: true when the value is >= 0.5.
 inline bool param_flag(const ParamSet& p, std::string_view name) { return p.get(name) >= 0.5; }
 
-// Throws std::invalid_argument naming the model when a pose is not finite.
-void require_finite_pose(const Pose& X_EI, const std::string& model_id);
+// Throws std::invalid_argument naming the model when a pose is not finite. A string_view: called per
+// slot and step, it must not build a std::string ("tacsl-normalized" is past the small-string buffer).
+void require_finite_pose(const Pose& X_EI, std::string_view model_id);
 
 }  // namespace sb
