@@ -1,6 +1,5 @@
 #include "core/field_export.hpp"
 
-#include <chrono>
 #include <filesystem>
 
 #include "core/error.hpp"
@@ -79,42 +78,23 @@ int export_fields(const FieldExportRequest& req, const Progress& progress) {
 
 // ------------------------------------------------------------------------------------ FieldExportJob
 
-FieldExportJob::~FieldExportJob() {
-  cancel();
-  if (worker_.joinable()) worker_.join();
-}
-
-void FieldExportJob::cancel() { cancel_ = true; }
-
 void FieldExportJob::start(FieldExportRequest request) {
-  cancel();
-  if (worker_.joinable()) worker_.join();
-  cancel_ = false;
-  {
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_ = FieldExportStatus{};
-    status_.phase = FieldExportStatus::Phase::Running;
-    status_.dir = request.dir;
-  }
-  worker_ = std::thread([this, req = std::move(request)] { run(req); });
+  FieldExportStatus running;
+  running.phase = FieldExportStatus::Phase::Running;
+  running.dir = request.dir;
+  job_.start(std::move(running), [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) {
+    run(req, cancel, job);
+  });
 }
 
-FieldExportStatus FieldExportJob::status() const {
-  std::lock_guard<std::mutex> lock(mutex_);
-  return status_;
-}
-
-void FieldExportJob::wait() const {
-  while (status().running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-}
-
-void FieldExportJob::run(const FieldExportRequest& req) {
+void FieldExportJob::run(const FieldExportRequest& req, const std::atomic<bool>& cancel, Job& job) {
   Progress progress;
-  progress.cancel = &cancel_;
-  progress.report = [this](const std::string& stage, double fraction) {
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_.stage = stage;
-    status_.fraction = fraction;
+  progress.cancel = &cancel;
+  progress.report = [&job](const std::string& stage, double fraction) {
+    job.update([&](FieldExportStatus& s) {
+      s.stage = stage;
+      s.fraction = fraction;
+    });
   };
   FieldExportStatus end;
   end.dir = req.dir;
@@ -128,10 +108,11 @@ void FieldExportJob::run(const FieldExportRequest& req) {
     end.phase = FieldExportStatus::Phase::Failed;
     end.error = e.what();
   }
-  std::lock_guard<std::mutex> lock(mutex_);
-  end.stage = status_.stage;
-  if (end.phase != FieldExportStatus::Phase::Done) end.fraction = status_.fraction;
-  status_ = end;
+  job.update([&](FieldExportStatus& s) {
+    end.stage = s.stage;
+    if (end.phase != FieldExportStatus::Phase::Done) end.fraction = s.fraction;
+    s = std::move(end);
+  });
 }
 
 }  // namespace sb

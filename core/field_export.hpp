@@ -7,14 +7,13 @@
 // file and are not interrupted. GL-free, tested in tests/test_field_export.cpp.
 #include <atomic>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/params.hpp"
 #include "core/pose.hpp"
 #include "core/progress.hpp"
+#include "core/status_job.hpp"
 
 namespace sb {
 
@@ -57,18 +56,15 @@ struct FieldExportStatus {
 
 class FieldExportJob {
  public:
-  ~FieldExportJob();
   void start(FieldExportRequest request);   // cancels a running export first
-  void cancel();
-  FieldExportStatus status() const;          // a copy
-  void wait() const;                         // blocks until not running (tests, headless renders)
+  void cancel() { job_.cancel(); }
+  FieldExportStatus status() const { return job_.status(); }   // a copy
+  void wait() const { job_.wait(); }         // blocks until not running (tests, headless renders)
 
  private:
-  void run(const FieldExportRequest& req);
-  std::thread worker_;
-  std::atomic<bool> cancel_{false};
-  mutable std::mutex mutex_;
-  FieldExportStatus status_;
+  using Job = StatusJob<FieldExportStatus>;
+  static void run(const FieldExportRequest& req, const std::atomic<bool>& cancel, Job& job);
+  Job job_;
 };
 
 }  // namespace sb

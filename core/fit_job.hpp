@@ -3,14 +3,12 @@
 // polls a status copy every frame and never waits; Cancel sets a flag the fit checks between Ceres
 // iterations). GL-free, tested in tests/test_fit_job.cpp.
 #include <atomic>
-#include <memory>
-#include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/fit.hpp"
+#include "core/status_job.hpp"
 
 namespace sb {
 
@@ -37,19 +35,15 @@ struct FitJobStatus {
 
 class FitJob {
  public:
-  ~FitJob();
   void start(FitJobRequest request);    // cancels a running fit first
-  void cancel();
-  FitJobStatus status() const;          // a copy
-  void wait() const;                    // blocks until not running (tests, headless)
+  void cancel() { job_.cancel(); }
+  FitJobStatus status() const { return job_.status(); }   // a copy
+  void wait() const { job_.wait(); }    // blocks until not running (tests, headless)
 
  private:
-  void run(const FitJobRequest& req);
-  void set(const std::function<void(FitJobStatus&)>& edit);
-  std::thread worker_;
-  std::atomic<bool> cancel_{false};
-  mutable std::mutex mutex_;
-  FitJobStatus status_;
+  using Job = StatusJob<FitJobStatus>;
+  static void run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job& job);
+  Job job_;
 };
 
 }  // namespace sb
