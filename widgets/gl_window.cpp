@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/atomic_write.hpp"
+#include "widgets/keys.hpp"
 
 #include <GL/glew.h>
 // GLEW before GLFW: GLFW must not pull in the system GL header first.
@@ -66,6 +67,9 @@ GlWindow::GlWindow(const WindowOptions& options) {
   style.FrameRounding = 2;
   style.WindowBorderSize = 1;
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  // After ImGui's callbacks are installed: ours forwards to them and records presses for the shortcuts.
+  imgui_key_callback_ = glfwSetKeyCallback(window_, &GlWindow::on_key);
+  glfwSetWindowUserPointer(window_, this);
   ImGui_ImplOpenGL3_Init("#version 150");
 }
 
@@ -80,7 +84,14 @@ GlWindow::~GlWindow() {
 bool GlWindow::should_close() const { return glfwWindowShouldClose(window_); }
 void GlWindow::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 
+void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
+  if (self != nullptr && self->imgui_key_callback_ != nullptr) self->imgui_key_callback_(window, key, scancode, action, mods);
+  if (action == GLFW_PRESS || action == GLFW_REPEAT) record_key_press(key, mods, action == GLFW_REPEAT);
+}
+
 void GlWindow::begin_frame(double wait_s) {
+  clear_key_presses();   // presses of a frame that did not ask for them are not replayed later
   if (wait_s > 0)
     glfwWaitEventsTimeout(wait_s);
   else

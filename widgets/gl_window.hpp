@@ -47,7 +47,10 @@ class GlWindow {
   GLFWwindow* handle() const { return window_; }
 
  private:
+  using KeyCallback = void (*)(GLFWwindow*, int, int, int, int);
+  static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
   GLFWwindow* window_ = nullptr;
+  KeyCallback imgui_key_callback_ = nullptr;   // ImGui's GLFW backend; ours forwards to it
 };
 
 // Writes a PNG atomically (temporary file in the same folder, then rename). Throws std::runtime_error.

@@ -36,13 +36,41 @@ const std::vector<KeyBinding>& key_table() {
   return table;
 }
 
+namespace {
+
+struct KeyPress {
+  int key, mods;
+  bool repeat;
+};
+
+// Filled by the window's key callback during the event poll, emptied by pressed_actions(). Main
+// thread only (GLFW calls back on the thread that polls).
+std::vector<KeyPress>& key_presses() {
+  static std::vector<KeyPress> presses;
+  return presses;
+}
+
+}  // namespace
+
+void record_key_press(int key, int mods, bool repeat) { key_presses().push_back({key, mods, repeat}); }
+void clear_key_presses() { key_presses().clear(); }
+
+// From the recorded presses, not ImGui::IsKeyPressed: ImGui 1.86 keeps only whether a key is down at
+// NewFrame, so a tap whose press and release fall in one event poll (a slow frame, a quick tap, a
+// scripted key) was lost. Modifiers count when the event carried them or ImGui sees them held.
 std::vector<Action> pressed_actions() {
   std::vector<Action> actions;
+  std::vector<KeyPress> presses;
+  presses.swap(key_presses());
   const ImGuiIO& io = ImGui::GetIO();
   if (io.WantTextInput) return actions;
-  for (const KeyBinding& k : key_table())
-    if (ImGui::IsKeyPressed(k.key, /*repeat=*/!k.ctrl) && (!k.shift || io.KeyShift) && k.ctrl == io.KeyCtrl)
-      actions.push_back(k.action);
+  for (const KeyPress& p : presses) {
+    const bool shift = io.KeyShift || (p.mods & GLFW_MOD_SHIFT) != 0;
+    const bool ctrl = io.KeyCtrl || (p.mods & GLFW_MOD_CONTROL) != 0;
+    for (const KeyBinding& k : key_table())
+      if (k.key == p.key && (!p.repeat || !k.ctrl) && (!k.shift || shift) && k.ctrl == ctrl)
+        actions.push_back(k.action);
+  }
   return actions;
 }
 

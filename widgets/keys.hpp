@@ -24,8 +24,12 @@ struct KeyBinding {
 };
 
 const std::vector<KeyBinding>& key_table();
-// The actions whose keys were pressed this frame (ignored while a text field has the keyboard).
+// The actions whose keys were pressed since the last call (ignored while a text field has the
+// keyboard). The presses come from record_key_press, which the window's GLFW key callback calls;
+// clear_key_presses drops the ones nobody asked for (GlWindow::begin_frame, before polling).
 std::vector<Action> pressed_actions();
+void record_key_press(int key, int mods, bool repeat);
+void clear_key_presses();
 void draw_help_overlay(bool* open);
 
 }  // namespace sb::ui
