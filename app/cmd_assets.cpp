@@ -3,7 +3,7 @@
 #include <iostream>
 
 #include "app/command.hpp"
-#include "core/indenter.hpp"
+#include "core/geometry/indenter.hpp"
 
 namespace sb::app {
 namespace {
@@ -23,7 +23,12 @@ const Asset kAssets[] = {
     {"box_10x10x5", [] { return make_box_mesh(Vec3(10e-3, 10e-3, 5e-3)); }},
 };
 
-int run_assets(const std::string& out_dir, const GlobalOptions& global) {
+struct AssetsArgs {
+  std::string out = "assets";
+};
+
+int run_assets(const AssetsArgs& args, const GlobalOptions& global) {
+  const std::string& out_dir = args.out;
   for (const auto& a : kAssets) {
     const TriMesh mesh = a.make();
     const std::string path = (std::filesystem::path(out_dir) / (std::string(a.name) + ".obj")).string();
@@ -34,13 +39,12 @@ int run_assets(const std::string& out_dir, const GlobalOptions& global) {
   return 0;
 }
 
-const CommandRegistrar kRegistrar{
-    "assets", "write the procedural indenter meshes (OBJ, metres) the scenes use", 80,
-    [](CLI::App& sub, const GlobalOptions& global) -> std::function<int()> {
-      auto out = std::make_shared<std::string>("assets");
-      sub.add_option("--out", *out, "output directory (default: assets)");
-      return [out, &global] { return run_assets(*out, global); };
-    }};
+void add_flags(CLI::App& sub, AssetsArgs& a) {
+  sub.add_option("--out", a.out, "output directory (default: assets)");
+}
+
+const Subcommand<AssetsArgs> kSubcommand{
+    "assets", "write the procedural indenter meshes (OBJ, metres) the scenes use", 80, add_flags, run_assets};
 
 }  // namespace
 }  // namespace sb::app

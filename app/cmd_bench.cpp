@@ -1,5 +1,5 @@
 // `shearbench bench --model M --envs N --steps S [--repeat R] [--profile] [--json OUT]`: the benchmark
-// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/bench_run).
+// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/models/bench_run).
 // Prints a table (median / min / max ms per batched step over k = 3..S-1, sensor-steps per second) and,
 // with --profile, the CPU time per phase from a separate, instrumented run.
 #include <tbb/global_control.h>
@@ -12,9 +12,9 @@
 #include <sstream>
 
 #include "app/command.hpp"
-#include "core/bench_run.hpp"
-#include "core/error.hpp"
-#include "core/tsd.hpp"
+#include "core/models/bench_run.hpp"
+#include "core/base/error.hpp"
+#include "core/data/tsd.hpp"
 
 namespace sb::app {
 namespace {
@@ -141,26 +141,24 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "bench", "time the shear models on the BENCH_WORKLOAD peg grasp (ms per batched step)", 80,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<BenchArgs>();
-      sub.add_option("--model", a->model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized | all")
-          ->capture_default_str();
-      sub.add_option("--envs", a->envs, "environments (2 sensors each); repeatable; default 256 512 1024")
-          ->check(CLI::PositiveNumber);
-      sub.add_option("--steps", a->steps,
-                     "steps run, k = 0..S-1 (4..50); k = 0..2 are warm-up, statistics over k = 3..S-1; "
-                     "23 is the workload's definition, more adds the later hold/slide steps")
-          ->check(CLI::Range(kBenchWarmupSteps + 1, kBenchMaxSteps))
-          ->capture_default_str();
-      sub.add_option("--repeat", a->repeat, "run each case R times and report the run with the lowest median")
-          ->check(CLI::PositiveNumber)
-          ->capture_default_str();
-      sub.add_flag("--profile", a->profile, "add an instrumented run: CPU time per phase");
-      sub.add_option("--json", a->json_out, "write the results as JSON (atomically)");
-      return [a, &g] { return run_bench(*a, g); };
-    });
+void add_flags(CLI::App& sub, BenchArgs& a) {
+  sub.add_option("--model", a.model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized | all")
+      ->capture_default_str();
+  sub.add_option("--envs", a.envs, "environments (2 sensors each); repeatable; default 256 512 1024")
+      ->check(CLI::PositiveNumber);
+  sub.add_option("--steps", a.steps,
+                 "steps run, k = 0..S-1 (4..50); k = 0..2 are warm-up, statistics over k = 3..S-1; "
+                 "23 is the workload's definition, more adds the later hold/slide steps")
+      ->check(CLI::Range(kBenchWarmupSteps + 1, kBenchMaxSteps))
+      ->capture_default_str();
+  sub.add_option("--repeat", a.repeat, "run each case R times and report the run with the lowest median")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sub.add_flag("--profile", a.profile, "add an instrumented run: CPU time per phase");
+  sub.add_option("--json", a.json_out, "write the results as JSON (atomically)");
+}
+
+const Subcommand<BenchArgs> kSubcommand{"bench", "time the shear models on the BENCH_WORKLOAD peg grasp (ms per batched step)", 80, add_flags, run_bench};
 
 }  // namespace
 }  // namespace sb::app

@@ -7,8 +7,8 @@
 #include <map>
 
 #include "app/command.hpp"
-#include "core/data_root.hpp"
-#include "core/tsd.hpp"
+#include "core/base/data_root.hpp"
+#include "core/data/tsd.hpp"
 
 namespace sb::app {
 namespace {
@@ -76,13 +76,11 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)", 40,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<CheckArgs>();
-      sub.add_option("--dataset", a->dataset, "dataset folder (data:... resolves through the data root)")->required();
-      return [a, &g] { return run_check(*a, g); };
-    });
+void add_flags(CLI::App& sub, CheckArgs& a) {
+  add_dataset_flag(sub, a.dataset);
+}
+
+const Subcommand<CheckArgs> kSubcommand{"check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)", 40, add_flags, run_check};
 
 }  // namespace
 }  // namespace sb::app

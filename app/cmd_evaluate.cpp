@@ -1,13 +1,13 @@
 // `shearbench evaluate --dataset DIR --model M|all [--params P.json] [--split S] --json OUT [--markdown OUT.md]`:
 // runs models over a tsd/1 dataset's measured poses and reports RMSE and cosine similarity per motion
-// type and overall (core/evaluate.hpp), as JSON and as the paper's calibration-table layout in Markdown.
+// type and overall (core/calibration/evaluate.hpp), as JSON and as the paper's calibration-table layout in Markdown.
 #include <cstdio>
 #include <iostream>
 
 #include "app/command.hpp"
-#include "core/data_root.hpp"
-#include "core/evaluate.hpp"
-#include "core/json_read.hpp"
+#include "core/base/data_root.hpp"
+#include "core/calibration/evaluate.hpp"
+#include "core/data/json_read.hpp"
 
 namespace sb::app {
 namespace {
@@ -51,18 +51,16 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "evaluate", "score shear models against a tsd/1 dataset (RMSE and CS per motion type)", 35,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<EvaluateArgs>();
-      sub.add_option("--dataset", a->dataset, "dataset folder (data:... resolves through the data root)")->required();
-      sub.add_option("--model", a->model, "model id or 'all'")->required();
-      sub.add_option("--params", a->params, "parameter JSON: {model: {name: value}} or a flat {name: value}");
-      sub.add_option("--split", a->split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));
-      sub.add_option("--json", a->json_out, "write the results as JSON")->required();
-      sub.add_option("--markdown", a->markdown_out, "write the table as Markdown");
-      return [a, &g] { return run_evaluate(*a, g); };
-    });
+void add_flags(CLI::App& sub, EvaluateArgs& a) {
+  add_dataset_flag(sub, a.dataset);
+  sub.add_option("--model", a.model, "model id or 'all'")->required();
+  add_params_flag(sub, a.params);
+  sub.add_option("--split", a.split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));
+  sub.add_option("--json", a.json_out, "write the results as JSON")->required();
+  sub.add_option("--markdown", a.markdown_out, "write the table as Markdown");
+}
+
+const Subcommand<EvaluateArgs> kSubcommand{"evaluate", "score shear models against a tsd/1 dataset (RMSE and CS per motion type)", 35, add_flags, run_evaluate};
 
 }  // namespace
 }  // namespace sb::app

@@ -1,6 +1,6 @@
 // `shearbench fit --dataset DIR --model M [--stages a,b] [--joint] [--px-scale] [--robust huber] --out P.json`:
 // staged least-squares calibration of one model (or 'all') on the dataset's calibration split
-// (core/fit.hpp). The parameter file is written once, atomically, when every stage is done. Ctrl-C or
+// (core/calibration/fit.hpp). The parameter file is written once, atomically, when every stage is done. Ctrl-C or
 // SIGTERM cancels: nothing is written to --out (an existing file stays as it was) and the exit code is
 // 130; with --checkpoint FILE the completed stages are kept in that separate file as they finish.
 #include <atomic>
@@ -9,10 +9,10 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/data_root.hpp"
-#include "core/evaluate.hpp"
-#include "core/fit_data.hpp"
-#include "core/json_read.hpp"
+#include "core/base/data_root.hpp"
+#include "core/calibration/evaluate.hpp"
+#include "core/calibration/fit_data.hpp"
+#include "core/data/json_read.hpp"
 
 namespace sb::app {
 namespace {
@@ -88,25 +88,23 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<FitArgs>();
-      sub.add_option("--dataset", a->dataset, "dataset folder (data:... resolves through the data root)")->required();
-      sub.add_option("--model", a->model, "model id or 'all'")->required();
-      sub.add_option("--stages", a->stages, "stages to run (default: the model's whole table); 'joint' too")
-          ->delimiter(',');
-      sub.add_flag("--joint", a->joint, "finish with a joint refinement of every stage's parameters");
-      sub.add_flag("--px-scale", a->px_scale, "the joint refinement also fits the image scale (px/m)");
-      sub.add_option("--robust", a->robust, "robust loss: none | huber | cauchy")
-          ->check(CLI::IsMember({"none", "huber", "cauchy"}));
-      sub.add_option("--robust-scale", a->robust_scale_px, "where the robust loss bends (px)");
-      sub.add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations per stage");
-      sub.add_option("--start", a->start, "start parameters (JSON keyed by model id, or flat for one model)");
-      sub.add_option("--out", a->out, "parameter file to write (atomically, when the fit is done)")->required();
-      sub.add_option("--checkpoint", a->checkpoint, "also write the completed stages here after every stage");
-      return [a, &g] { return run_fit(*a, g); };
-    });
+void add_flags(CLI::App& sub, FitArgs& a) {
+  add_dataset_flag(sub, a.dataset);
+  sub.add_option("--model", a.model, "model id or 'all'")->required();
+  sub.add_option("--stages", a.stages, "stages to run (default: the model's whole table); 'joint' too")
+      ->delimiter(',');
+  sub.add_flag("--joint", a.joint, "finish with a joint refinement of every stage's parameters");
+  sub.add_flag("--px-scale", a.px_scale, "the joint refinement also fits the image scale (px/m)");
+  sub.add_option("--robust", a.robust, "robust loss: none | huber | cauchy")
+      ->check(CLI::IsMember({"none", "huber", "cauchy"}));
+  sub.add_option("--robust-scale", a.robust_scale_px, "where the robust loss bends (px)");
+  sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
+  sub.add_option("--start", a.start, "start parameters (JSON keyed by model id, or flat for one model)");
+  sub.add_option("--out", a.out, "parameter file to write (atomically, when the fit is done)")->required();
+  sub.add_option("--checkpoint", a.checkpoint, "also write the completed stages here after every stage");
+}
+
+const Subcommand<FitArgs> kSubcommand{"fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36, add_flags, run_fit};
 
 }  // namespace
 }  // namespace sb::app

@@ -13,9 +13,9 @@ namespace sb::app {
 namespace {
 
 struct GuiArgs {
-  std::string scene, dataset, sample, indenter_mesh, size = "1280x800", fots = "fots", tacsl = "tacsl";
+  SessionSource open;
+  std::string size = "1280x800";
   int profile = 0;
-  double indenter_scale = 0.002;
   std::string headless_out = "shearbench_headless.png";
   std::string session;
   double autosave_interval_s = 30.0;
@@ -47,13 +47,9 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<std::string> args = {"xvfb-run", "-a", "-s", "-screen 0 1600x900x24", self};
   if (!g.data_root_flag.empty()) args.insert(args.end(), {"--data", g.data_root_flag});
-  args.insert(args.end(), {"render", "--size", "1600x900", "--out", a.headless_out, "--report", "--fots", a.fots,
-                           "--tacsl", a.tacsl});
-  if (!a.scene.empty()) args.insert(args.end(), {"--scene", a.scene});
-  if (!a.dataset.empty()) args.insert(args.end(), {"--dataset", a.dataset});
-  if (!a.sample.empty()) args.insert(args.end(), {"--sample", a.sample});
-  if (!a.indenter_mesh.empty())
-    args.insert(args.end(), {"--indenter-mesh", a.indenter_mesh, "--indenter-scale", std::to_string(a.indenter_scale)});
+  args.insert(args.end(), {"render", "--size", "1600x900", "--out", a.headless_out, "--report"});
+  const std::vector<std::string> source = source_arguments(a.open);
+  args.insert(args.end(), source.begin(), source.end());
   if (a.profile > 0) args.insert(args.end(), {"--profile", std::to_string(a.profile)});
   if (!a.residual.empty()) args.insert(args.end(), {"--residual", a.residual});
   std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
@@ -67,15 +63,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
 
 int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   if (!ui::display_available()) return run_headless(a, g);
-  SessionOptions so;
-  so.scene_path = a.scene;
-  so.dataset_dir = a.dataset;
-  so.sample_id = a.sample;
-  so.data_root = g.data_root_flag;
-  so.fots_id = a.fots;
-  so.tacsl_id = a.tacsl;
-  so.indenter_mesh = a.indenter_mesh;
-  so.indenter_scale = a.indenter_scale;
+  const SessionOptions so{a.open, g.data_root_flag};
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.keep_work = a.profile == 0;
@@ -94,26 +82,18 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar{
-    "gui", "the interactive workbench (default command); headless without a display", 5,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<GuiArgs>();
-      sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
-      sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
-      sub.add_option("--sample", a->sample, "sample id (default: the first)");
-      sub.add_option("--session", a->session, "open a saved session file (JSON)");
-      sub.add_option("--autosave-interval", a->autosave_interval_s, "seconds of unsaved changes before an autosave")
-          ->capture_default_str()->check(CLI::PositiveNumber);
-      sub.add_option("--size", a->size, "window size")->capture_default_str();
-      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
-      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
-      sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
-      sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
-      sub.add_option("--profile", a->profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
-      sub.add_option("--residual", a->residual, "show a residual analysis (shearbench residual --json)");
-      sub.add_option("--headless-out", a->headless_out, "PNG written when there is no display")->capture_default_str();
-      return [a, &g] { return run_gui(*a, g); };
-    }};
+void add_flags(CLI::App& sub, GuiArgs& a) {
+  add_source_options(sub, a.open);
+  sub.add_option("--session", a.session, "open a saved session file (JSON)");
+  sub.add_option("--autosave-interval", a.autosave_interval_s, "seconds of unsaved changes before an autosave")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  sub.add_option("--size", a.size, "window size")->capture_default_str();
+  sub.add_option("--profile", a.profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
+  sub.add_option("--residual", a.residual, "show a residual analysis (shearbench residual --json)");
+  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display")->capture_default_str();
+}
+
+const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display", 5, add_flags, run_gui};
 
 }  // namespace
 }  // namespace sb::app

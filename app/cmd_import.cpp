@@ -2,8 +2,8 @@
 #include <cstdio>
 
 #include "app/command.hpp"
-#include "core/error.hpp"
-#include "core/importers.hpp"
+#include "core/base/error.hpp"
+#include "core/data/importers.hpp"
 
 namespace sb::app {
 namespace {
@@ -14,7 +14,7 @@ struct ImportArgs {
   double mm_per_px = 0.0634;
 };
 
-int run(const ImportArgs& a) {
+int run_import(const ImportArgs& a, const GlobalOptions&) {
   TrackerOptions opts;
   parse_grid(a.grid, "--grid", opts);
   ImportReport report;
@@ -28,19 +28,19 @@ int run(const ImportArgs& a) {
   return 0;
 }
 
-const CommandRegistrar kRegistrar(
-    "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats) into tsd/1", 41,
-    [](CLI::App& sub, const GlobalOptions&) -> std::function<int()> {
-      auto args = std::make_shared<ImportArgs>();
-      sub.add_option("--source", args->source, "gsrobotics | incipient_slip | fots | feats")->required();
-      sub.add_option("--in", args->in, "raw folder (e.g. <data>/raw/gsrobotics_tracking)")->required();
-      sub.add_option("--out", args->out, "output directory (video sources: one dataset per recording inside)")
-          ->required();
-      sub.add_option("--grid", args->grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
-      sub.add_option("--mm-per-px", args->mm_per_px, "scale for video sources")->capture_default_str();
-      sub.add_flag("--frames", args->frames, "video sources: also store the frames as PNG (the workbench shows them)");
-      return [args]() { return run(*args); };
-    });
+void add_flags(CLI::App& sub, ImportArgs& a) {
+  sub.add_option("--source", a.source, "gsrobotics | incipient_slip | fots | feats")->required();
+  sub.add_option("--in", a.in, "raw folder (e.g. <data>/raw/gsrobotics_tracking)")->required();
+  sub.add_option("--out", a.out, "output directory (video sources: one dataset per recording inside)")
+      ->required();
+  sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
+  sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();
+  sub.add_flag("--frames", a.frames, "video sources: also store the frames as PNG (the workbench shows them)");
+}
+
+const Subcommand<ImportArgs> kSubcommand{
+    "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats) into tsd/1", 41, add_flags,
+    run_import};
 
 }  // namespace
 }  // namespace sb::app

@@ -7,8 +7,8 @@
 #include <iostream>
 #include <sstream>
 
-#include "core/reproducible.hpp"
-#include "core/error.hpp"
+#include "core/base/reproducible.hpp"
+#include "core/base/error.hpp"
 
 #include "app/command.hpp"
 #include "app/frontend.hpp"
@@ -18,11 +18,11 @@ namespace {
 
 struct RenderArgs {
   std::string session;
-  std::string scene, dataset, sample, indenter_mesh, size = "1600x900", out, camera = "iso", fots = "fots", tacsl = "tacsl";
+  SessionSource open;
+  std::string size = "1600x900", out, camera = "iso";
   int step = -2;     // -2: the last step
   int frame = -2;    // dataset frame (same as step)
   int profile = 0;
-  double indenter_scale = 0.002;
   bool no_timings = false;
   bool report = false;
   bool visible = false;
@@ -44,15 +44,7 @@ Vec3 parse_mm_triple(const std::string& text) {
 }
 
 int run_render(const RenderArgs& a, const GlobalOptions& g) {
-  SessionOptions so;
-  so.scene_path = a.scene;
-  so.dataset_dir = a.dataset;
-  so.sample_id = a.sample;
-  so.data_root = g.data_root_flag;
-  so.fots_id = a.fots;
-  so.tacsl_id = a.tacsl;
-  so.indenter_mesh = a.indenter_mesh;
-  so.indenter_scale = a.indenter_scale;
+  const SessionOptions so{a.open, g.data_root_flag};
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.visible = a.visible;
@@ -102,35 +94,27 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar{
-    "render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<RenderArgs>();
-      sub.add_option("--scene", a->scene, "scene JSON (default: scenes/default.json)");
-      sub.add_option("--session", a->session, "a saved or autosaved session file (JSON)");
-      sub.add_option("--dataset", a->dataset, "replay a tsd/1 dataset folder");
-      sub.add_option("--sample", a->sample, "sample id of the dataset (default: the first)");
-      sub.add_option("--frame", a->frame, "dataset frame to show (= step)");
-      sub.add_option("--step", a->step, "step to show (default: the last)");
-      sub.add_option("--size", a->size, "window size WIDTHxHEIGHT")->capture_default_str();
-      sub.add_option("--camera", a->camera, "iso | top | side")->capture_default_str();
-      sub.add_option("--indenter-mesh", a->indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
-      sub.add_option("--indenter-scale", a->indenter_scale, "mesh units to metres")->capture_default_str();
-      sub.add_option("--fots", a->fots, "fots | fots-reimpl")->capture_default_str();
-      sub.add_option("--tacsl", a->tacsl, "tacsl | tacsl-normalized")->capture_default_str();
-      sub.add_option("--out", a->out, "PNG to write")->required();
-      sub.add_option("--profile", a->profile, "first run N frames of a synthetic drag and print frame-time percentiles");
-      sub.add_flag("--no-timings", a->no_timings, "hide timings in the status bar (deterministic images)");
-      sub.add_flag("--report", a->report, "print model step times and field magnitudes");
-      sub.add_option("--drag-mm", a->drag_mm, "then drag the indenter to x,y,z (mm)");
-      sub.add_option("--drag-twist-deg", a->drag_twist_deg, "... twisting it by this angle about the normal");
-      sub.add_flag("--visible", a->visible, "show the window while rendering");
-      sub.add_option("--panel", a->panel, "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
-      sub.add_option("--export-fields", a->export_fields, "also write every model's field along the path as DIR/<model>/ (tsd/1)");
-      sub.add_option("--residual", a->residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
-      sub.add_flag("--residual-fields", a->residual_fields, "draw measured - model instead of the model fields");
-      return [a, &g] { return run_render(*a, g); };
-    }};
+void add_flags(CLI::App& sub, RenderArgs& a) {
+  add_source_options(sub, a.open);
+  sub.add_option("--session", a.session, "a saved or autosaved session file (JSON)");
+  sub.add_option("--frame", a.frame, "dataset frame to show (= step)");
+  sub.add_option("--step", a.step, "step to show (default: the last)");
+  sub.add_option("--size", a.size, "window size WIDTHxHEIGHT")->capture_default_str();
+  sub.add_option("--camera", a.camera, "iso | top | side")->capture_default_str();
+  sub.add_option("--out", a.out, "PNG to write")->required();
+  sub.add_option("--profile", a.profile, "first run N frames of a synthetic drag and print frame-time percentiles");
+  sub.add_flag("--no-timings", a.no_timings, "hide timings in the status bar (deterministic images)");
+  sub.add_flag("--report", a.report, "print model step times and field magnitudes");
+  sub.add_option("--drag-mm", a.drag_mm, "then drag the indenter to x,y,z (mm)");
+  sub.add_option("--drag-twist-deg", a.drag_twist_deg, "... twisting it by this angle about the normal");
+  sub.add_flag("--visible", a.visible, "show the window while rendering");
+  sub.add_option("--panel", a.panel, "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
+  sub.add_option("--export-fields", a.export_fields, "also write every model's field along the path as DIR/<model>/ (tsd/1)");
+  sub.add_option("--residual", a.residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
+  sub.add_flag("--residual-fields", a.residual_fields, "draw measured - model instead of the model fields");
+}
+
+const Subcommand<RenderArgs> kSubcommand{"render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60, add_flags, run_render};
 
 }  // namespace
 }  // namespace sb::app

@@ -1,13 +1,13 @@
 // `shearbench report --out docs/fidelity.md [--datasets a,b] [--models m,n] [--analysis notes.md]`:
 // fits every model on each dataset's calibration split, scores it on the validation split, and writes
-// the fidelity page (core/report.hpp) atomically.
+// the fidelity page (core/calibration/report.hpp) atomically.
 #include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include "app/command.hpp"
-#include "core/data_root.hpp"
-#include "core/report.hpp"
+#include "core/base/data_root.hpp"
+#include "core/calibration/report.hpp"
 
 namespace sb::app {
 namespace {
@@ -47,19 +47,17 @@ int run_report(const ReportArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "report", "fit every model on calibration, score on validation, write the fidelity table", 37,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<ReportArgs>();
-      sub.add_option("--datasets", a->datasets, "dataset folders (default: the four twin sets)")->delimiter(',');
-      sub.add_option("--models", a->models, "model ids (default: all)")->delimiter(',');
-      sub.add_option("--analysis", a->analysis, "hand-written Markdown appended after the generated reading");
-      sub.add_option("--robust", a->robust, "robust loss of the fits: none | huber | cauchy")
-          ->check(CLI::IsMember({"none", "huber", "cauchy"}));
-      sub.add_flag("--no-joint", a->no_joint, "skip the joint refinement after the stages");
-      sub.add_option("--out", a->out, "Markdown file to write")->required();
-      return [a, &g] { return run_report(*a, g); };
-    });
+void add_flags(CLI::App& sub, ReportArgs& a) {
+  sub.add_option("--datasets", a.datasets, "dataset folders (default: the four twin sets)")->delimiter(',');
+  sub.add_option("--models", a.models, "model ids (default: all)")->delimiter(',');
+  sub.add_option("--analysis", a.analysis, "hand-written Markdown appended after the generated reading");
+  sub.add_option("--robust", a.robust, "robust loss of the fits: none | huber | cauchy")
+      ->check(CLI::IsMember({"none", "huber", "cauchy"}));
+  sub.add_flag("--no-joint", a.no_joint, "skip the joint refinement after the stages");
+  sub.add_option("--out", a.out, "Markdown file to write")->required();
+}
+
+const Subcommand<ReportArgs> kSubcommand{"report", "fit every model on calibration, score on validation, write the fidelity table", 37, add_flags, run_report};
 
 }  // namespace
 }  // namespace sb::app

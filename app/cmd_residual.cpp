@@ -1,6 +1,6 @@
 // `shearbench residual --dataset DIR --model M [--params P.json] [--effects a,b] --json OUT.json --report OUT.md`:
 // fit M on the calibration split (or take --params as the fixed base), analyse the residual's structure,
-// attribute it to catalogued effects and report the validation error before and after (core/residual.hpp).
+// attribute it to catalogued effects and report the validation error before and after (core/loop/residual.hpp).
 // PNG plots are written beside the Markdown report.
 #include <algorithm>
 #include <cstdio>
@@ -8,12 +8,12 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/data_root.hpp"
-#include "core/effects.hpp"
-#include "core/evaluate.hpp"
-#include "core/fit_data.hpp"
-#include "core/json_read.hpp"
-#include "core/residual.hpp"
+#include "core/base/data_root.hpp"
+#include "core/loop/effects.hpp"
+#include "core/calibration/evaluate.hpp"
+#include "core/calibration/fit_data.hpp"
+#include "core/data/json_read.hpp"
+#include "core/loop/residual.hpp"
 
 namespace sb::app {
 namespace {
@@ -98,23 +98,21 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "residual", "attribute a model's residual to catalogued effects (fit, analyse, select, report)", 39,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<ResidualArgs>();
-      sub.add_option("--dataset", a->dataset, "dataset folder (data:... resolves through the data root)")->required();
-      sub.add_option("--model", a->model, "base model id")->required();
-      sub.add_option("--params", a->params, "fixed base parameters (JSON keyed by model id or flat); default: fit them");
-      sub.add_option("--effects", a->effects, "candidate effects (default: the whole catalogue)")->delimiter(',');
-      sub.add_option("--calibration", a->calibration_ids,
-                     "sample ids that calibrate (the others validate), instead of the dataset's splits")
-          ->delimiter(',');
-      sub.add_option("--max-iterations", a->max_iterations, "Levenberg-Marquardt iterations per stage");
-      sub.add_option("--resamples", a->resamples, "bootstrap resamples");
-      sub.add_option("--json", a->json_out, "JSON result (written atomically)")->required();
-      sub.add_option("--report", a->report_out, "Markdown report; PNG plots are written beside it")->required();
-      return [a, &g] { return run_residual(*a, g); };
-    });
+void add_flags(CLI::App& sub, ResidualArgs& a) {
+  add_dataset_flag(sub, a.dataset);
+  sub.add_option("--model", a.model, "base model id")->required();
+  add_params_flag(sub, a.params, "fixed base parameters (default: fit them)");
+  sub.add_option("--effects", a.effects, "candidate effects (default: the whole catalogue)")->delimiter(',');
+  sub.add_option("--calibration", a.calibration_ids,
+                 "sample ids that calibrate (the others validate), instead of the dataset's splits")
+      ->delimiter(',');
+  sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
+  sub.add_option("--resamples", a.resamples, "bootstrap resamples");
+  sub.add_option("--json", a.json_out, "JSON result (written atomically)")->required();
+  sub.add_option("--report", a.report_out, "Markdown report; PNG plots are written beside it")->required();
+}
+
+const Subcommand<ResidualArgs> kSubcommand{"residual", "attribute a model's residual to catalogued effects (fit, analyse, select, report)", 39, add_flags, run_residual};
 
 }  // namespace
 }  // namespace sb::app

@@ -6,13 +6,13 @@
 #include <filesystem>
 
 #include "app/command.hpp"
-#include "core/reproducible.hpp"
-#include "core/data_root.hpp"
-#include "core/evaluate.hpp"
-#include "core/json_read.hpp"
-#include "core/mesh.hpp"
-#include "core/prediction_export.hpp"
-#include "core/scene.hpp"
+#include "core/base/reproducible.hpp"
+#include "core/base/data_root.hpp"
+#include "core/calibration/evaluate.hpp"
+#include "core/data/json_read.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/calibration/prediction_export.hpp"
+#include "core/data/scene.hpp"
 
 namespace fs = std::filesystem;
 
@@ -85,16 +85,14 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar registrar(
-    "simulate", "run a shear model over a scene and write the predicted field as a tsd/1 dataset", 30,
-    [](CLI::App& sub, const GlobalOptions& g) -> std::function<int()> {
-      auto a = std::make_shared<SimulateArgs>();
-      sub.add_option("--scene", a->scene, "scene JSON (scenes/*.json)")->required();
-      sub.add_option("--model", a->model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized")->required();
-      sub.add_option("--params", a->params, "parameter JSON: {model: {name: value}} or a flat {name: value}");
-      sub.add_option("--out", a->out, "output dataset folder")->required();
-      return [a, &g] { return run_simulate(*a, g); };
-    });
+void add_flags(CLI::App& sub, SimulateArgs& a) {
+  sub.add_option("--scene", a.scene, "scene JSON (scenes/*.json)")->required();
+  sub.add_option("--model", a.model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized")->required();
+  add_params_flag(sub, a.params);
+  sub.add_option("--out", a.out, "output dataset folder")->required();
+}
+
+const Subcommand<SimulateArgs> kSubcommand{"simulate", "run a shear model over a scene and write the predicted field as a tsd/1 dataset", 30, add_flags, run_simulate};
 
 }  // namespace
 }  // namespace sb::app

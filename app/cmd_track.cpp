@@ -11,12 +11,12 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/atomic_write.hpp"
-#include "core/error.hpp"
-#include "core/importers.hpp"
-#include "core/track_eval.hpp"
-#include "core/tsd.hpp"
-#include "core/tracker.hpp"
+#include "core/base/atomic_write.hpp"
+#include "core/base/error.hpp"
+#include "core/data/importers.hpp"
+#include "core/tracking/track_eval.hpp"
+#include "core/data/tsd.hpp"
+#include "core/tracking/tracker.hpp"
 
 namespace fs = std::filesystem;
 
@@ -68,7 +68,8 @@ void compare_tsd(const TrackResult& r, const std::string& sample_dir) {
   print_comparison("vs reference displacements", compare_to_reference(r, rest, disp, true));
 }
 
-int run(const TrackArgs& a, const GlobalOptions& g) {
+int run_track(const TrackArgs& a, const GlobalOptions& g) {
+  if (a.video.empty() && a.frames.empty()) throw InputError("track", "give --video FILE or --frames DIR");
   TrackerOptions opts;
   parse_grid(a.grid, "--grid", opts);
   opts.rest_frames = a.rest_frames;
@@ -101,26 +102,22 @@ int run(const TrackArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-const CommandRegistrar kRegistrar(
-    "track", "track the markers of a video or frames directory into a tsd/1 dataset", 40,
-    [](CLI::App& sub, const GlobalOptions& global) -> std::function<int()> {
-      auto args = std::make_shared<TrackArgs>();
-      auto* video = sub.add_option("--video", args->video, "input video (e.g. .avi)");
-      auto* frames = sub.add_option("--frames", args->frames, "input frames directory (NNNNNN.png)");
-      video->excludes(frames);
-      sub.add_option("--out", args->out, "output tsd/1 dataset directory");
-      sub.add_option("--grid", args->grid, "marker grid ROWSxCOLS (7x9, 8x10, 11x9) or auto")->capture_default_str();
-      sub.add_option("--mm-per-px", args->mm_per_px, "image scale written to the dataset")->capture_default_str();
-      sub.add_option("--rest-frames", args->rest_frames, "frames whose median is the rest")->capture_default_str();
-      sub.add_option("--reference-vendor", args->reference_vendor, "vendor marker_locations CSV to compare with");
-      sub.add_option("--vendor-frame-offset", args->vendor_frame_offset, "our frame = vendor frame - 1 + offset");
-      sub.add_option("--draw", args->draw, "write annotated frames (3x) into this directory (videos)");
-      sub.add_option("--reference-tsd", args->reference_tsd, "tsd/1 sample directory with exact markers.csv");
-      return [args, &global]() {
-        if (args->video.empty() && args->frames.empty()) throw InputError("track", "give --video FILE or --frames DIR");
-        return run(*args, global);
-      };
-    });
+void add_flags(CLI::App& sub, TrackArgs& a) {
+  auto* video = sub.add_option("--video", a.video, "input video (e.g. .avi)");
+  auto* frames = sub.add_option("--frames", a.frames, "input frames directory (NNNNNN.png)");
+  video->excludes(frames);
+  sub.add_option("--out", a.out, "output tsd/1 dataset directory");
+  sub.add_option("--grid", a.grid, "marker grid ROWSxCOLS (7x9, 8x10, 11x9) or auto")->capture_default_str();
+  sub.add_option("--mm-per-px", a.mm_per_px, "image scale written to the dataset")->capture_default_str();
+  sub.add_option("--rest-frames", a.rest_frames, "frames whose median is the rest")->capture_default_str();
+  sub.add_option("--reference-vendor", a.reference_vendor, "vendor marker_locations CSV to compare with");
+  sub.add_option("--vendor-frame-offset", a.vendor_frame_offset, "our frame = vendor frame - 1 + offset");
+  sub.add_option("--draw", a.draw, "write annotated frames (3x) into this directory (videos)");
+  sub.add_option("--reference-tsd", a.reference_tsd, "tsd/1 sample directory with exact markers.csv");
+}
+
+const Subcommand<TrackArgs> kSubcommand{
+    "track", "track the markers of a video or frames directory into a tsd/1 dataset", 40, add_flags, run_track};
 
 }  // namespace
 }  // namespace sb::app

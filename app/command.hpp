@@ -1,9 +1,11 @@
 #pragma once
-// Subcommands register themselves: each app/cmd_<name>.cpp defines one static CommandRegistrar, so
-// adding a subcommand touches no shared file. (app/ sources are compiled into the executable itself,
-// never into a static library, so the registrars are never dropped by the linker.)
+// Subcommands register themselves: each app/cmd_<name>.cpp holds its flags in one struct, a function that
+// declares them and one that runs it, and defines one static Subcommand<Args>, so adding a subcommand
+// touches no shared file. (app/ sources are compiled into the executable itself, never into a static
+// library, so the registrations are never dropped by the linker.)
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -27,10 +29,26 @@ struct CommandInfo {
 
 std::vector<CommandInfo>& command_registry();
 
-struct CommandRegistrar {
-  CommandRegistrar(std::string name, std::string help, int order, CommandSetup setup) {
-    command_registry().push_back({std::move(name), std::move(help), order, std::move(setup)});
+// One subcommand: `Args` holds its flags (defaults in the struct), `add_flags` declares them on the
+// CLI11 subcommand, `run` runs it once they are parsed and returns the exit code.
+template <class Args>
+struct Subcommand {
+  using AddFlags = void (*)(CLI::App& sub, Args& args);
+  using Run = int (*)(const Args& args, const GlobalOptions& global);
+  Subcommand(std::string name, std::string help, int order, AddFlags add_flags, Run run) {
+    command_registry().push_back(
+        {std::move(name), std::move(help), order, [add_flags, run](CLI::App& sub, const GlobalOptions& global) {
+           auto args = std::make_shared<Args>();
+           add_flags(sub, *args);
+           return std::function<int()>([args, run, &global] { return run(*args, global); });
+         }});
   }
 };
+
+// Flags several subcommands share, described once.
+// --dataset DIR (required): a tsd/1 folder; data:... resolves through the data root.
+CLI::Option* add_dataset_flag(CLI::App& sub, std::string& dataset);
+// --params FILE: parameter JSON keyed by model id, or flat for one model.
+CLI::Option* add_params_flag(CLI::App& sub, std::string& params, const std::string& what = "parameter JSON");
 
 }  // namespace sb::app

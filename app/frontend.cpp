@@ -15,10 +15,10 @@
 
 #include <imgui.h>
 
-#include "core/data_root.hpp"
-#include "core/error.hpp"
-#include "core/field_export.hpp"
-#include "core/json_read.hpp"
+#include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
+#include "core/workbench/field_export.hpp"
+#include "core/data/json_read.hpp"
 #include "widgets/panels.hpp"
 
 namespace sb::app {
@@ -99,9 +99,9 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     }
     if (req.open_sample) {
       SessionOptions o = session_options_;
-      o.sample_id = session_.replay.samples.at(*req.open_sample);
-      o.dataset_dir = session_.replay.dataset_dir;
-      o.scene_path.clear();
+      o.open.sample_id = session_.replay.samples.at(*req.open_sample);
+      o.open.dataset_dir = session_.replay.dataset_dir;
+      o.open.scene_path.clear();
       reopen(o);
     }
     if (req.save_session) {
@@ -119,9 +119,9 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
     if (req.open_dataset) {
       SessionOptions o = session_options_;
-      o.dataset_dir = *req.open_dataset;
-      o.sample_id.clear();
-      o.scene_path.clear();
+      o.open.dataset_dir = *req.open_dataset;
+      o.open.sample_id.clear();
+      o.open.scene_path.clear();
       reopen(o);
       workbench_.set_message("opened " + *req.open_dataset);
     }
@@ -176,7 +176,7 @@ FieldExportRequest Frontend::export_request(const std::string& dir) const {
   FieldExportRequest r;
   r.dir = dir;
   r.title = session_.title;
-  if (!session_options_.sample_id.empty()) r.sample_id = session_options_.sample_id;
+  if (!session_options_.open.sample_id.empty()) r.sample_id = session_options_.open.sample_id;
   r.sensor = state.sensor();
   r.indenter = state.indenter();
   for (const auto& m : snap.models) r.models.push_back({m.id, m.params});
@@ -205,8 +205,8 @@ void Frontend::switch_model(int slot, const std::string& model_id) {
   AppState& state = *session_.state;
   state.request_model(static_cast<std::size_t>(slot), make_model(model_id, state.sensor(), state.indenter()));
   // The session remembers the variant (what `gui --fots/--tacsl` would open).
-  if (model_id.rfind("fots", 0) == 0) session_options_.fots_id = model_id;
-  if (model_id.rfind("tacsl", 0) == 0) session_options_.tacsl_id = model_id;
+  if (model_id.rfind("fots", 0) == 0) session_options_.open.fots_id = model_id;
+  if (model_id.rfind("tacsl", 0) == 0) session_options_.open.tacsl_id = model_id;
   workbench_.set_message("switched to " + ui::display_name(model_id));
 }
 
@@ -228,13 +228,9 @@ SessionFile Frontend::current_session_file() const {
   const auto absolute = [](const std::string& p) {
     return p.empty() || p.rfind("data:", 0) == 0 ? p : std::filesystem::absolute(p).lexically_normal().string();
   };
-  f.scene_path = absolute(session_options_.scene_path);
-  f.dataset_dir = absolute(session_options_.dataset_dir);
-  f.sample_id = session_options_.sample_id;
-  f.fots_id = session_options_.fots_id;
-  f.tacsl_id = session_options_.tacsl_id;
-  f.indenter_mesh = session_options_.indenter_mesh;
-  f.indenter_scale = session_options_.indenter_scale;
+  f.open = session_options_.open;
+  f.open.scene_path = absolute(f.open.scene_path);
+  f.open.dataset_dir = absolute(f.open.dataset_dir);
   for (const auto& m : snap.models) f.params[m.id] = m.params.to_json();
   f.path = session_.state->path();
   f.step = snap.step;
@@ -260,13 +256,7 @@ std::string Frontend::work_fingerprint() const {
 
 void Frontend::apply_session_file(const SessionFile& f) {
   SessionOptions o = session_options_;
-  o.scene_path = f.scene_path;
-  o.dataset_dir = f.dataset_dir;
-  o.sample_id = f.sample_id;
-  o.fots_id = f.fots_id;
-  o.tacsl_id = f.tacsl_id;
-  o.indenter_mesh = f.indenter_mesh;
-  o.indenter_scale = f.indenter_scale;
+  o.open = f.open;
   reopen(o);
   AppState& state = *session_.state;
   if (!f.path.empty()) state.request_path(f.path);

@@ -4,8 +4,8 @@
 #include <vector>
 
 #include "app/session.hpp"
-#include "core/session_file.hpp"
-#include "core/unsaved_work.hpp"
+#include "core/workbench/session_file.hpp"
+#include "core/workbench/unsaved_work.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
 
@@ -42,11 +42,11 @@ class Frontend {
   Session& session() { return session_; }
   ui::Workbench& workbench() { return workbench_; }
   void reopen(const SessionOptions& session);
-  // Session files (core/session_file.hpp): what the user made, saved and reopened.
+  // Session files (core/workbench/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
   void open_session_file(const std::string& path);
   // Every model's field along the current path as <dir>/<model id>/ (tsd/1), on the workbench's export
-  // worker (core/field_export). start_export returns at once; InputError when a target folder exists
+  // worker (core/workbench/field_export). start_export returns at once; InputError when a target folder exists
   // and is not an earlier export (checked before the worker starts). export_fields (headless renders)
   // also waits and returns how many were written; it throws when the export did not finish.
   void start_export(const std::string& dir);

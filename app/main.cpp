@@ -6,16 +6,9 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/reproducible.hpp"
-#include "core/progress.hpp"
-#include "core/error.hpp"
-
-namespace sb::app {
-std::vector<CommandInfo>& command_registry() {
-  static std::vector<CommandInfo> registry;
-  return registry;
-}
-}  // namespace sb::app
+#include "core/base/reproducible.hpp"
+#include "core/base/progress.hpp"
+#include "core/base/error.hpp"
 
 int main(int argc, char** argv) {
   using namespace sb::app;

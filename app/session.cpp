@@ -7,12 +7,12 @@
 #include <cmath>
 #include <regex>
 
-#include "core/data_root.hpp"
-#include "core/error.hpp"
-#include "core/json_read.hpp"
-#include "core/metrics.hpp"
-#include "core/model.hpp"
-#include "core/tsd.hpp"
+#include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
+#include "core/data/json_read.hpp"
+#include "core/calibration/metrics.hpp"
+#include "core/models/model.hpp"
+#include "core/data/tsd.hpp"
 
 namespace sb::app {
 
@@ -47,7 +47,7 @@ namespace {
 std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
                                                      std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
-  for (const std::string& id : {std::string("hydroshear"), o.fots_id, o.tacsl_id}) {
+  for (const std::string& id : {std::string("hydroshear"), o.open.fots_id, o.open.tacsl_id}) {
     auto m = make_model(id, scene.sensor, indenter);
     if (auto it = scene.params.find(id); it != scene.params.end()) {
       ParamSet p = m->params();
@@ -83,10 +83,10 @@ Session open_session(const SessionOptions& o) {
   Session s;
   const std::string root = resolve_data_root(o.data_root);
   double indenter_bottom_shift = 0;
-  if (!o.dataset_dir.empty()) {
+  if (!o.open.dataset_dir.empty()) {
     // A dataset replay is a scene with a "dataset" entry: the scene parser builds sensor, indenter, path.
-    const std::string dir = resolve_path(o.dataset_dir, root, fs::current_path().string());
-    std::string sample = o.sample_id;
+    const std::string dir = resolve_path(o.open.dataset_dir, root, fs::current_path().string());
+    std::string sample = o.open.sample_id;
     if (sample.empty()) {
       const Dataset ds = read_dataset(dir);
       if (ds.samples.empty()) throw InputError(ds.json_path(), "the dataset lists no samples");
@@ -94,30 +94,30 @@ Session open_session(const SessionOptions& o) {
     }
     const nlohmann::json j = {{"name", fs::path(dir).filename().string() + " / " + sample},
                               {"dataset", {{"path", dir}, {"sample", sample}}}};
-    s.scene = parse_scene(j, "--dataset " + o.dataset_dir, root, fs::current_path().string());
-  } else if (!o.scene_path.empty()) {
-    s.scene = load_scene(o.scene_path, root);
+    s.scene = parse_scene(j, "--dataset " + o.open.dataset_dir, root, fs::current_path().string());
+  } else if (!o.open.scene_path.empty()) {
+    s.scene = load_scene(o.open.scene_path, root);
   } else if (const std::string def = default_scene_path(); !def.empty()) {
     s.scene = load_scene(def, root);
   } else {
     s.scene = builtin_default_scene();
   }
-  if (!o.indenter_mesh.empty()) {
+  if (!o.open.indenter_mesh.empty()) {
     // The mesh's lowest point is put where the scene's indenter had its lowest point, so the same path
     // presses it in by the same depth.
     const double old_bottom = s.scene.indenter_spec.shape == "sphere" ? -s.scene.indenter_spec.radius_m : 0.0;
     s.scene.indenter_spec = IndenterSpec{};
     s.scene.indenter_spec.shape = "mesh";
-    s.scene.indenter_spec.mesh_path = o.indenter_mesh;
-    s.scene.indenter_spec.scale = o.indenter_scale;
+    s.scene.indenter_spec.mesh_path = o.open.indenter_mesh;
+    s.scene.indenter_spec.scale = o.open.indenter_scale;
     s.scene.indenter_spec.allow_open = true;
-    s.scene.name += " [indenter: " + o.indenter_mesh + "]";
+    s.scene.name += " [indenter: " + o.open.indenter_mesh + "]";
     indenter_bottom_shift = old_bottom;
   }
   const std::string base_dir = s.scene.path.empty() ? std::string() : fs::path(s.scene.path).parent_path().string();
   Warnings warnings;
   auto indenter = std::make_shared<const Indenter>(build_indenter(s.scene.indenter_spec, root, base_dir, &warnings));
-  if (!o.indenter_mesh.empty()) {
+  if (!o.open.indenter_mesh.empty()) {
     const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
     for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
   }
@@ -133,7 +133,7 @@ ui::MetricsFn field_metrics() {
   return [](const std::vector<Vec2>& sim, const std::vector<Vec2>& measured) -> std::optional<ui::FieldMetrics> {
     if (sim.size() != measured.size()) return std::nullopt;
     const MetricsResult r = frame_metrics(sim, measured);
-    // A frame where nothing measured moves is not counted (core/metrics.hpp): no readout then.
+    // A frame where nothing measured moves is not counted (core/calibration/metrics.hpp): no readout then.
     if (r.n == 0) return std::nullopt;
     return ui::FieldMetrics{r.rmse_px, r.n_cs > 0 ? r.cs : std::nan("")};
   };
@@ -162,6 +162,29 @@ std::pair<int, int> parse_size(const std::string& text) {
   std::smatch m;
   if (!std::regex_match(text, m, re)) throw InputError("--size", "expected WIDTHxHEIGHT such as 1600x900, got '" + text + "'");
   return {std::stoi(m[1]), std::stoi(m[2])};
+}
+
+void add_source_options(CLI::App& sub, SessionSource& open) {
+  sub.add_option("--scene", open.scene_path, "scene JSON (default: scenes/default.json)");
+  sub.add_option("--dataset", open.dataset_dir, "replay a tsd/1 dataset folder");
+  sub.add_option("--sample", open.sample_id, "sample id of the dataset (default: the first)");
+  sub.add_option("--indenter-mesh", open.indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
+  sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
+  sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
+  sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
+}
+
+std::vector<std::string> source_arguments(const SessionSource& open) {
+  std::vector<std::string> args = {"--fots", open.fots_id, "--tacsl", open.tacsl_id};
+  const auto add = [&](const char* flag, const std::string& value) {
+    if (!value.empty()) args.insert(args.end(), {flag, value});
+  };
+  add("--scene", open.scene_path);
+  add("--dataset", open.dataset_dir);
+  add("--sample", open.sample_id);
+  if (!open.indenter_mesh.empty())
+    args.insert(args.end(), {"--indenter-mesh", open.indenter_mesh, "--indenter-scale", std::to_string(open.indenter_scale)});
+  return args;
 }
 
 }  // namespace sb::app

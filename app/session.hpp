@@ -2,25 +2,27 @@
 // What the GUI and the headless render open: a scene file (trajectory or dataset sample) turned into an
 // AppState with its three models, plus the measured data of a replayed sample. Shared by cmd_gui and
 // cmd_render so both show the same thing.
+#include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
+#include <vector>
 
-#include "core/app_state.hpp"
-#include "core/scene.hpp"
+#include "core/workbench/app_state.hpp"
+#include "core/data/scene.hpp"
+#include "core/workbench/session_file.hpp"
 #include "widgets/workbench.hpp"
 
 namespace sb::app {
 
 struct SessionOptions {
-  std::string scene_path;     // empty: scenes/default.json, else a built-in sphere press-and-slide
-  std::string dataset_dir;    // replay a tsd/1 dataset instead of a scene
-  std::string sample_id;      // empty: the dataset's first sample
+  SessionSource open;         // what to open (the session file's "open" section)
   std::string data_root;
-  std::string fots_id = "fots";     // or fots-reimpl
-  std::string tacsl_id = "tacsl";   // or tacsl-normalized
-  std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
-  double indenter_scale = 0.002;    // file units to metres for indenter_mesh
 };
+
+// The flags that say what to open (--scene, --dataset, --sample, --indenter-mesh, --indenter-scale,
+// --fots, --tacsl), shared by gui and render, and the same flags back as arguments (gui's headless re-run).
+void add_source_options(CLI::App& sub, SessionSource& open);
+std::vector<std::string> source_arguments(const SessionSource& open);
 
 struct Session {
   Scene scene;
@@ -35,7 +37,7 @@ Session open_session(const SessionOptions& options);
 std::string default_scene_path();
 // The built-in default: a 4 mm sphere pressed 1 mm into the flat pad, then slid 3 mm along +x.
 Scene builtin_default_scene();
-// Error metrics for the field panels (core/metrics.hpp).
+// Error metrics for the field panels (core/calibration/metrics.hpp).
 ui::MetricsFn field_metrics();
 
 // params.json: {"hydroshear": {"mu": 0.5, ...}, "fots": {...}}; load queues the tables on the state.

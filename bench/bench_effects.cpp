@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/effects.hpp"
+#include "core/loop/effects.hpp"
 
 namespace {
 

@@ -7,8 +7,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/bench_run.hpp"
-#include "core/model.hpp"
+#include "core/models/bench_run.hpp"
+#include "core/models/model.hpp"
 
 namespace {
 
@@ -58,7 +58,7 @@ BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots, std::string("fots"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots_reimpl, std::string("fots-reimpl"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, tacsl, std::string("tacsl"));
 
-// BENCH_WORKLOAD.md through the same code as `shearbench bench` (core/bench_run): each iteration resets
+// BENCH_WORKLOAD.md through the same code as `shearbench bench` (core/models/bench_run): each iteration resets
 // the batch and runs steps k = 0..22; the manual time is the median batched step over k = 3..22
 // (counters: that run's min and max, and sensor-steps per second). BM_Workload/<model>/<envs>.
 void BM_Workload(benchmark::State& state, const std::string& model, int envs) {

@@ -6,8 +6,8 @@
 #include <random>
 #include <vector>
 
-#include "core/indenter.hpp"
-#include "core/sdf.hpp"
+#include "core/geometry/indenter.hpp"
+#include "core/geometry/sdf.hpp"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/data_root.hpp"
-#include "core/tracker.hpp"
+#include "core/base/data_root.hpp"
+#include "core/tracking/tracker.hpp"
 
 namespace {
 

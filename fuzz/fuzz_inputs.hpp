@@ -7,14 +7,14 @@
 #include <cstdint>
 #include <string>
 
-#include "core/evaluate.hpp"
-#include "core/json_read.hpp"
-#include "core/mesh.hpp"
-#include "core/model.hpp"
-#include "core/scene.hpp"
-#include "core/residual_view.hpp"
-#include "core/session_file.hpp"
-#include "core/tsd.hpp"
+#include "core/calibration/evaluate.hpp"
+#include "core/data/json_read.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/models/model.hpp"
+#include "core/data/scene.hpp"
+#include "core/loop/residual_view.hpp"
+#include "core/workbench/session_file.hpp"
+#include "core/data/tsd.hpp"
 #include "fuzz/fuzz_common.hpp"
 
 namespace sb::fuzz {

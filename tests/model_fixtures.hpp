@@ -7,9 +7,9 @@
 #include <memory>
 #include <numbers>
 
-#include "core/indenter.hpp"
-#include "core/model.hpp"
-#include "core/sensor.hpp"
+#include "core/geometry/indenter.hpp"
+#include "core/models/model.hpp"
+#include "core/sensor/sensor.hpp"
 
 namespace sbtest {
 

@@ -3,7 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/app_state.hpp"
+#include "core/workbench/app_state.hpp"
 
 using namespace sb;
 

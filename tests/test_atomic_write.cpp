@@ -7,8 +7,8 @@
 
 #include <unistd.h>
 
-#include "core/atomic_write.hpp"
-#include "core/error.hpp"
+#include "core/base/atomic_write.hpp"
+#include "core/base/error.hpp"
 
 namespace fs = std::filesystem;
 

@@ -9,13 +9,13 @@
 
 #include <tbb/task_arena.h>
 
-#include "core/bench_workload.hpp"
-#include "core/fots.hpp"
-#include "core/hydroshear.hpp"
-#include "core/model.hpp"
-#include "core/sdf.hpp"
-#include "core/sensor.hpp"
-#include "core/tacsl.hpp"
+#include "core/models/bench_workload.hpp"
+#include "core/models/fots.hpp"
+#include "core/models/hydroshear.hpp"
+#include "core/models/model.hpp"
+#include "core/geometry/sdf.hpp"
+#include "core/sensor/sensor.hpp"
+#include "core/models/tacsl.hpp"
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)

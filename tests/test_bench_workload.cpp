@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/bench_workload.hpp"
+#include "core/models/bench_workload.hpp"
 
 using namespace sb;
 

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "core/data_root.hpp"
+#include "core/base/data_root.hpp"
 
 namespace fs = std::filesystem;
 

@@ -2,7 +2,7 @@
 #include <cmath>
 #include <memory>
 
-#include "core/effects.hpp"
+#include "core/loop/effects.hpp"
 
 using namespace sb;
 

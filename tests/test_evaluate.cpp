@@ -4,7 +4,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "core/evaluate.hpp"
+#include "core/calibration/evaluate.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

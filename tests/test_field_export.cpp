@@ -5,10 +5,10 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "core/error.hpp"
-#include "core/field_export.hpp"
-#include "core/prediction_export.hpp"
-#include "core/tsd.hpp"
+#include "core/base/error.hpp"
+#include "core/workbench/field_export.hpp"
+#include "core/calibration/prediction_export.hpp"
+#include "core/data/tsd.hpp"
 #include "model_fixtures.hpp"
 
 namespace fs = std::filesystem;

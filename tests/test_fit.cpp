@@ -7,9 +7,9 @@
 #include <atomic>
 #include <cmath>
 
-#include "core/fit.hpp"
-#include "core/indenter.hpp"
-#include "core/sensor.hpp"
+#include "core/calibration/fit.hpp"
+#include "core/geometry/indenter.hpp"
+#include "core/sensor/sensor.hpp"
 
 namespace {
 
@@ -364,9 +364,9 @@ TEST_CASE("HydroShear fits converge from x10 and /10 starts to the same optimum"
 #include <filesystem>
 #include <fstream>
 
-#include "core/fit_data.hpp"
-#include "core/mesh.hpp"
-#include "core/tsd.hpp"
+#include "core/calibration/fit_data.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/data/tsd.hpp"
 
 namespace {
 

@@ -4,9 +4,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/data_root.hpp"
-#include "core/fit_job.hpp"
-#include "core/model.hpp"
+#include "core/base/data_root.hpp"
+#include "core/calibration/fit_job.hpp"
+#include "core/models/model.hpp"
 
 namespace {
 

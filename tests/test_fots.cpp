@@ -1,8 +1,8 @@
 // FOTS (original, lifted to poses) and FOTS (Reimpl.): expected values derived by hand from the
-// formulas in core/fots.hpp.
+// formulas in core/models/fots.hpp.
 #include <catch2/catch.hpp>
 
-#include "core/fots.hpp"
+#include "core/models/fots.hpp"
 #include "model_fixtures.hpp"
 
 using namespace sbtest;

@@ -1,7 +1,7 @@
-// HydroShear: expected values derived by hand from the update rules in core/hydroshear.hpp.
+// HydroShear: expected values derived by hand from the update rules in core/models/hydroshear.hpp.
 #include <catch2/catch.hpp>
 
-#include "core/hydroshear.hpp"
+#include "core/models/hydroshear.hpp"
 #include "model_fixtures.hpp"
 
 using namespace sbtest;

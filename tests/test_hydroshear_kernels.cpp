@@ -1,4 +1,4 @@
-// HydroShear's column kernels (core/hydroshear_kernels) on cases worked out by hand. The whole batch is
+// HydroShear's column kernels (core/models/hydroshear_kernels) on cases worked out by hand. The whole batch is
 // checked against a dense reference loop in test_model_kernels.cpp; these pin each kernel alone.
 #include <catch2/catch.hpp>
 
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/hydroshear_kernels.hpp"
-#include "core/model_common.hpp"
+#include "core/models/hydroshear_kernels.hpp"
+#include "core/models/model_common.hpp"
 
 using namespace sb;
 namespace kernels = sb::hydroshear_kernels;

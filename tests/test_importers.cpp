@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "core/data_root.hpp"
-#include "core/importers.hpp"
-#include "core/track_eval.hpp"
-#include "core/tsd.hpp"
+#include "core/base/data_root.hpp"
+#include "core/data/importers.hpp"
+#include "core/tracking/track_eval.hpp"
+#include "core/data/tsd.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

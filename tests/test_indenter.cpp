@@ -5,8 +5,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/data_root.hpp"
-#include "core/indenter.hpp"
+#include "core/base/data_root.hpp"
+#include "core/geometry/indenter.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

@@ -11,8 +11,8 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "core/data_root.hpp"
-#include "core/mesh.hpp"
+#include "core/base/data_root.hpp"
+#include "core/geometry/mesh.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/metrics.hpp"
+#include "core/calibration/metrics.hpp"
 
 using namespace sb;
 

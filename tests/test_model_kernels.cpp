@@ -8,11 +8,11 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/bench_run.hpp"
-#include "core/bench_workload.hpp"
-#include "core/fots.hpp"
-#include "core/hydroshear.hpp"
-#include "core/tacsl.hpp"
+#include "core/models/bench_run.hpp"
+#include "core/models/bench_workload.hpp"
+#include "core/models/fots.hpp"
+#include "core/models/hydroshear.hpp"
+#include "core/models/tacsl.hpp"
 
 using namespace sb;
 

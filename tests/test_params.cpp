@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "core/error.hpp"
-#include "core/params.hpp"
+#include "core/base/error.hpp"
+#include "core/base/params.hpp"
 
 using namespace sb;
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/pose.hpp"
+#include "core/geometry/pose.hpp"
 
 using namespace sb;
 

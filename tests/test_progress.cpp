@@ -7,8 +7,8 @@
 
 #include <unistd.h>
 
-#include "core/progress.hpp"
-#include "core/tracker.hpp"
+#include "core/base/progress.hpp"
+#include "core/tracking/tracker.hpp"
 
 TEST_CASE("Progress::check throws Cancelled only once the flag is set", "[progress]") {
   std::atomic<bool> flag{false};

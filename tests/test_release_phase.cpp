@@ -1,10 +1,10 @@
-// The release phase of a pose-unknown recording and its recovery law (core/release_phase.hpp).
+// The release phase of a pose-unknown recording and its recovery law (core/loop/release_phase.hpp).
 #include <catch2/catch.hpp>
 
 #include <cmath>
 #include <limits>
 
-#include "core/release_phase.hpp"
+#include "core/loop/release_phase.hpp"
 
 using namespace sb;
 

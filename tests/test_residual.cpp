@@ -9,8 +9,8 @@
 #include <map>
 #include <random>
 
-#include "core/effects.hpp"
-#include "core/residual.hpp"
+#include "core/loop/effects.hpp"
+#include "core/loop/residual.hpp"
 
 using sb::FitSample;
 using sb::Pose;

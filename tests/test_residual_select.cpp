@@ -4,7 +4,7 @@
 #include <functional>
 #include <map>
 
-#include "core/residual_select.hpp"
+#include "core/loop/residual_select.hpp"
 
 using namespace sb;
 

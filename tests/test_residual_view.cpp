@@ -7,8 +7,8 @@
 #include <fstream>
 #include <limits>
 
-#include "core/error.hpp"
-#include "core/residual_view.hpp"
+#include "core/base/error.hpp"
+#include "core/loop/residual_view.hpp"
 #include "model_fixtures.hpp"
 
 using namespace sb;

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <thread>
 
-#include "core/rmse_series.hpp"
+#include "core/calibration/rmse_series.hpp"
 #include "tests/model_fixtures.hpp"
 
 namespace {

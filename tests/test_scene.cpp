@@ -3,8 +3,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/data_root.hpp"
-#include "core/scene.hpp"
+#include "core/base/data_root.hpp"
+#include "core/data/scene.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

@@ -9,10 +9,10 @@
 #include <random>
 #include <thread>
 
-#include "core/data_root.hpp"
-#include "core/indenter.hpp"
-#include "core/mesh.hpp"
-#include "core/sdf.hpp"
+#include "core/base/data_root.hpp"
+#include "core/geometry/indenter.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/geometry/sdf.hpp"
 
 namespace {
 

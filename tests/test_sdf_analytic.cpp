@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "core/sdf.hpp"
+#include "core/geometry/sdf.hpp"
 
 using namespace sb;
 

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/sdf.hpp"
+#include "core/geometry/sdf.hpp"
 
 using sb::Vec3;
 

@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "core/data_root.hpp"
-#include "core/sensor.hpp"
+#include "core/base/data_root.hpp"
+#include "core/sensor/sensor.hpp"
 
 using sb::Vec2;
 using sb::Vec3;

@@ -6,8 +6,8 @@
 
 #include <unistd.h>
 
-#include "core/error.hpp"
-#include "core/session_file.hpp"
+#include "core/base/error.hpp"
+#include "core/workbench/session_file.hpp"
 
 namespace {
 
@@ -33,9 +33,9 @@ std::string message_of(const std::string& text) {
 
 TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   sb::SessionFile s;
-  s.dataset_dir = "data:twin/twin_sphere8";
-  s.sample_id = "shr_01";
-  s.tacsl_id = "tacsl-normalized";
+  s.open.dataset_dir = "data:twin/twin_sphere8";
+  s.open.sample_id = "shr_01";
+  s.open.tacsl_id = "tacsl-normalized";
   s.params["hydroshear"] = {{"mu", 0.4}};
   s.path = {sb::Pose::Identity(), sb::make_pose(sb::Vec3(1e-3, -2e-3, 0.5e-3), sb::Quat(Eigen::AngleAxisd(0.3, sb::Vec3::UnitZ())))};
   s.step = 1;
@@ -47,9 +47,9 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   const std::string path = temp_file("rt.json", "");
   sb::save_session_file(path, s);
   const sb::SessionFile r = sb::load_session_file(path);
-  CHECK(r.dataset_dir == s.dataset_dir);
-  CHECK(r.sample_id == "shr_01");
-  CHECK(r.tacsl_id == "tacsl-normalized");
+  CHECK(r.open.dataset_dir == s.open.dataset_dir);
+  CHECK(r.open.sample_id == "shr_01");
+  CHECK(r.open.tacsl_id == "tacsl-normalized");
   CHECK(r.params == s.params);
   REQUIRE(r.path.size() == 2);
   CHECK((r.path[1].matrix() - s.path[1].matrix()).cwiseAbs().maxCoeff() < kPoseTol);
@@ -78,6 +78,12 @@ TEST_CASE("bad session files name the file and the JSON pointer", "[session]") {
   CHECK_THAT(message_of(head + R"(, "display": {"arrow_gain": -1}})"), Catch::Contains("/display/arrow_gain"));
   CHECK_THAT(message_of(head + R"(, "colour": 1})"), Catch::Contains("colour"));   // a typo is not ignored
   CHECK_THAT(message_of(R"([1, 2])"), Catch::Contains("s.json"));
+  // Version 1 had no residual section: a reader of version 1 rejected it as an unknown key, so a file
+  // that has one is version 2, and a version 1 file claiming one is refused.
+  CHECK_THAT(message_of(head + R"(, "residual": {"file": "r.json"}})"),
+             Catch::Contains("/residual") && Catch::Contains("version 1"));
+  CHECK_THAT(message_of(R"({"format": "shearbench-session", "version": 0, "open": {}})"),
+             Catch::Contains("reads 1 to 2"));
 }
 
 TEST_CASE("a session file that is not JSON is reported with its line", "[session]") {

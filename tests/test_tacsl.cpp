@@ -1,7 +1,7 @@
-// TacSL penalty shear: expected values derived by hand from core/tacsl.hpp.
+// TacSL penalty shear: expected values derived by hand from core/models/tacsl.hpp.
 #include <catch2/catch.hpp>
 
-#include "core/tacsl.hpp"
+#include "core/models/tacsl.hpp"
 #include "model_fixtures.hpp"
 
 using namespace sbtest;

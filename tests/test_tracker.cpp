@@ -8,10 +8,10 @@
 #include <opencv2/imgproc.hpp>
 #include <random>
 
-#include "core/data_root.hpp"
-#include "core/error.hpp"
-#include "core/track_eval.hpp"
-#include "core/tracker.hpp"
+#include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
+#include "core/tracking/track_eval.hpp"
+#include "core/tracking/tracker.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "core/data_root.hpp"
-#include "core/tsd.hpp"
+#include "core/base/data_root.hpp"
+#include "core/data/tsd.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;

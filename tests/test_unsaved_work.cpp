@@ -3,7 +3,7 @@
 
 #include <cstdlib>
 
-#include "core/unsaved_work.hpp"
+#include "core/workbench/unsaved_work.hpp"
 
 TEST_CASE("dirty follows the document, not the edits", "[session][autosave]") {
   sb::UnsavedWork w(30.0);

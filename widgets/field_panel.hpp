@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "core/pose.hpp"
+#include "core/geometry/pose.hpp"
 
 namespace sb::ui {
 

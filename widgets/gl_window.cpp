@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "core/atomic_write.hpp"
+#include "core/base/atomic_write.hpp"
 #include "widgets/keys.hpp"
 
 #include <GL/glew.h>

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/app_state.hpp"
-#include "core/params.hpp"
+#include "core/workbench/app_state.hpp"
+#include "core/base/params.hpp"
 
 namespace sb::ui {
 

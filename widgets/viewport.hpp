@@ -10,7 +10,7 @@
 #include <memory>
 #include <optional>
 
-#include "core/app_state.hpp"
+#include "core/workbench/app_state.hpp"
 
 namespace sb::ui {
 

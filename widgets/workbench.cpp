@@ -376,7 +376,7 @@ void Workbench::draw_rmse_plots() {
   }
   const float width = ImGui::GetContentRegionAvail().x;
   for (std::size_t m = 0; m < series.size(); ++m) {
-    // Frames where nothing measured moves do not count (core/metrics.hpp): drawn as 0.
+    // Frames where nothing measured moves do not count (core/calibration/metrics.hpp): drawn as 0.
     std::vector<float> v(series[m].size());
     double sum = 0;
     int n = 0;
@@ -399,7 +399,7 @@ void Workbench::draw_rmse_plots() {
   }
 }
 
-// Calibration on a worker thread (core/fit_job.hpp): the panel polls its status each frame.
+// Calibration on a worker thread (core/calibration/fit_job.hpp): the panel polls its status each frame.
 void Workbench::draw_fit_panel() {
   if (fit_dataset_[0] == '\0' && !replay_.dataset_dir.empty())
     std::snprintf(fit_dataset_, sizeof fit_dataset_, "%s", replay_.dataset_dir.c_str());

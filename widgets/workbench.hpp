@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "core/app_state.hpp"
-#include "core/field_export.hpp"
-#include "core/fit_job.hpp"
-#include "core/residual_view.hpp"
-#include "core/rmse_series.hpp"
+#include "core/workbench/app_state.hpp"
+#include "core/workbench/field_export.hpp"
+#include "core/calibration/fit_job.hpp"
+#include "core/loop/residual_view.hpp"
+#include "core/calibration/rmse_series.hpp"
 #include "widgets/field_panel.hpp"
 #include "widgets/panels.hpp"
 #include "widgets/viewport.hpp"
@@ -28,7 +28,7 @@ struct MeasuredData {
   std::string label = "Measured";
 };
 
-// Error metrics of a simulated field against a measured one (supplied by the app: core/metrics.hpp).
+// Error metrics of a simulated field against a measured one (supplied by the app: core/calibration/metrics.hpp).
 using MetricsFn = std::function<std::optional<FieldMetrics>(const std::vector<Vec2>& sim,
                                                             const std::vector<Vec2>& measured)>;
 
@@ -84,7 +84,7 @@ class Workbench {
   // Headless renders: blocks until background computations (RMSE series) are done, so a render is
   // deterministic.
   void wait_for_background() const;
-  // The field export on its worker thread (core/field_export): the Export row shows its progress and a
+  // The field export on its worker thread (core/workbench/field_export): the Export row shows its progress and a
   // Cancel button; the status bar says how it ended.
   void start_export(FieldExportRequest request);
   FieldExportStatus export_status() const { return export_job_.status(); }

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/effects.hpp"
+#include "core/loop/effects.hpp"
 #include "widgets/workbench.hpp"
 
 namespace sb::ui {

@@ -1,0 +1,547 @@
+// Staged least-squares calibration (see fit.hpp for the objective).
+#include "core/base/reproducible.hpp"
+#include "core/calibration/fit.hpp"
+
+#include <ceres/ceres.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <atomic>
+#include <limits>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
+
+namespace sb {
+
+namespace {
+
+// Finite-difference half-steps in the optimiser's coordinates: 1e-3 in log space is a 0.1 % change of
+// the value. Deliberately coarse so the difference steps over the models' small non-smooth features
+// (stick/slip switches of single points, FOTS's integer-pixel truncation) instead of reading zero.
+constexpr double kDiffStepLog = 1e-3;
+constexpr double kDiffStepLinear = 1e-3;       // relative to max(|x|, 1 % of the range)
+// Coarse scan: default * 10^(k * step) for k = -n..n, i.e. two decades either side of the default.
+constexpr double kScanDecades = 2.0;
+constexpr int kScanPoints1d = 9;
+constexpr int kScanPoints2d = 5;
+// Below this <pred, pred> a rescale stage keeps s = 1 (the model predicts nothing to scale).
+constexpr double kRescaleMinNorm2 = 1e-12;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The stage's parameters in optimiser coordinates x (log(value) for log_scale specs) with bounds.
+struct ParamMap {
+  std::vector<int> index;
+  std::vector<bool> log;
+  std::vector<double> lo, hi;
+
+  ParamMap(const ParamSet& p, const std::vector<std::string>& names, const std::string& model_id) {
+    for (const auto& n : names) {
+      const int i = p.index_of(n);
+      if (i < 0) throw std::invalid_argument("fit: model '" + model_id + "' has no parameter '" + n + "'");
+      const ParamSpec& s = p.specs()[i];
+      const bool lg = s.log_scale && s.min > 0;
+      index.push_back(i);
+      log.push_back(lg);
+      lo.push_back(lg ? std::log(s.min) : s.min);
+      hi.push_back(lg ? std::log(s.max) : s.max);
+    }
+  }
+  int size() const { return static_cast<int>(index.size()); }
+  double to_x(int k, double value) const { return log[k] ? std::log(value) : value; }
+  std::vector<double> to_x(const ParamSet& p) const {
+    std::vector<double> x(index.size());
+    for (int k = 0; k < size(); ++k) x[k] = std::clamp(to_x(k, p[index[k]]), lo[k], hi[k]);
+    return x;
+  }
+  void apply(const double* x, ParamSet* p) const {
+    for (int k = 0; k < size(); ++k) {
+      const ParamSpec& s = p->specs()[index[k]];
+      const double v = log[k] ? std::exp(x[k]) : x[k];
+      p->set(static_cast<std::size_t>(index[k]), std::clamp(v, s.min, s.max));
+    }
+  }
+};
+
+// sqrt(rho(q) / q) for a squared error q: scaling the 2-vector error by it makes its squared norm rho(q).
+double robust_factor(RobustLoss loss, double a, double q) {
+  if (loss == RobustLoss::None || q <= 0) return 1.0;
+  const double a2 = a * a;
+  double rho = q;
+  if (loss == RobustLoss::Huber) rho = q <= a2 ? q : 2 * a * std::sqrt(q) - a2;
+  if (loss == RobustLoss::Cauchy) rho = a2 * std::log1p(q / a2);
+  return std::sqrt(rho / q);
+}
+
+struct SampleSlot {
+  const FitSample* sample;
+  ShearModel* model;
+  const std::vector<int>* active;
+  int offset;                                  // first scored marker-frame of this sample
+};
+
+// Runs the model over the stage's samples for a parameter vector and forms the residual vector.
+class StageEvaluator {
+ public:
+  StageEvaluator(std::vector<SampleSlot> slots, const ParamSet& base, const ParamMap& map, bool rescale,
+                 RobustLoss robust, double robust_scale, const std::atomic<bool>* cancel)
+      : slots_(std::move(slots)), base_(base), map_(map), rescale_(rescale), robust_(robust),
+        robust_scale_(robust_scale), cancel_(cancel) {
+    for (const auto& s : slots_) n_ += static_cast<int>(s.active->size());
+    pred_.resize(n_);
+    meas_.resize(n_);
+    for (const auto& s : slots_) {
+      const int m = static_cast<int>(s.sample->meas_px.front().size());
+      for (std::size_t a = 0; a < s.active->size(); ++a) {
+        const int f = (*s.active)[a];
+        meas_[s.offset + a] = s.sample->meas_px[f / m][f % m];
+      }
+    }
+  }
+  int marker_frames() const { return n_; }
+  int evaluations() const { return evaluations_; }
+  bool cancelled() const { return cancel_ && cancel_->load(); }
+
+  // Residuals (2 per scored marker-frame) at x; false when cancelled. sse: raw sum |s pred - meas|^2.
+  bool residuals(const double* x, double* r, double* scale_out = nullptr, double* sse_out = nullptr) {
+    if (cancelled()) return false;
+    ParamSet p = base_;
+    map_.apply(x, &p);
+    std::atomic<bool> stop{false};
+    tbb::parallel_for(0, static_cast<int>(slots_.size()), [&](int i) {
+      if (cancelled()) {
+        stop = true;
+        return;
+      }
+      const SampleSlot& s = slots_[i];
+      s.model->set_params(p);
+      const auto pred = simulate_sample(*s.model, *s.sample);
+      const int m = static_cast<int>(s.sample->meas_px.front().size());
+      for (std::size_t a = 0; a < s.active->size(); ++a) {
+        const int f = (*s.active)[a];
+        pred_[s.offset + a] = pred[f / m][f % m];
+      }
+    });
+    ++evaluations_;
+    if (stop || cancelled()) return false;
+    const double s = rescale_ ? best_scale() : 1.0;
+    double sse = 0;
+    for (int i = 0; i < n_; ++i) {
+      const Vec2 e = s * pred_[i] - meas_[i];
+      const double q = e.squaredNorm();
+      sse += q;
+      const Vec2 re = e * robust_factor(robust_, robust_scale_, q);
+      r[2 * i] = re.x();
+      r[2 * i + 1] = re.y();
+    }
+    if (scale_out) *scale_out = s;
+    if (sse_out) *sse_out = sse;
+    return true;
+  }
+  // 1/2 sum r^2 (the Ceres cost), or +inf when cancelled.
+  double cost(const double* x, double* scale_out = nullptr, double* sse_out = nullptr) {
+    std::vector<double> r(2 * n_);
+    if (!residuals(x, r.data(), scale_out, sse_out)) return std::numeric_limits<double>::infinity();
+    double c = 0;
+    for (double v : r) c += v * v;
+    return 0.5 * c;
+  }
+
+ private:
+  // argmin_s sum |s pred - meas|^2 = <pred, meas> / <pred, pred>, kept >= 0 so the shape is not mirrored.
+  double best_scale() const {
+    double pm = 0, pp = 0;
+    for (int i = 0; i < n_; ++i) {
+      pm += pred_[i].dot(meas_[i]);
+      pp += pred_[i].squaredNorm();
+    }
+    return pp > kRescaleMinNorm2 ? std::max(pm / pp, 0.0) : 1.0;
+  }
+
+  std::vector<SampleSlot> slots_;
+  const ParamSet& base_;
+  const ParamMap& map_;
+  bool rescale_;
+  RobustLoss robust_;
+  double robust_scale_;
+  const std::atomic<bool>* cancel_;
+  int n_ = 0;
+  int evaluations_ = 0;
+  std::vector<Vec2> pred_, meas_;
+};
+
+// Central differences, one-sided at a bound.
+class StageCost final : public ceres::CostFunction {
+ public:
+  StageCost(StageEvaluator* ev, const ParamMap* map) : ev_(ev), map_(map) {
+    set_num_residuals(2 * ev->marker_frames());
+    mutable_parameter_block_sizes()->push_back(map->size());
+  }
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+    const int P = map_->size();
+    const double* x = parameters[0];
+    const int n = num_residuals();
+    // On cancel, report a zero evaluation instead of a failure (which Ceres logs as an error): the
+    // iteration callback then aborts, and run_fit_stages discards the stage.
+    const auto cancelled = [&] {
+      std::fill(residuals, residuals + n, 0.0);
+      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * P, 0.0);
+      return true;
+    };
+    if (!ev_->residuals(x, residuals)) return cancelled();
+    if (!jacobians || !jacobians[0]) return true;
+    std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
+    for (int k = 0; k < P; ++k) {
+      const double h = map_->log[k] ? kDiffStepLog
+                                    : kDiffStepLinear * std::max(std::abs(x[k]), 0.01 * (map_->hi[k] - map_->lo[k]));
+      xp[k] = std::min(x[k] + h, map_->hi[k]);
+      xm[k] = std::max(x[k] - h, map_->lo[k]);
+      if (!ev_->residuals(xp.data(), rp.data())) return cancelled();
+      if (xm[k] == x[k]) {
+        std::copy(residuals, residuals + n, rm.begin());
+      } else if (!ev_->residuals(xm.data(), rm.data())) {
+        return cancelled();
+      }
+      const double dx = xp[k] - xm[k];
+      for (int i = 0; i < n; ++i) jacobians[0][i * P + k] = dx > 0 ? (rp[i] - rm[i]) / dx : 0.0;
+      xp[k] = xm[k] = x[k];
+    }
+    return true;
+  }
+
+ private:
+  StageEvaluator* ev_;
+  const ParamMap* map_;
+};
+
+class ProgressCallback final : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const std::string& stage, const FitOptions& o) : stage_(stage), o_(o) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (o_.progress) o_.progress({stage_, s.iteration, s.cost});
+    if (o_.cancel && o_.cancel->load()) return ceres::SOLVER_ABORT;
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::string stage_;
+  const FitOptions& o_;
+};
+
+// Data-independent scan points: two decades either side of the spec default (linear specs with a zero
+// default: evenly over the range), clamped to the bounds.
+std::vector<double> scan_axis(const ParamSpec& spec, const ParamMap& map, int k, int points) {
+  std::vector<double> xs;
+  for (int i = 0; i < points; ++i) {
+    const double t = points == 1 ? 0.0 : -1.0 + 2.0 * i / (points - 1);
+    double v = spec.default_value == 0 ? spec.min + (spec.max - spec.min) * (t + 1) / 2
+                                       : spec.default_value * std::pow(10.0, kScanDecades * t);
+    v = std::clamp(v, spec.min, spec.max);
+    xs.push_back(std::clamp(map.to_x(k, v), map.lo[k], map.hi[k]));
+  }
+  return xs;
+}
+
+// Returns the best of {x0} and the scan grid (1-D and 2-D stages only). Ties keep the earlier point.
+std::vector<double> coarse_scan(StageEvaluator& ev, const ParamSet& p, const ParamMap& map, std::vector<double> x0) {
+  const int P = map.size();
+  if (P > 2) return x0;
+  const int points = P == 1 ? kScanPoints1d : kScanPoints2d;
+  std::vector<std::vector<double>> axes;
+  for (int k = 0; k < P; ++k) axes.push_back(scan_axis(p.specs()[map.index[k]], map, k, points));
+  double best = ev.cost(x0.data());
+  std::vector<double> best_x = x0;
+  std::vector<double> x(P);
+  const int total = P == 1 ? points : points * points;
+  for (int g = 0; g < total && !ev.cancelled(); ++g) {
+    x[0] = axes[0][g % points];
+    if (P == 2) x[1] = axes[1][g / points];
+    const double c = ev.cost(x.data());
+    if (c < best) {
+      best = c;
+      best_x = x;
+    }
+  }
+  return best_x;
+}
+
+std::vector<const FitSample*> samples_with(const std::vector<FitSample>& all, const std::vector<std::string>& motions) {
+  std::vector<const FitSample*> out;
+  for (const auto& s : all)
+    if (std::find(motions.begin(), motions.end(), s.motion) != motions.end()) out.push_back(&s);
+  return out;
+}
+
+std::string join(const std::vector<std::string>& v, const std::string& sep = ",") {
+  std::string out;
+  for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas_px) {
+  std::vector<int> out;
+  for (std::size_t f = 0; f < meas_px.size(); ++f) {
+    const auto& row = meas_px[f];
+    bool active = false;
+    for (const auto& d : row) active = active || (d.allFinite() && d.norm() >= kActiveFramePx);
+    if (!active) continue;
+    for (std::size_t j = 0; j < row.size(); ++j)
+      if (row[j].allFinite()) out.push_back(static_cast<int>(f * row.size() + j));
+  }
+  return out;
+}
+
+const std::vector<FitStage>& fit_stages(const std::string& id) {
+  // HydroShear as the paper stages it: the dilation kernel and gain on presses; the shear kernel's shape
+  // on slides with a free scale; then the shear gain; then the friction ratio on slips, which sets the
+  // slip plateau. The shear gain is kappa_s, not K: in the stick regime the field is kappa_s E K u_n u_t,
+  // so either scales it, but K also narrows the friction cone |u_t| <= (mu E / K) u_n -- fitting K to
+  // the stick gain pushed mu to its bound (5) on twin_sphere35 and left the slides slipping early.
+  static const std::map<std::string, std::vector<FitStage>> table = {
+      {"hydroshear",
+       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
+        {"shear-shape", {"lambda_s"}, {"shear"}, true, {}},
+        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
+        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
+      // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
+      // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
+      {"fots",
+       {{"dilation", {"lambda_d"}, {"dilation"}, false, {}},
+        {"shear", {"lambda_s"}, {"shear"}, false, {}},
+        {"twist", {"lambda_t"}, {"twist"}, false, {}}}},
+      {"fots-reimpl",
+       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
+        {"shear", {"lambda_s", "kappa_s"}, {"shear"}, false, {}},
+        {"twist", {"lambda_t", "kappa_t"}, {"twist"}, false, {}}}},
+      // TacSL: gain_px * k_n is one factor, so k_n stays at 1 and the gain is fitted on presses; the
+      // tangential law (k_t, mu) on slides.
+      {"tacsl",
+       {{"normal-gain", {"gain_px"}, {"dilation"}, false, {}},
+        {"tangential", {"kt", "mu"}, {"shear"}, false, {}}}},
+      // Normalised TacSL outputs gain * unit direction: the gain sets every magnitude, k_t / k_n turns the
+      // direction between the normal push and the tangential drag. mu only acts where the drag saturates
+      // and is close to unidentifiable from directions (a test fit from its own data put it at the bound
+      // with 0.04 px RMSE left), so it keeps its default.
+      {"tacsl-normalized",
+       {{"gain", {"gain_px"}, {"dilation", "shear"}, false, {}},
+        {"direction", {"kt"}, {"shear"}, false, {}}}},
+  };
+  const auto it = table.find(id);
+  if (it == table.end()) throw std::invalid_argument("fit: no stage table for model '" + id + "'");
+  return it->second;
+}
+
+FitStage joint_stage(const std::string& id, bool px_scale) {
+  FitStage j{"joint", {}, {"dilation", "shear", "twist", "roll", "slip"}, false, {}};
+  for (const auto& s : fit_stages(id))
+    for (const auto& p : s.params)
+      if (std::find(j.params.begin(), j.params.end(), p) == j.params.end()) j.params.push_back(p);
+  if (px_scale) {
+    if (id == "fots") j.params.push_back("px_per_mm");
+  }
+  return j;
+}
+
+RobustLoss parse_robust_loss(const std::string& name) {
+  if (name == "none" || name.empty()) return RobustLoss::None;
+  if (name == "huber") return RobustLoss::Huber;
+  if (name == "cauchy") return RobustLoss::Cauchy;
+  throw std::invalid_argument("unknown robust loss '" + name + "' (none, huber, cauchy)");
+}
+
+std::string to_string(RobustLoss loss) {
+  return loss == RobustLoss::Huber ? "huber" : loss == RobustLoss::Cauchy ? "cauchy" : "none";
+}
+
+void require_calibration_split(const std::vector<FitSample>& samples) {
+  for (const auto& s : samples)
+    if (s.split != "calibration")
+      throw std::invalid_argument("fit: sample '" + s.id + "' is from the '" + s.split +
+                                  "' split; a fit may only read the calibration split");
+}
+
+std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSample& sample) {
+  model.reset();
+  std::vector<std::vector<Vec2>> out(sample.X_EI.size());
+  FieldOutput field;
+  for (std::size_t k = 0; k < sample.X_EI.size(); ++k) {
+    model.step(sample.X_EI[k], k == 0 ? 0.0 : sample.dt_s, &field);
+    out[k] = field.disp_px;
+  }
+  return out;
+}
+
+nlohmann::json CalibrationResult::report_json() const {
+  nlohmann::json st = nlohmann::json::array();
+  for (const auto& s : stages) {
+    nlohmann::json j = {{"name", s.name},       {"params", s.params},
+                        {"motions", s.motions}, {"samples", s.samples},
+                        {"marker_frames", s.residuals}, {"loss_before", s.loss_before},
+                        {"loss_after", s.loss_after},   {"rmse_before_px", s.rmse_before_px},
+                        {"rmse_after_px", s.rmse_after_px}, {"iterations", s.iterations},
+                        {"model_runs", s.evaluations},
+                        {"termination", s.termination}, {"skipped", s.skipped}};
+    if (timings_in_outputs()) j["time_s"] = s.time_s;
+    if (s.scale != 1.0) j["rescale"] = s.scale;
+    if (!s.note.empty()) j["note"] = s.note;
+    st.push_back(j);
+  }
+  nlohmann::json out = {{"model", model_id}, {"cancelled", cancelled}, {"stages", st}};
+  if (timings_in_outputs()) out["time_s"] = time_s;
+  return out;
+}
+
+CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
+                         const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
+  require_calibration_split(samples);
+  const auto t_fit = std::chrono::steady_clock::now();
+  CalibrationResult result{model_id, start, {}, false, 0};
+
+  // One model per sample, cloned from one prototype per indenter; scored sets fixed by the data.
+  std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
+  std::vector<std::unique_ptr<ShearModel>> models;
+  std::vector<std::vector<int>> active;
+  for (const auto& s : samples) {
+    if (s.meas_px.size() != s.X_EI.size() || s.meas_px.empty())
+      throw std::invalid_argument("fit: sample '" + s.id + "' has no frames or mismatched poses/markers");
+    auto& proto = prototypes[s.indenter.get()];
+    if (!proto) proto = make(s.indenter);
+    models.push_back(proto->clone());
+    active.push_back(active_marker_frames(s.meas_px));
+  }
+
+  for (const FitStage& stage : stages) {
+    if (o.cancel && o.cancel->load()) {
+      result.cancelled = true;
+      break;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    StageReport rep;
+    rep.name = stage.name;
+    rep.params = stage.params;
+    rep.motions = stage.motions;
+    auto chosen = samples_with(samples, stage.motions);
+    if (chosen.empty() && !stage.fallback_motions.empty()) {
+      chosen = samples_with(samples, stage.fallback_motions);
+      rep.note = "no " + join(stage.motions, "/") + " samples: fitted on " + join(stage.fallback_motions, "/");
+      rep.motions = stage.fallback_motions;
+    }
+    std::vector<SampleSlot> slots;
+    int offset = 0;
+    for (const FitSample* s : chosen) {
+      const std::size_t i = static_cast<std::size_t>(s - samples.data());
+      if (active[i].empty()) continue;
+      slots.push_back({s, models[i].get(), &active[i], offset});
+      offset += static_cast<int>(active[i].size());
+    }
+    rep.samples = static_cast<int>(slots.size());
+    rep.residuals = offset;
+    if (slots.empty()) {
+      rep.skipped = true;
+      rep.note = "no calibration samples with motion " + join(rep.motions, "/") + " and a marker moving >= 0.5 px";
+      rep.time_s = seconds_since(t0);
+      result.stages.push_back(rep);
+      continue;
+    }
+
+    const ParamMap map(result.params, stage.params, model_id);
+    StageEvaluator ev(std::move(slots), result.params, map, stage.rescale, o.robust, o.robust_scale_px, o.cancel);
+    std::vector<double> x = map.to_x(result.params);
+    double sse = 0;
+    rep.loss_before = ev.cost(x.data(), nullptr, &sse);
+    rep.rmse_before_px = std::sqrt(sse / rep.residuals);
+    if (o.coarse_scan) x = coarse_scan(ev, result.params, map, x);
+
+    ceres::Problem problem;
+    problem.AddResidualBlock(new StageCost(&ev, &map), nullptr, x.data());
+    for (int k = 0; k < map.size(); ++k) {
+      problem.SetParameterLowerBound(x.data(), k, map.lo[k]);
+      problem.SetParameterUpperBound(x.data(), k, map.hi[k]);
+    }
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = o.max_iterations;
+    so.function_tolerance = 1e-10;
+    so.parameter_tolerance = 1e-10;
+    so.gradient_tolerance = 1e-14;
+    so.num_threads = 1;                        // the samples already run in parallel
+    so.logging_type = ceres::SILENT;
+    ProgressCallback cb(stage.name, o);
+    so.callbacks.push_back(&cb);
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+
+    if (ev.cancelled()) {                      // discard the partial stage: keep the last good parameters
+      result.cancelled = true;
+      break;
+    }
+    map.apply(x.data(), &result.params);
+    rep.loss_after = ev.cost(x.data(), &rep.scale, &sse);
+    rep.rmse_after_px = std::sqrt(sse / rep.residuals);
+    rep.iterations = static_cast<int>(summary.iterations.size()) - 1;
+    rep.evaluations = ev.evaluations();
+    rep.termination = ceres::TerminationTypeToString(summary.termination_type);
+    rep.time_s = seconds_since(t0);
+    result.stages.push_back(rep);
+    result.time_s = seconds_since(t_fit);
+    if (o.on_stage_done) o.on_stage_done(result);
+  }
+  result.time_s = seconds_since(t_fit);
+  return result;
+}
+
+CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+                    const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
+  const auto& table = fit_stages(model_id);
+  std::vector<FitStage> stages;
+  for (const auto& name : o.stages) {
+    const bool known = name == "joint" ||
+                       std::any_of(table.begin(), table.end(), [&](const FitStage& s) { return s.name == name; });
+    if (!known) {
+      std::vector<std::string> names;
+      for (const auto& s : table) names.push_back(s.name);
+      throw std::invalid_argument("fit: model '" + model_id + "' has no stage '" + name + "' (stages: " +
+                                  join(names, ", ") + ", joint)");
+    }
+  }
+  const auto wanted = [&](const std::string& n) {
+    return o.stages.empty() || std::find(o.stages.begin(), o.stages.end(), n) != o.stages.end();
+  };
+  for (const auto& s : table)
+    if (wanted(s.name)) stages.push_back(s);
+  if (o.joint || (!o.stages.empty() && wanted("joint"))) stages.push_back(joint_stage(model_id, o.fit_px_scale));
+  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_model(model_id, sensor, ind); };
+  return run_fit_stages(model_id, make, stages, samples, start, o);
+}
+
+double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+                   const std::vector<FitSample>& samples, const ParamSet& params) {
+  double sse = 0;
+  long n = 0;
+  std::vector<double> sse_i(samples.size(), 0.0);
+  std::vector<long> n_i(samples.size(), 0);
+  tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+    auto model = make_model(model_id, sensor, samples[i].indenter);
+    model->set_params(params);
+    const auto pred = simulate_sample(*model, samples[i]);
+    const std::size_t m = samples[i].meas_px.front().size();
+    for (int f : active_marker_frames(samples[i].meas_px)) {
+      sse_i[i] += (pred[f / m][f % m] - samples[i].meas_px[f / m][f % m]).squaredNorm();
+      ++n_i[i];
+    }
+  });
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    sse += sse_i[i];
+    n += n_i[i];
+  }
+  return n ? std::sqrt(sse / n) : 0.0;
+}
+
+}  // namespace sb

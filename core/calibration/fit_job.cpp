@@ -1,0 +1,53 @@
+#include "core/calibration/fit_job.hpp"
+
+#include <filesystem>
+
+#include "core/calibration/fit_data.hpp"
+#include "core/data/tsd.hpp"
+
+namespace sb {
+
+void FitJob::start(FitJobRequest request) {
+  FitJobStatus loading;
+  loading.phase = FitJobStatus::Phase::Loading;
+  job_.start(std::move(loading), [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) {
+    run(req, cancel, job);
+  });
+}
+
+void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job& job) {
+  try {
+    Warnings warnings;
+    const Dataset ds = read_dataset(std::filesystem::absolute(req.dataset_dir).string(), &warnings);
+    const FitData data = load_calibration_data(ds, req.data_root, &warnings);
+    job.update([](FitJobStatus& s) { s.phase = FitJobStatus::Phase::Fitting; });
+    FitOptions o;
+    o.stages = req.stages;
+    o.joint = req.joint;
+    o.max_iterations = req.max_iterations;
+    o.cancel = &cancel;
+    o.progress = [&job](const FitProgress& p) {
+      job.update([&](FitJobStatus& s) {
+        s.stage = p.stage;
+        s.iteration = p.iteration;
+        s.losses.push_back(static_cast<float>(p.loss));
+      });
+    };
+    const double before = fit_rmse_px(req.model_id, data.sensor, data.samples, req.start);
+    CalibrationResult r = fit_model(req.model_id, data.sensor, data.samples, req.start, o);
+    const double after = r.cancelled ? before : fit_rmse_px(req.model_id, data.sensor, data.samples, r.params);
+    job.update([&](FitJobStatus& s) {
+      s.phase = r.cancelled ? FitJobStatus::Phase::Cancelled : FitJobStatus::Phase::Done;
+      s.calibration_rmse_before_px = before;
+      s.calibration_rmse_after_px = after;
+      s.result = std::move(r);
+    });
+  } catch (const std::exception& e) {
+    job.update([&](FitJobStatus& s) {
+      s.phase = FitJobStatus::Phase::Failed;
+      s.error = e.what();
+    });
+  }
+}
+
+}  // namespace sb

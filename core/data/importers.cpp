@@ -1,0 +1,447 @@
+#include "core/data/importers.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numeric>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <sstream>
+
+#include "core/sensor/camera.hpp"
+#include "core/base/error.hpp"
+#include "core/base/format.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sb {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDefaultFps = 25.0;
+constexpr const char* kUnknownContact = "unknown_contact";  // GelSight Mini recordings (SOURCE.md), used when the file has none
+const char* kAxisNote =
+    "Axes: the camera looks along +z_E from inside the gel, so image u (right), v (down) are x_E, y_E of a "
+    "right-handed E with +z out of the gel; no mirroring applied.";
+const char* kPoseNote =
+    "Pose unknown (pose_known false): poses.csv holds identity placeholder rows only so that every sample "
+    "has one row per frame; they are not measurements. The sample's indenter 'unknown_contact' is a labelled "
+    "1 mm sphere proxy (tsd/1 requires a mesh), not the real contact.";
+
+double video_dt_s(const std::string& path) {
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);  // FFmpeg only: no GStreamer or image-sequence guesses
+  const double fps = cap.isOpened() ? cap.get(cv::CAP_PROP_FPS) : 0.0;
+  return 1.0 / (fps > 1.0 && fps < 1000.0 ? fps : kDefaultFps);
+}
+
+std::string track_summary(const TrackResult& r) {
+  std::ostringstream o;
+  o << r.frames() << " frames, " << r.markers() << " markers";
+  if (r.grid_rows) o << " (grid " << r.grid_rows << " rows x " << r.grid_cols << " cols)";
+  else o << " (irregular grid at rest)";
+  o << ", pitch " << format_number(r.pitch_px, "%.2f") << " px, lost " << format_number(r.lost_fraction(), "%.4f")
+    << " of marker-frames";
+  return o.str();
+}
+
+// Tracks one video into its own dataset directory; a video that cannot be read is reported, not fatal.
+void import_video(const std::string& video, const std::string& out, const std::string& name,
+                  const TrackerOptions& opts, double mm_per_px, const std::string& origin, const std::string& license,
+                  nlohmann::json extra, ImportReport& report, bool keep_frames) {
+  TrackResult r;
+  try {
+    r = track_video(video, opts);
+  } catch (const InputError& e) {
+    report.lines.push_back(name + ": skipped, " + e.what());
+    return;
+  }
+  std::string note = origin + " Tracked with shearbench's marker tracker (rest = median of the first " +
+                     std::to_string(opts.rest_frames) + " frames, grid auto-detected: " + track_summary(r) +
+                     "). Scale " + format_number(mm_per_px, "%.4f") + " mm/px (vendor README), principal point the image centre. " +
+                     kAxisNote + " " + kPoseNote;
+  for (const auto& w : r.warnings) note += " Tracker warning: " + w + ".";
+  TsdDatasetOut ds = dataset_from_track(r, name, name, video_dt_s(video), mm_per_px, note);
+  ds.license = license;
+  ds.samples.front().extra = std::move(extra);
+  if (keep_frames) {
+    std::vector<cv::Mat> frames = read_video_frames(video);
+    frames.resize(std::min<std::size_t>(frames.size(), static_cast<std::size_t>(r.frames())));
+    if (frames.size() == static_cast<std::size_t>(r.frames())) ds.samples.front().frames = std::move(frames);
+    else report.lines.push_back(name + ": frames not stored (decoded " + std::to_string(frames.size()) + " of " +
+                                std::to_string(r.frames()) + ")");
+  }
+  write_tsd_dataset(ds, out);
+  report.datasets.push_back(out);
+  report.lines.push_back(name + ": " + track_summary(r));
+}
+
+void require_dir(const std::string& dir) {
+  if (!fs::is_directory(dir)) throw InputError(dir, "input directory not found");
+}
+
+struct FotsCsv {
+  std::vector<Vec2> rest, disp;
+};
+
+FotsCsv read_fots_csv(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open");
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("Mx,My,dx,dy", 0) != 0) throw InputError(path, 1, 1, "expected header Mx,My,dx,dy");
+  FotsCsv c;
+  int lineno = 1;
+  while (std::getline(in, line)) {
+    ++lineno;
+    if (line.empty() || line == "\r") continue;
+    double mx, my, dx, dy;
+    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf", &mx, &my, &dx, &dy) != 4)
+      throw InputError(path, lineno, 1, "expected four numbers Mx,My,dx,dy");
+    c.rest.emplace_back(mx, my);
+    c.disp.emplace_back(dx, dy);
+  }
+  if (c.rest.empty()) throw InputError(path, "no markers");
+  return c;
+}
+
+double median_of(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double pitch_of(const std::vector<Vec2>& pts) {
+  std::vector<double> nn;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t j = 0; j < pts.size(); ++j)
+      if (i != j) best = std::min(best, (pts[i] - pts[j]).norm());
+    nn.push_back(best);
+  }
+  return median_of(nn);
+}
+
+}  // namespace
+
+TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& name, const std::string& sample_id,
+                                 double dt_s, double mm_per_px, const std::string& source_note) {
+  TsdDatasetOut ds;
+  ds.name = name;
+  ds.kind = "real";
+  ds.mm_per_px = mm_per_px;
+  if (track.image_width > 0) {
+    ds.width_px = track.image_width;
+    ds.height_px = track.image_height;
+  }
+  ds.principal_px = Vec2((ds.width_px - 1) / 2.0, (ds.height_px - 1) / 2.0);
+  ds.markers_rest_px = track.rest_px;
+  // tsd/1 readers require every sample to name a listed indenter with a mesh: unknown contacts get a
+  // clearly labelled proxy (a 1 mm sphere), never to be used as the real geometry.
+  ds.indenters = {{kUnknownContact,
+                   {{"mesh", "meshes/unknown_contact.obj"},
+                    {"proxy", "contact geometry unknown (fingertip, grasped object or unmodelled indenter); "
+                              "this 1 mm sphere only satisfies the format"}}}};
+  ds.mesh_files = {{"meshes/unknown_contact.obj", sphere_obj(0.001)}};
+  TsdSampleOut s;
+  s.id = sample_id;
+  s.indenter = kUnknownContact;
+  s.dt_s = dt_s;
+  s.disp_px = track.disp_px;
+  s.X_EI.assign(track.disp_px.size(), Pose::Identity());
+  ds.samples.push_back(std::move(s));
+  ds.provenance = source_note;
+  return ds;
+}
+
+ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
+                               double mm_per_px, bool keep_frames) {
+  require_dir(in_dir);
+  std::vector<fs::path> videos;
+  for (const auto& e : fs::directory_iterator(in_dir))
+    if (e.path().extension() == ".avi") videos.push_back(e.path());
+  std::sort(videos.begin(), videos.end());
+  if (videos.empty()) throw InputError(in_dir, "no .avi recordings");
+  ImportReport report;
+  for (const auto& v : videos) {
+    const std::string stem = v.stem().string();
+    const std::string origin = "GelSight Mini recording " + v.filename().string() +
+                               " from gelsightinc/gsrobotics (GPL-3.0), see raw/gsrobotics_tracking/SOURCE.md; contact "
+                               "is a human fingertip (no indenter geometry, pose or force)." +
+                               (stem.rfind("video_", 0) == 0 ? " The video carries the vendor tracker's red arrows; "
+                                                               "the tracker masks and fills them before detecting." : "");
+    import_video(v.string(), (fs::path(out_dir) / stem).string(), "gsrobotics_" + stem, opts, mm_per_px, origin,
+                 "GPL-3.0", nlohmann::json::object(), report, keep_frames);
+  }
+  return report;
+}
+
+ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
+                                   double mm_per_px, bool keep_frames) {
+  require_dir(in_dir);
+  std::vector<fs::path> experiments;
+  for (const auto& e : fs::directory_iterator(in_dir))
+    if (e.is_directory()) experiments.push_back(e.path());
+  std::sort(experiments.begin(), experiments.end());
+  ImportReport report;
+  for (const auto& exp : experiments) {
+    const bool slip = fs::exists(exp / "slip.txt");
+    std::vector<fs::path> clips;
+    for (const auto& e : fs::directory_iterator(exp))
+      if (e.path().extension() == ".avi") clips.push_back(e.path());
+    std::sort(clips.begin(), clips.end());
+    for (const auto& clip : clips) {
+      const std::string name = exp.filename().string() + "_" + clip.stem().string();
+      const std::string origin =
+          "Incipient-slip grasp recording " + exp.filename().string() + "/" + clip.filename().string() +
+          " from amitparag/Incipient-Slip-Detection (BSD-2-Clause), see raw/incipient_slip/SOURCE.md: a GelSight "
+          "Mini fingertip of a Franka gripper grasping, lifting and shaking a household object. Sample field "
+          "slip_label: true when the experiment folder holds slip.txt (the authors labelled the run as containing "
+          "slip), false otherwise (no slip label).";
+      import_video(clip.string(), (fs::path(out_dir) / name).string(), name, opts, mm_per_px, origin,
+                   "BSD-2-Clause", nlohmann::json{{"slip_label", slip}}, report, keep_frames);
+    }
+  }
+  if (report.lines.empty()) throw InputError(in_dir, "no experiment folders with .avi clips");
+  return report;
+}
+
+double sphere_depth_from_contact_radius(double R, double a) {
+  if (!(a >= 0) || a > R) return kNaN;
+  return R - std::sqrt(R * R - a * a);
+}
+
+SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2>& rest,
+                                                          const std::vector<Vec2>& disp, const Vec2& centre_px,
+                                                          double a_px, double a_sigma_px) {
+  SphereContactEstimate e;
+  std::vector<double> dx, dy;
+  for (const auto& d : disp) dx.push_back(d.x()), dy.push_back(d.y());
+  e.drift_px = Vec2(median_of(dx), median_of(dy));
+  e.centre_px = centre_px;
+  e.a_px = a_px;
+  e.a_sigma_px = a_sigma_px;
+  std::vector<Vec2> inside;
+  Vec2 mean = Vec2::Zero();
+  for (std::size_t i = 0; i < rest.size(); ++i)
+    if ((rest[i] - centre_px).norm() <= a_px) inside.push_back(disp[i] - e.drift_px), mean += inside.back();
+  e.markers_inside = static_cast<int>(inside.size());
+  if (!inside.empty()) {
+    mean /= double(inside.size());
+    double var = 0;
+    for (const auto& v : inside) var += (v - mean).squaredNorm();
+    // Standard error of the mean, with the 1 px integer quantisation of the CSV added in quadrature.
+    e.travel_sigma_px = std::sqrt(var / double(inside.size()) / double(inside.size()) + 1.0 / 12.0);
+  }
+  e.travel_px = mean;
+  return e;
+}
+
+SphereContactEstimate estimate_sphere_contact(const std::vector<Vec2>& rest, const std::vector<Vec2>& disp,
+                                              double pitch) {
+  SphereContactEstimate e;
+  const std::size_t n = rest.size();
+  std::vector<double> dx, dy;
+  for (const auto& d : disp) dx.push_back(d.x()), dy.push_back(d.y());
+  e.drift_px = Vec2(median_of(dx), median_of(dy));
+  std::vector<Vec2> d(n);
+  double peak = 0;
+  for (std::size_t i = 0; i < n; ++i) d[i] = disp[i] - e.drift_px, peak = std::max(peak, d[i].norm());
+  // Centre: |d|-weighted centroid of the strongly displaced markers.
+  double sw = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (d[i].norm() >= 0.5 * peak) e.centre_px += d[i].norm() * rest[i], sw += d[i].norm();
+  if (sw > 0) e.centre_px /= sw;
+  // Contact radius: the ring (width half a pitch) with the largest mean radial displacement.
+  const double ring = 0.5 * pitch;
+  std::vector<double> sum, count;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2 r = rest[i] - e.centre_px;
+    const double rn = r.norm();
+    if (rn < 1e-9) continue;
+    const std::size_t k = static_cast<std::size_t>(rn / ring);
+    if (k >= sum.size()) sum.resize(k + 1, 0.0), count.resize(k + 1, 0.0);
+    sum[k] += d[i].dot(r / rn), count[k] += 1;
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < sum.size(); ++k)
+    if (count[k] > 0 && sum[k] / count[k] > best) best = sum[k] / count[k], e.a_px = (k + 0.5) * ring;
+  e.a_sigma_px = 0.5 * pitch;
+  return estimate_sphere_contact_with_radius(rest, disp, e.centre_px, e.a_px, e.a_sigma_px);
+}
+
+std::string sphere_obj(double r, int slices, int stacks) {
+  std::ostringstream o;
+  o << "# UV sphere, radius " << r << " m, centred at the origin, outward normals (counter-clockwise faces)\n";
+  o << "v 0 0 " << r << "\n";
+  for (int i = 1; i < stacks; ++i) {
+    const double th = M_PI * i / stacks;
+    for (int j = 0; j < slices; ++j) {
+      const double ph = 2 * M_PI * j / slices;
+      o << "v " << r * std::sin(th) * std::cos(ph) << " " << r * std::sin(th) * std::sin(ph) << " " << r * std::cos(th)
+        << "\n";
+    }
+  }
+  o << "v 0 0 " << -r << "\n";
+  auto ring = [&](int i, int j) { return 2 + (i - 1) * slices + (j % slices); };  // 1-based OBJ index
+  const int south = 2 + (stacks - 1) * slices;
+  for (int j = 0; j < slices; ++j) o << "f 1 " << ring(1, j) << " " << ring(1, j + 1) << "\n";
+  for (int i = 1; i < stacks - 1; ++i)
+    for (int j = 0; j < slices; ++j) {
+      o << "f " << ring(i, j) << " " << ring(i + 1, j) << " " << ring(i + 1, j + 1) << "\n";
+      o << "f " << ring(i, j) << " " << ring(i + 1, j + 1) << " " << ring(i, j + 1) << "\n";
+    }
+  for (int j = 0; j < slices; ++j) o << "f " << ring(stacks - 1, j) << " " << south << " " << ring(stacks - 1, j + 1) << "\n";
+  return o.str();
+}
+
+ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) {
+  require_dir(in_dir);
+  const FotsCsv press = read_fots_csv((fs::path(in_dir) / "press.csv").string());
+  const FotsCsv shear = read_fots_csv((fs::path(in_dir) / "shear.csv").string());
+  if (press.rest.size() != shear.rest.size())
+    throw InputError((fs::path(in_dir) / "shear.csv").string(), "marker count differs from press.csv");
+  for (std::size_t i = 0; i < press.rest.size(); ++i)
+    if ((press.rest[i] - shear.rest[i]).norm() > 0.5)
+      throw InputError((fs::path(in_dir) / "shear.csv").string(), int(i) + 2, 1, "rest position differs from press.csv");
+
+  // Scale: marker_calib.py uses 0.0266 mm/px on images downsampled by 2 (ball_r = 3 / (0.0266*2)), i.e.
+  // 0.0532 mm/px; params.py's 19.58 px/mm is 0.0511 mm/px. We write 0.0532 and carry the 4 % spread.
+  constexpr double kMmPerPx = 0.0532, kMmPerPxAlt = 1.0 / 19.58;
+  const double radii_mm[2] = {2.35, 3.0};  // params.py diameter 4.70 mm; marker_calib.py radius 3 mm
+  const double pitch = pitch_of(press.rest);
+  const SphereContactEstimate ep = estimate_sphere_contact(press.rest, press.disp, pitch);
+  // In the shear image the tangential field swamps the radial ring, so its own radius estimate is not
+  // meaningful: the shear state reuses the press radius (same press, then a sideways move) and averages the
+  // travel over the markers inside that radius around the shear field's centre.
+  SphereContactEstimate es = estimate_sphere_contact(shear.rest, shear.disp, pitch);
+  es = estimate_sphere_contact_with_radius(shear.rest, shear.disp, es.centre_px, ep.a_px, ep.a_sigma_px);
+
+  std::ostringstream prov;
+  prov << "FOTS marker calibration pair from Rancho-zhao/FOTS (MIT), marker_calib/data/, see "
+          "raw/fots_marker_calib/SOURCE.md. markers_rest_px = the CSV's Mx,My (integer px, "
+       << press.rest.size() << " markers, 11 cols x 9 rows, pitch " << format_number(pitch, "%.1f")
+       << " px); each sample has frame 0 = rest (zero displacement, written by us) and frame 1 = the CSV's dx,dy "
+          "(integers: 1 px quantisation). Scale 0.0532 mm/px (marker_calib.py: 0.0266 mm/px x 2 for its "
+          "downsampled images; params.py's 19.58 px/mm = 0.0511 mm/px differs by 4 %). "
+       << kAxisNote
+       << " background_nocontact.png is not used: it is a 240x320 (portrait) frame without markers from another "
+          "sensor crop, so an image difference is not meaningful. POSE ESTIMATE (pose_known false), from the marker "
+          "field only: far-field drift = median displacement (removed); contact centre = |d|-weighted centroid of "
+          "markers above half the peak |d|; contact radius a = radius of the peak mean radial displacement "
+          "(ring width pitch/2), uncertainty +-pitch/2; depth d = R - sqrt(R^2 - a^2); tangential travel = mean "
+          "displacement inside a (a lower bound if the contact slipped). The shear image's radial ring is swamped by the "
+          "tangential field, so its contact radius is taken from the press estimate (same press, then a sideways "
+          "move). ";
+  auto describe = [&](const char* what, const SphereContactEstimate& e) {
+    prov << what << ": centre (" << format_number(e.centre_px.x(), "%.1f") << ", " << format_number(e.centre_px.y(), "%.1f")
+         << ") px, drift (" << format_number(e.drift_px.x(), "%.2f") << ", " << format_number(e.drift_px.y(), "%.2f") << ") px, a = "
+         << format_number(e.a_px, "%.1f") << " +- " << format_number(e.a_sigma_px, "%.1f") << " px = " << format_number(e.a_px * kMmPerPx, "%.2f")
+         << " +- " << format_number(e.a_sigma_px * kMmPerPx, "%.2f") << " mm";
+    for (double R : radii_mm) {
+      const double a = e.a_px * kMmPerPx, s = e.a_sigma_px * kMmPerPx;
+      prov << "; R = " << R << " mm: d = " << format_number(sphere_depth_from_contact_radius(R, a), "%.3f") << " mm (range "
+           << format_number(sphere_depth_from_contact_radius(R, std::max(0.0, a - s)), "%.3f") << " .. "
+           << format_number(sphere_depth_from_contact_radius(R, a + s), "%.3f") << ", nan = a exceeds R)";
+    }
+    prov << "; travel (" << format_number(e.travel_px.x(), "%.2f") << ", " << format_number(e.travel_px.y(), "%.2f") << ") +- "
+         << format_number(e.travel_sigma_px, "%.2f") << " px = (" << format_number(e.travel_px.x() * kMmPerPx, "%.3f") << ", "
+         << format_number(e.travel_px.y() * kMmPerPx, "%.3f") << ") mm over " << e.markers_inside << " markers. ";
+  };
+  describe("press", ep);
+  describe("shear", es);
+  prov << "poses.csv: the sphere (indenter sphere_r3, R = 3 mm, marker_calib.py) centred over the estimated "
+          "contact centre, frame 0 touching the surface (z = R), frame 1 at z = R - d; for shear, frame 1 is also "
+          "moved by the estimated travel. Scale alternative " << format_number(kMmPerPxAlt, "%.4f") << " mm/px changes "
+          "lengths by 4 %.";
+
+  TsdDatasetOut ds;
+  ds.name = "fots_marker_calib";
+  ds.kind = "real";
+  ds.license = "MIT";
+  ds.mm_per_px = kMmPerPx;
+  ds.principal_px = Vec2(159.5, 119.5);
+  ds.markers_rest_px = press.rest;
+  ds.indenters = {{"sphere_r3", {{"mesh", "meshes/sphere_r3.obj"}}}};
+  ds.mesh_files = {{"meshes/sphere_r3.obj", sphere_obj(0.003)}};
+  ds.provenance = prov.str();
+  const double R = 0.003;
+  Camera cam;
+  cam.mm_per_px = kMmPerPx;
+  cam.principal_px = ds.principal_px;
+  auto make = [&](const char* id, const FotsCsv& c, const SphereContactEstimate& e, bool sheared) {
+    TsdSampleOut s;
+    s.id = id;
+    s.motion = sheared ? "shear" : "dilation";
+    s.indenter = "sphere_r3";
+    s.dt_s = 1.0;  // two states, no timing in the source
+    s.disp_px = {std::vector<Vec2>(c.rest.size(), Vec2::Zero()), c.disp};
+    const Vec2 p0 = cam.E_from_px(e.centre_px - (sheared ? e.travel_px : Vec2::Zero()));
+    const Vec2 p1 = cam.E_from_px(e.centre_px);
+    const double depth = sphere_depth_from_contact_radius(R * 1e3, e.a_px * kMmPerPx) * 1e-3;
+    s.X_EI = {make_pose(Vec3(p0.x(), p0.y(), R), Quat::Identity()),
+              make_pose(Vec3(p1.x(), p1.y(), R - (std::isfinite(depth) ? depth : 0.0)), Quat::Identity())};
+    nlohmann::json est;
+    est["contact_centre_px"] = {e.centre_px.x(), e.centre_px.y()};
+    est["contact_radius_px"] = e.a_px;
+    est["contact_radius_sigma_px"] = e.a_sigma_px;
+    est["travel_px"] = {e.travel_px.x(), e.travel_px.y()};
+    est["travel_sigma_px"] = e.travel_sigma_px;
+    for (double Rm : radii_mm)
+      est["depth_mm_for_R_mm"][format_number(Rm, "%.2f")] = sphere_depth_from_contact_radius(Rm, e.a_px * kMmPerPx);
+    s.extra = {{"pose_estimate", est}};
+    return s;
+  };
+  ds.samples = {make("press", press, ep, false), make("shear", shear, es, true)};
+  write_tsd_dataset(ds, out_dir);
+  ImportReport report;
+  report.datasets.push_back(out_dir);
+  report.lines.push_back("fots: press a = " + format_number(ep.a_px, "%.1f") + " px, shear a = " + format_number(es.a_px, "%.1f") +
+                         " px, shear travel (" + format_number(es.travel_px.x(), "%.2f") + ", " + format_number(es.travel_px.y(), "%.2f") +
+                         ") px");
+  return report;
+}
+
+ImportReport import_feats(const std::string& in_dir, const std::string& out_dir) {
+  require_dir(in_dir);
+  const std::string nocontact_path = (fs::path(in_dir) / "nocontact.png").string();
+  const std::string contact_path = (fs::path(in_dir) / "cuboid_10mm_contact.png").string();
+  std::vector<cv::Mat> frames;
+  for (const auto& p : {nocontact_path, contact_path}) {
+    cv::Mat img = cv::imread(p, cv::IMREAD_COLOR);  // drops the contact frame's alpha channel
+    if (img.empty()) throw InputError(p, "cannot read image");
+    frames.push_back(img);
+  }
+  if (frames[0].size() != frames[1].size())
+    throw InputError(contact_path, "size differs from nocontact.png");
+  TrackerOptions opts;
+  opts.rest_frames = 1;  // the no-contact frame is the rest
+  opts.grid_rows = 7;
+  opts.grid_cols = 9;
+  const TrackResult r = track_frames(frames, opts);
+  // point_correspondences.yaml: 10 mm = 140 px.
+  constexpr double kMmPerPx = 10.0 / 140.0;
+  std::string prov =
+      "FEATS sample from feats-ai/feats (MIT), see raw/feats/SOURCE.md: frame 0 = nocontact.png (rest), frame 1 = "
+      "cuboid_10mm_contact.png (alpha dropped), a 10 mm cuboid pressed into a GelSight Mini. Markers tracked by "
+      "shearbench's tracker (rest = frame 0, expected grid 7 rows x 9 cols): " + track_summary(r) +
+      ". The real indenter is a 10 mm cuboid; its pose is unknown. Scale " + format_number(kMmPerPx, "%.4f") + " mm/px from the authors' point_correspondences.yaml (10 mm = 140 px); "
+      "their world axes are rotated 90 degrees against the image, we keep image axes. " + kAxisNote + " " + kPoseNote +
+      " The gel is domed (4.0 mm at the centre, 2.75 mm at the edge); written as flat 4.0 mm here.";
+  for (const auto& w : r.warnings) prov += " Tracker warning: " + w + ".";
+  TsdDatasetOut ds = dataset_from_track(r, "feats_cuboid", "cuboid_contact", 1.0, kMmPerPx, prov);
+  ds.license = "MIT";
+  ds.gel_thickness_m = 0.004;
+  ds.samples.front().frames = frames;
+  write_tsd_dataset(ds, out_dir);
+  ImportReport report;
+  report.datasets.push_back(out_dir);
+  report.lines.push_back("feats: " + track_summary(r));
+  return report;
+}
+
+}  // namespace sb

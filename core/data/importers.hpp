@@ -1,0 +1,65 @@
+#pragma once
+// Converters from the raw recordings in <data>/raw/ into tsd/1 (FORMAT.md). Each records in `provenance`
+// what was done: source files, scale, grid, axis convention, and for unknown poses how they were estimated.
+//
+// Axis convention: the sensor camera looks along +z_E from inside the gel, so image u (right) and v (down)
+// are already x_E and y_E of a right-handed E with +z out of the gel: no mirroring is applied.
+#include <string>
+#include <vector>
+
+#include "core/tracking/tracker.hpp"
+#include "core/data/tsd_out.hpp"
+
+namespace sb {
+
+struct ImportReport {
+  std::vector<std::string> datasets;  // directories written
+  std::vector<std::string> lines;     // one human-readable line per recording (lost fraction, warnings)
+};
+
+// Wraps one tracked recording as a tsd/1 dataset: motion `free`, pose_known false, placeholder identity
+// poses (said so in provenance), markers_rest_px from the tracker's rest estimate.
+TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& name, const std::string& sample_id,
+                                 double dt_s, double mm_per_px, const std::string& source_note);
+
+// raw/gsrobotics_tracking: one dataset per video (video_N.avi, mini_example.avi) under out_dir/<stem>/,
+// because tsd/1 has one markers_rest_px per dataset and each recording has its own rest.
+// keep_frames: also store the decoded video frames (frames/NNNNNN.png) so the workbench shows the real image.
+ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
+                               double mm_per_px, bool keep_frames = false);
+// raw/incipient_slip: one dataset per clip under out_dir/<experiment>_<camera>/, sample field
+// "slip_label" = true when the experiment folder holds slip.txt.
+ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir,
+                                   const TrackerOptions& opts, double mm_per_px, bool keep_frames = false);
+// raw/fots_marker_calib: one dataset, samples "press" and "shear" (frame 0 rest, frame 1 the CSV field),
+// indenter pose estimated from the marker field (see SphereContactEstimate).
+ImportReport import_fots(const std::string& in_dir, const std::string& out_dir);
+// raw/feats: one dataset, sample "cuboid_contact" with frames [nocontact, contact] and tracked markers.
+ImportReport import_feats(const std::string& in_dir, const std::string& out_dir);
+
+// Sphere contact from a marker displacement field (pixels): far-field drift = median displacement of all
+// markers, removed first; centre = |d|-weighted centroid of the markers above half the peak |d|; contact
+// radius a = radius of the peak mean radial displacement (for a sphere pressed into a layer the surface
+// radial displacement peaks near the contact edge), uncertainty half a pitch; tangential travel = mean
+// displacement of the markers inside a (the radial parts cancel by symmetry).
+struct SphereContactEstimate {
+  Vec2 centre_px = Vec2::Zero();
+  Vec2 drift_px = Vec2::Zero();
+  double a_px = 0, a_sigma_px = 0;
+  Vec2 travel_px = Vec2::Zero();
+  double travel_sigma_px = 0;
+  int markers_inside = 0;
+};
+SphereContactEstimate estimate_sphere_contact(const std::vector<Vec2>& rest_px, const std::vector<Vec2>& disp_px,
+                                              double pitch_px);
+// The same with a given centre and contact radius (drift removed, travel = mean displacement inside a).
+SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2>& rest_px,
+                                                          const std::vector<Vec2>& disp_px, const Vec2& centre_px,
+                                                          double a_px, double a_sigma_px);
+// Spherical-cap depth d = R - sqrt(R^2 - a^2); NaN when a > R.
+double sphere_depth_from_contact_radius(double R, double a);
+
+// Writes a closed UV sphere of radius r (metres) centred at the origin, outward normals, as OBJ text.
+std::string sphere_obj(double radius_m, int slices = 32, int stacks = 16);
+
+}  // namespace sb

@@ -1,0 +1,22 @@
+#pragma once
+// Factories of the catalogued effects (one implementation file each: core/loop/effect_<id>.cpp). Callers
+// outside core/loop/effects.cpp use make_effect(id) instead.
+#include <memory>
+
+#include "core/loop/effects.hpp"
+
+namespace sb::effects {
+
+std::unique_ptr<Effect> make_viscoelastic_creep();
+std::unique_ptr<Effect> make_lens_distortion();
+std::unique_ptr<Effect> make_subsurface_markers();
+std::unique_ptr<Effect> make_gravity_preload();
+std::unique_ptr<Effect> make_edge_constraint();
+std::unique_ptr<Effect> make_load_stiffening();
+std::unique_ptr<Effect> make_tracker_bias();
+std::unique_ptr<Effect> make_camera_misalignment();
+
+// Throws std::invalid_argument when disp_px and the sensor's markers differ in count.
+void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& disp_px, const char* effect_id);
+
+}  // namespace sb::effects

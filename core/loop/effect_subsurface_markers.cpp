@@ -1,0 +1,79 @@
+// subsurface_markers: markers printed below the gel surface see a smoothed, attenuated field.
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <cmath>
+
+#include "core/loop/effect_catalogue.hpp"
+
+namespace sb::effects {
+namespace {
+
+// Gaussian weights beyond this many sigmas (< e^{-8} = 3e-4 of the centre weight) are dropped, which keeps
+// the kernel sparse for shallow markers on dense grids.
+constexpr double kKernelCutoffSigmas = 4.0;
+
+class SubsurfaceMarkers final : public Effect {
+ public:
+  SubsurfaceMarkers()
+      : Effect({{"depth_m", "m", 0.0, 0.0, 0.005, "marker depth below the surface = Gaussian smoothing width"},
+                {"attenuation", "", 1.0, 0.0, 2.0, "amplitude factor of the field at the marker depth"}}) {}
+
+  std::string id() const override { return "subsurface_markers"; }
+  std::string physics() const override {
+    return "Markers at depth h below the surface: the surface traction field reaches them spread over a "
+           "region of width ~h (Boussinesq/Cerruti kernels decay with sqrt(r^2 + h^2)) and weakened. Modelled "
+           "as a normalised Gaussian smoothing over the marker positions p_EM with sigma = h, times a.";
+  }
+
+  void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
+    const double h = params_.get("depth_m"), a = params_.get("attenuation");
+    if (h == 0.0) {  // no smoothing; a uniform attenuation (exactly the identity at a = 1)
+      for (Vec2& d : disp_px) d *= a;
+      return;
+    }
+    require_marker_count(ctx, disp_px, "subsurface_markers");
+    update_weights(ctx.sensor->p_EM, h);
+    const auto n = static_cast<Eigen::Index>(disp_px.size());
+    field_.resize(n, 2);
+    for (Eigen::Index i = 0; i < n; ++i) field_.row(i) = disp_px[i].transpose();
+    smoothed_.noalias() = weights_ * field_;
+    for (Eigen::Index i = 0; i < n; ++i) disp_px[i] = a * smoothed_.row(i).transpose();
+  }
+  std::unique_ptr<Effect> clone() const override { return std::make_unique<SubsurfaceMarkers>(*this); }
+
+ private:
+  // Row-normalised Gaussian weights w_ij = exp(-|p_i - p_j|^2 / (2 h^2)) / sum_j(...), truncated at
+  // kKernelCutoffSigmas; rebuilt only when the depth or the markers change (fits change h, replays do not).
+  void update_weights(const std::vector<Vec3>& p_EM, double h) {
+    if (h == cached_depth_ && p_EM == cached_markers_) return;
+    const auto n = static_cast<Eigen::Index>(p_EM.size());
+    const double cutoff2 = kKernelCutoffSigmas * kKernelCutoffSigmas * h * h;
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const std::size_t row_start = entries.size();
+      double row_sum = 0.0;
+      for (Eigen::Index j = 0; j < n; ++j) {
+        const double r2 = (p_EM[i] - p_EM[j]).head<2>().squaredNorm();
+        if (r2 > cutoff2) continue;
+        const double w = std::exp(-r2 / (2.0 * h * h));
+        entries.emplace_back(i, j, w);
+        row_sum += w;
+      }
+      for (std::size_t k = row_start; k < entries.size(); ++k)  // the diagonal keeps row_sum >= 1
+        entries[k] = Eigen::Triplet<double>(entries[k].row(), entries[k].col(), entries[k].value() / row_sum);
+    }
+    weights_.resize(n, n);
+    weights_.setFromTriplets(entries.begin(), entries.end());
+    cached_depth_ = h;
+    cached_markers_ = p_EM;
+  }
+
+  Eigen::SparseMatrix<double, Eigen::RowMajor> weights_;
+  Eigen::Matrix<double, Eigen::Dynamic, 2> field_, smoothed_;  // scratch, reused between steps
+  double cached_depth_ = -1.0;
+  std::vector<Vec3> cached_markers_;
+};
+
+}  // namespace
+std::unique_ptr<Effect> make_subsurface_markers() { return std::make_unique<SubsurfaceMarkers>(); }
+}  // namespace sb::effects

@@ -1,0 +1,252 @@
+#include "core/loop/effects.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <stdexcept>
+
+#include "core/loop/effect_catalogue.hpp"
+
+namespace sb {
+
+// ---------------------------------------------------------------------------------------- Effect
+
+void Effect::set_params(const ParamSet& params) {
+  if (params.size() != params_.size())
+    throw std::invalid_argument("effect '" + id() + "': expected " + std::to_string(params_.size()) +
+                                " parameters, got " + std::to_string(params.size()));
+  ParamSet next = params_;
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const std::string& name = params.specs()[i].name;
+    if (next.index_of(name) < 0)
+      throw std::invalid_argument("effect '" + id() + "' has no parameter '" + name + "'");
+    next.set(name, params[i]);
+  }
+  params_ = std::move(next);
+}
+
+namespace effects {
+void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& disp_px, const char* effect_id) {
+  if (ctx.sensor == nullptr) throw std::invalid_argument(std::string(effect_id) + ": no sensor in the context");
+  if (disp_px.size() != ctx.sensor->markers_rest_px.size() || disp_px.size() != ctx.sensor->p_EM.size())
+    throw std::invalid_argument(std::string(effect_id) + ": field has " + std::to_string(disp_px.size()) +
+                                " markers, the sensor " + std::to_string(ctx.sensor->markers_rest_px.size()));
+}
+}  // namespace effects
+
+// ---------------------------------------------------------------------------------------- depth
+
+Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter, const Pose& X_EI) {
+  if (indenter.samples.p_IS.empty() && indenter.mesh.vertices.empty())
+    throw std::invalid_argument("indenter '" + indenter.name + "' has no surface samples or vertices");
+  // The gel lies in z <= 0 (tsd/1: its surface apex is at z = 0), so only points at or below z = 0 can
+  // be inside it; the SDF is evaluated for those only (most of the indenter is above the gel).
+  std::vector<Vec3> p_E;
+  Vec3 lowest_E(0.0, 0.0, std::numeric_limits<double>::infinity());
+  const auto consider = [&](const Vec3& p_I) {
+    const Vec3 p = X_EI * p_I;
+    if (p.z() < lowest_E.z()) lowest_E = p;
+    if (p.z() <= 0.0) p_E.push_back(p);
+  };
+  for (const Vec3& p_IS : indenter.samples.p_IS) consider(p_IS);
+  for (const Vec3& p_IV : indenter.mesh.vertices) consider(p_IV);
+  std::vector<double> phi(p_E.size());
+  if (!p_E.empty()) gel_sdf_E.values(p_E, phi);
+
+  Penetration result;
+  double weight_sum = 0.0;
+  Vec2 weighted_xy = Vec2::Zero();
+  for (std::size_t i = 0; i < p_E.size(); ++i) {
+    const double depth = -phi[i];
+    if (depth <= 0.0) continue;
+    result.depth_m = std::max(result.depth_m, depth);
+    weight_sum += depth;
+    weighted_xy += depth * p_E[i].head<2>();
+  }
+  result.penetrating = result.depth_m > 0.0;
+  result.centre_E = result.penetrating ? Vec2(weighted_xy / weight_sum) : Vec2(lowest_E.head<2>());
+  return result;
+}
+
+// ---------------------------------------------------------------------------------------- EffectModel
+
+EffectModel::EffectModel(std::unique_ptr<ShearModel> base, std::vector<std::unique_ptr<Effect>> effects,
+                         std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter)
+    : base_(std::move(base)), effects_(std::move(effects)), sensor_(std::move(sensor)),
+      indenter_(std::move(indenter)) {
+  if (!base_) throw std::invalid_argument("EffectModel: null base model");
+  if (!sensor_ || !sensor_->gel_sdf) throw std::invalid_argument("EffectModel: a sensor with a gel SDF is required");
+  if (!indenter_) throw std::invalid_argument("EffectModel: null indenter");
+  for (std::size_t i = 0; i < effects_.size(); ++i) {
+    if (!effects_[i]) throw std::invalid_argument("EffectModel: null effect");
+    for (std::size_t j = 0; j < i; ++j)
+      if (effects_[j]->id() == effects_[i]->id())
+        throw std::invalid_argument("EffectModel: effect '" + effects_[i]->id() + "' given twice");
+  }
+  rebuild_param_table();
+}
+
+std::string EffectModel::id() const {
+  std::string s = base_->id();
+  for (const auto& e : effects_) s += "+" + e->id();
+  return s;
+}
+
+std::vector<std::string> EffectModel::effect_ids() const {
+  std::vector<std::string> ids;
+  for (const auto& e : effects_) ids.push_back(e->id());
+  return ids;
+}
+
+ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effect*>& effects) {
+  std::vector<ParamSpec> specs = base.specs();
+  std::vector<double> values = base.values();
+  for (const Effect* e : effects) {
+    for (std::size_t i = 0; i < e->params().size(); ++i) {
+      ParamSpec s = e->params().specs()[i];
+      s.name = e->id() + kEffectParamSeparator + s.name;
+      specs.push_back(std::move(s));
+      values.push_back(e->params()[i]);
+    }
+  }
+  ParamSet table(std::move(specs));
+  for (std::size_t i = 0; i < values.size(); ++i) table.set(i, values[i]);
+  return table;
+}
+
+ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids) {
+  std::vector<std::unique_ptr<Effect>> owned;
+  std::vector<const Effect*> effects;
+  for (const auto& id : effect_ids) effects.push_back(owned.emplace_back(make_effect(id)).get());
+  return combined_param_table(base, effects);
+}
+
+void EffectModel::rebuild_param_table() {
+  std::vector<const Effect*> effects;
+  for (const auto& e : effects_) effects.push_back(e.get());
+  params_ = combined_param_table(base_->params(), effects);
+}
+
+void EffectModel::set_params(const ParamSet& params) {
+  if (params.size() != params_.size())
+    throw std::invalid_argument("EffectModel '" + id() + "': expected " + std::to_string(params_.size()) +
+                                " parameters, got " + std::to_string(params.size()));
+  // Validate everything on copies first so a bad table leaves the model unchanged.
+  ParamSet base_params = base_->params();
+  std::vector<ParamSet> effect_params;
+  for (const auto& e : effects_) effect_params.push_back(e->params());
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const std::string& name = params.specs()[i].name;
+    if (params_.index_of(name) < 0)
+      throw std::invalid_argument("EffectModel '" + id() + "' has no parameter '" + name + "'");
+    const double value = params[i];
+    if (base_params.index_of(name) >= 0) {
+      base_params.set(name, value);
+      continue;
+    }
+    for (std::size_t k = 0; k < effects_.size(); ++k) {
+      const std::string prefix = effects_[k]->id() + kEffectParamSeparator;
+      if (name.rfind(prefix, 0) == 0 && effect_params[k].index_of(name.substr(prefix.size())) >= 0) {
+        effect_params[k].set(name.substr(prefix.size()), value);
+        break;
+      }
+    }
+  }
+  base_->set_params(base_params);
+  for (std::size_t k = 0; k < effects_.size(); ++k) effects_[k]->set_params(effect_params[k]);
+  rebuild_param_table();
+}
+
+void EffectModel::reset() {
+  base_->reset();
+  for (auto& e : effects_) e->reset();
+  time_s_ = 0.0;
+  previous_depth_m_ = 0.0;
+  last_penetration_ = Penetration{};
+}
+
+void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
+  if (!std::isfinite(dt) || dt < 0.0)
+    throw std::invalid_argument("EffectModel::step: dt = " + std::to_string(dt) + " must be finite and >= 0");
+  base_->step(X_EI, dt, out);  // throws on a non-finite pose before any state here changes
+  time_s_ += dt;
+  last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI);
+
+  EffectContext ctx;
+  ctx.sensor = sensor_.get();
+  ctx.dt_s = dt;
+  ctx.time_s = time_s_;
+  ctx.X_EI = X_EI;
+  ctx.depth_m = last_penetration_.depth_m;
+  ctx.contact_centre_E = last_penetration_.centre_E;
+  ctx.marker_in_contact = &out->marker_in_contact;
+  const bool any_marker = std::any_of(out->marker_in_contact.begin(), out->marker_in_contact.end(),
+                                      [](std::uint8_t c) { return c != 0; });
+  ctx.in_contact = last_penetration_.penetrating || any_marker;
+  ctx.loading = ctx.depth_m > previous_depth_m_;
+  previous_depth_m_ = ctx.depth_m;
+
+  for (auto& e : effects_) e->apply(ctx, out->disp_px);
+}
+
+std::unique_ptr<ShearModel> EffectModel::clone() const {
+  std::vector<std::unique_ptr<Effect>> effects;
+  for (const auto& e : effects_) effects.push_back(e->clone());
+  auto copy = std::make_unique<EffectModel>(base_->clone(), std::move(effects), sensor_, indenter_);
+  copy->time_s_ = time_s_;
+  copy->previous_depth_m_ = previous_depth_m_;
+  copy->last_penetration_ = last_penetration_;
+  return copy;
+}
+
+// ---------------------------------------------------------------------------------------- registry
+
+namespace {
+struct Registered {
+  std::string id;
+  std::function<std::unique_ptr<Effect>()> make;
+};
+const std::vector<Registered>& registry() {
+  static const std::vector<Registered> r = {
+      {"viscoelastic_creep", effects::make_viscoelastic_creep},
+      {"lens_distortion", effects::make_lens_distortion},
+      {"subsurface_markers", effects::make_subsurface_markers},
+      {"gravity_preload", effects::make_gravity_preload},
+      {"edge_constraint", effects::make_edge_constraint},
+      {"load_stiffening", effects::make_load_stiffening},
+      {"tracker_bias", effects::make_tracker_bias},
+      {"camera_misalignment", effects::make_camera_misalignment},
+  };
+  return r;
+}
+}  // namespace
+
+const std::vector<std::string>& effect_ids() {
+  static const std::vector<std::string> ids = [] {
+    std::vector<std::string> v;
+    for (const auto& r : registry()) v.push_back(r.id);
+    return v;
+  }();
+  return ids;
+}
+
+std::unique_ptr<Effect> make_effect(const std::string& id) {
+  for (const auto& r : registry())
+    if (r.id == id) return r.make();
+  std::string known;
+  for (const auto& r : registry()) known += (known.empty() ? "" : ", ") + r.id;
+  throw std::invalid_argument("unknown effect '" + id + "' (known: " + known + ")");
+}
+
+std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
+                                               const std::vector<std::string>& ids,
+                                               std::shared_ptr<const Sensor> sensor,
+                                               std::shared_ptr<const Indenter> indenter) {
+  std::vector<std::unique_ptr<Effect>> effects;
+  for (const auto& id : ids) effects.push_back(make_effect(id));
+  return std::make_unique<EffectModel>(std::move(base), std::move(effects), std::move(sensor),
+                                       std::move(indenter));
+}
+
+}  // namespace sb

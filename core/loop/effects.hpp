@@ -1,0 +1,123 @@
+#pragma once
+// The effect catalogue: physically motivated, parametric corrections that wrap any ShearModel.
+//
+// An Effect post-processes the marker displacement field of a base model, once per step, in order,
+// so effects compose: disp <- effect_n(... effect_1(base(X_EI)) ...). Every effect's defaults are
+// "no effect", so a wrapped model at default parameters reproduces its base model exactly. The
+// physics of each effect, its parameters and the attribution rule are in docs/effects.md.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/geometry/indenter.hpp"
+#include "core/models/model.hpp"
+#include "core/base/params.hpp"
+#include "core/sensor/sensor.hpp"
+
+namespace sb {
+
+// How deep the indenter is in the gel and where, for one pose.
+struct Penetration {
+  double depth_m = 0.0;            // max over the indenter of -phi_E (>= 0; 0 when not touching)
+  bool penetrating = false;        // depth_m > 0
+  Vec2 centre_E{0.0, 0.0};         // xy in E: penetration-weighted centre of the touching points;
+                                   // the xy of the lowest point when not touching
+};
+
+// Evaluates the gel SDF phi_E at the indenter's surface samples and mesh vertices placed by X_EI
+// (those with z <= 0 only: the gel occupies z <= 0 in E).
+// Throws std::invalid_argument when the indenter has neither samples nor vertices.
+Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter, const Pose& X_EI);
+
+// What an effect may look at during one step. Pointers stay valid for the duration of apply().
+struct EffectContext {
+  const Sensor* sensor = nullptr;                          // markers (px and p_EM), camera, gel size
+  double dt_s = 0.0;                                       // this step's duration
+  double time_s = 0.0;                                     // time since reset, including this step
+  Pose X_EI = Pose::Identity();
+  double depth_m = 0.0;                                    // indenter penetration (Penetration)
+  bool in_contact = false;                                 // depth > 0 or any marker in contact
+  Vec2 contact_centre_E{0.0, 0.0};                         // xy in E (metres)
+  bool loading = false;                                    // depth increased this step (else held/unloading)
+  const std::vector<std::uint8_t>* marker_in_contact = nullptr;  // the base model's flags; may be empty
+};
+
+class Effect {
+ public:
+  virtual ~Effect() = default;
+  virtual std::string id() const = 0;
+  // A short statement of the physical mechanism and its equation (shown in the GUI and docs).
+  virtual std::string physics() const = 0;
+  const ParamSet& params() const { return params_; }
+  // Copies the values of `params` by name; it must hold exactly this effect's parameter names
+  // (std::invalid_argument otherwise). Out-of-range values throw as ParamSet::set does.
+  void set_params(const ParamSet& params);
+  // Clears any state carried between steps (filters); stateless effects do nothing.
+  virtual void reset() {}
+  // Modifies the field in place. disp_px has one entry per sensor marker (std::invalid_argument
+  // otherwise, for effects that use marker positions).
+  virtual void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) = 0;
+  virtual std::unique_ptr<Effect> clone() const = 0;
+
+ protected:
+  explicit Effect(std::vector<ParamSpec> specs) : params_(std::move(specs)) {}
+  ParamSet params_;
+};
+
+// Separator between an effect id and its parameter name in the combined table.
+inline constexpr char kEffectParamSeparator = '.';
+
+// A ShearModel = base model followed by a list of effects. Its parameter table is the base's (names
+// unchanged) followed by each effect's, prefixed "<effect id>.<name>" (e.g. "viscoelastic_creep.tau_s").
+class EffectModel final : public ShearModel {
+ public:
+  // Throws std::invalid_argument for a null base/sensor/indenter, a null effect, a repeated effect id,
+  // or a sensor without a gel SDF.
+  EffectModel(std::unique_ptr<ShearModel> base, std::vector<std::unique_ptr<Effect>> effects,
+              std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter);
+
+  // "<base id>+<effect id>+..." (just the base id when there are no effects).
+  std::string id() const override;
+  const ParamSet& params() const override { return params_; }
+  void set_params(const ParamSet& params) override;
+  void reset() override;
+  // Base step, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
+  void step(const Pose& X_EI, double dt, FieldOutput* out) override;
+  std::unique_ptr<ShearModel> clone() const override;
+
+  const ShearModel& base() const { return *base_; }
+  std::size_t effect_count() const { return effects_.size(); }
+  const Effect& effect(std::size_t i) const { return *effects_.at(i); }
+  std::vector<std::string> effect_ids() const;
+  // The context of the last step (for diagnostics and the GUI).
+  const Penetration& last_penetration() const { return last_penetration_; }
+
+ private:
+  void rebuild_param_table();
+
+  std::unique_ptr<ShearModel> base_;
+  std::vector<std::unique_ptr<Effect>> effects_;
+  std::shared_ptr<const Sensor> sensor_;
+  std::shared_ptr<const Indenter> indenter_;
+  ParamSet params_;
+  double time_s_ = 0.0;
+  double previous_depth_m_ = 0.0;
+  Penetration last_penetration_;
+};
+
+// The registered effect ids, in display order.
+const std::vector<std::string>& effect_ids();
+// A new effect at its default ("no effect") parameters. Throws std::invalid_argument for an unknown id,
+// naming the known ones.
+std::unique_ptr<Effect> make_effect(const std::string& id);
+// The parameter table of `base` wrapped with these effects at their defaults: the base's names, then
+// "<effect id>.<name>" per effect (EffectModel::params() without building a model).
+ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effect*>& effects);
+ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids);
+// Convenience: wraps `base` with the effects named by `ids`, in that order.
+std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
+                                               const std::vector<std::string>& ids,
+                                               std::shared_ptr<const Sensor> sensor,
+                                               std::shared_ptr<const Indenter> indenter);
+
+}  // namespace sb

@@ -1,0 +1,367 @@
+// The residual loop (see residual.hpp): base fit, residual structure, effect attribution.
+#include "core/loop/residual.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "core/loop/effects.hpp"
+#include "core/data/tsd.hpp"
+
+namespace sb {
+
+namespace {
+
+// Effect parameters a fit must not move: the tracker's moving threshold makes the output discontinuous
+// in d (docs/effects.md), so it is held at its default.
+bool fixed_effect_param(const std::string& full_name) { return full_name == "tracker_bias.moving_threshold_px"; }
+
+// Depth changes below this (m) count as "held" for the loading covariate (tracking of a held press).
+constexpr double kHeldDepthEpsM = 1e-7;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::unique_ptr<ShearModel> build_model(const std::string& model_id, const std::vector<std::string>& effects,
+                                        std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> ind) {
+  auto base = make_model(model_id, sensor, ind);
+  if (effects.empty()) return base;
+  return wrap_with_effects(std::move(base), effects, sensor, ind);
+}
+
+std::vector<std::string> effect_free_params(const ParamSet& table, const std::string& effect_id) {
+  std::vector<std::string> out;
+  const std::string prefix = effect_id + kEffectParamSeparator;
+  for (const auto& s : table.specs())
+    if (s.name.rfind(prefix, 0) == 0 && !fixed_effect_param(s.name)) out.push_back(s.name);
+  return out;
+}
+
+// Per-sample squared error and marker-frame count over the scored set, plus the metric accumulators.
+struct Scores {
+  std::vector<double> sse, count;
+  MotionMetrics metrics;
+};
+
+Scores score_samples(const std::string& model_id, const std::vector<std::string>& effects, const ParamSet& params,
+                     std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples) {
+  Scores sc;
+  sc.sse.assign(samples.size(), 0.0);
+  sc.count.assign(samples.size(), 0.0);
+  std::vector<MetricsAccumulator> acc(samples.size());
+  tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+    auto model = build_model(model_id, effects, sensor, samples[i].indenter);
+    model->set_params(params);
+    const auto pred = simulate_sample(*model, samples[i]);
+    const std::size_t m = samples[i].meas_px.front().size();
+    for (int f : active_marker_frames(samples[i].meas_px)) {
+      sc.sse[i] += (pred[f / m][f % m] - samples[i].meas_px[f / m][f % m]).squaredNorm();
+      sc.count[i] += 1;
+    }
+    for (std::size_t k = 0; k < pred.size(); ++k) acc[i].add_frame(pred[k], samples[i].meas_px[k]);
+  });
+  for (std::size_t i = 0; i < samples.size(); ++i) sc.metrics.add(samples[i].motion, acc[i]);
+  return sc;
+}
+
+ParamSet combined_table(const std::string& model_id, const std::vector<std::string>& effects,
+                        const std::shared_ptr<const Sensor>& sensor, const std::vector<FitSample>& samples) {
+  return build_model(model_id, effects, sensor, samples.front().indenter)->params();
+}
+
+// Copies the values of the names both tables share.
+void copy_shared(const ParamSet& from, ParamSet* to) {
+  for (std::size_t i = 0; i < to->size(); ++i) {
+    const int j = from.index_of(to->specs()[i].name);
+    if (j >= 0) to->set(i, from[static_cast<std::size_t>(j)]);
+  }
+}
+
+// ------------------------------------------------------------------ residual structure
+
+struct Point {          // one scored marker-frame and its covariates
+  double err_px;
+  double t_contact_s, radial_px, d_centre_mm, d_edge_mm, depth_mm, travel_mm;
+  int loading;          // 0 loading, 1 held, 2 unloading, 3 no contact
+};
+
+CovariateTable numeric_table(const std::string& name, const std::string& unit, const std::vector<Point>& pts,
+                             double Point::*field, int bins) {
+  CovariateTable t{name, unit, {}, {}, {}, {}};
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& p : pts) {
+    lo = std::min(lo, p.*field);
+    hi = std::max(hi, p.*field);
+  }
+  if (pts.empty()) return t;
+  if (hi <= lo) hi = lo + 1e-9;
+  std::vector<double> sum(bins, 0.0);
+  std::vector<long> n(bins, 0);
+  for (const auto& p : pts) {
+    const int b = std::clamp(static_cast<int>((p.*field - lo) / (hi - lo) * bins), 0, bins - 1);
+    sum[b] += p.err_px * p.err_px;
+    ++n[b];
+  }
+  for (int b = 0; b < bins; ++b) {
+    const double a = lo + (hi - lo) * b / bins, c = lo + (hi - lo) * (b + 1) / bins;
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3g-%.3g", a, c);
+    t.labels.push_back(buf);
+    t.centre.push_back(0.5 * (a + c));
+    t.rms_px.push_back(n[b] ? std::sqrt(sum[b] / n[b]) : std::numeric_limits<double>::quiet_NaN());
+    t.count.push_back(n[b]);
+  }
+  return t;
+}
+
+CovariateTable loading_table(const std::vector<Point>& pts) {
+  CovariateTable t{"loading state", "", {"loading", "held", "unloading", "no contact"}, {0, 1, 2, 3}, {}, {}};
+  std::vector<double> sum(4, 0.0);
+  std::vector<long> n(4, 0);
+  for (const auto& p : pts) {
+    sum[p.loading] += p.err_px * p.err_px;
+    ++n[p.loading];
+  }
+  for (int b = 0; b < 4; ++b) {
+    t.rms_px.push_back(n[b] ? std::sqrt(sum[b] / n[b]) : std::numeric_limits<double>::quiet_NaN());
+    t.count.push_back(n[b]);
+  }
+  return t;
+}
+
+// Per-frame contact description of one sample: depth, contact centre, loading state, time since first
+// contact and tangential travel since first contact.
+struct FrameContact {
+  std::vector<double> depth_m, t_contact_s, travel_m;
+  std::vector<Vec2> centre_E;
+  std::vector<int> loading;
+};
+
+FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
+  FrameContact c;
+  const std::size_t F = s.X_EI.size();
+  int first = -1;
+  for (std::size_t k = 0; k < F; ++k) {
+    const Penetration p = indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]);
+    c.depth_m.push_back(p.depth_m);
+    c.centre_E.push_back(p.centre_E);
+    if (first < 0 && p.penetrating) first = static_cast<int>(k);
+    const double prev = k ? c.depth_m[k - 1] : 0.0;
+    c.loading.push_back(!p.penetrating                         ? 3
+                        : p.depth_m > prev + kHeldDepthEpsM ? 0
+                        : p.depth_m < prev - kHeldDepthEpsM ? 2
+                                                             : 1);
+  }
+  for (std::size_t k = 0; k < F; ++k) {
+    const bool after = first >= 0 && static_cast<int>(k) >= first;
+    c.t_contact_s.push_back(after ? (k - first) * s.dt_s : 0.0);
+    c.travel_m.push_back(after ? (s.X_EI[k].translation() - s.X_EI[first].translation()).head<2>().norm() : 0.0);
+  }
+  return c;
+}
+
+}  // namespace
+
+std::string effect_set_key(const std::vector<std::string>& ids) {
+  std::string k;
+  for (const auto& id : ids) k += (k.empty() ? "" : "+") + id;
+  return k;
+}
+
+ResidualStructure analyse_residual(const std::string& model_id, const std::vector<std::string>& effects,
+                                   const ParamSet& params, std::shared_ptr<const Sensor> sensor,
+                                   const std::vector<FitSample>& samples, int bins) {
+  ResidualStructure out;
+  const std::size_t M = sensor->markers_rest_px.size();
+  std::vector<std::vector<Point>> pts(samples.size());
+  std::vector<std::vector<Eigen::VectorXd>> rows(samples.size());
+  tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+    const FitSample& s = samples[i];
+    auto model = build_model(model_id, effects, sensor, s.indenter);
+    model->set_params(params);
+    const auto pred = simulate_sample(*model, s);
+    const FrameContact fc = frame_contacts(*sensor, s);
+    const auto active = active_marker_frames(s.meas_px);
+    int last_frame = -1;
+    for (int f : active) {
+      const int k = f / static_cast<int>(M), j = f % static_cast<int>(M);
+      if (k != last_frame) {
+        rows[i].push_back(Eigen::VectorXd::Zero(2 * M));
+        last_frame = k;
+      }
+      const Vec2 e = s.meas_px[k][j] - pred[k][j];
+      rows[i].back().segment<2>(2 * j) = e;
+      const Vec2 rest = sensor->markers_rest_px[j];
+      const Vec2 p = sensor->p_EM[j].head<2>();
+      const Vec2 half = 0.5 * sensor->gel.size_m;
+      const double edge = std::max(0.0, std::min(half.x() - std::abs(p.x()), half.y() - std::abs(p.y())));
+      pts[i].push_back({e.norm(), fc.t_contact_s[k], (rest - sensor->camera.principal_px).norm(),
+                        1e3 * (p - fc.centre_E[k]).norm(), 1e3 * edge, 1e3 * fc.depth_m[k], 1e3 * fc.travel_m[k],
+                        fc.loading[k]});
+    }
+  });
+  std::vector<Point> all;
+  std::vector<Eigen::VectorXd> all_rows;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    all.insert(all.end(), pts[i].begin(), pts[i].end());
+    all_rows.insert(all_rows.end(), rows[i].begin(), rows[i].end());
+  }
+  double sse = 0;
+  for (const auto& p : all) sse += p.err_px * p.err_px;
+  out.marker_frames = static_cast<long>(all.size());
+  out.frames = static_cast<long>(all_rows.size());
+  out.rmse_px = all.empty() ? std::numeric_limits<double>::quiet_NaN() : std::sqrt(sse / all.size());
+  out.covariates.push_back(numeric_table("time since contact", "s", all, &Point::t_contact_s, bins));
+  out.covariates.push_back(loading_table(all));
+  out.covariates.push_back(numeric_table("radial distance from principal point", "px", all, &Point::radial_px, bins));
+  out.covariates.push_back(numeric_table("distance from contact centre", "mm", all, &Point::d_centre_mm, bins));
+  out.covariates.push_back(numeric_table("distance from gel edge", "mm", all, &Point::d_edge_mm, bins));
+  out.covariates.push_back(numeric_table("penetration depth", "mm", all, &Point::depth_mm, bins));
+  out.covariates.push_back(numeric_table("tangential travel", "mm", all, &Point::travel_mm, bins));
+
+  out.mean_field_px.assign(M, Vec2::Zero());
+  out.pc1_px.assign(M, Vec2::Zero());
+  if (all_rows.empty()) return out;
+  // Principal components: frames x (2 markers), centred by the mean field (reported separately).
+  Eigen::MatrixXd R(all_rows.size(), 2 * M);
+  for (std::size_t r = 0; r < all_rows.size(); ++r) R.row(r) = all_rows[r].transpose();
+  const Eigen::RowVectorXd mean = R.colwise().mean();
+  for (std::size_t j = 0; j < M; ++j) out.mean_field_px[j] = Vec2(mean(2 * j), mean(2 * j + 1));
+  R.rowwise() -= mean;
+  Eigen::BDCSVD<Eigen::MatrixXd> svd(R, Eigen::ComputeThinV);
+  const Eigen::VectorXd s2 = svd.singularValues().array().square();
+  const double total = s2.sum();
+  for (int c = 0; c < 3; ++c) out.explained_variance.push_back(c < s2.size() && total > 0 ? s2(c) / total : 0.0);
+  if (svd.singularValues().size() > 0) {
+    // Sign convention: the component points along the mean field where it can (else its largest entry > 0).
+    Eigen::VectorXd v = svd.matrixV().col(0) * svd.singularValues()(0) / std::sqrt(double(R.rows()));
+    const double dot = v.dot(mean.transpose());
+    Eigen::Index imax = 0;
+    v.cwiseAbs().maxCoeff(&imax);
+    if (dot < 0 || (dot == 0 && v(imax) < 0)) v = -v;
+    for (std::size_t j = 0; j < M; ++j) out.pc1_px[j] = Vec2(v(2 * j), v(2 * j + 1));
+  }
+  return out;
+}
+
+ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
+  if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
+  const std::vector<std::string> candidates = o.candidates.empty() ? effect_ids() : o.candidates;
+  for (const auto& id : candidates) make_effect(id);   // unknown ids fail before any work
+
+  ResidualReport rep;
+  rep.dataset = in.dataset;
+  rep.model_id = in.model_id;
+  rep.fit_base = o.fit_base;
+  rep.sensor = in.sensor;
+
+  FitOptions fo;
+  fo.max_iterations = o.max_iterations;
+  fo.cancel = o.progress.cancel;
+  // A cancelled fit returns its last completed stage; the loop must not score that as a result.
+  const auto check_cancel = [&](const CalibrationResult& r) {
+    if (r.cancelled || o.progress.cancelled()) throw Cancelled("residual analysis");
+  };
+  std::vector<std::string> motions = tsd_motions();
+  const std::vector<std::string> base_free = o.fit_base ? joint_stage(in.model_id, false).params
+                                                        : std::vector<std::string>{};
+
+  const auto finish = [&](const std::vector<std::string>& ids, const ParamSet& params, std::size_t free_params,
+                          std::chrono::steady_clock::time_point start) {
+    EffectFit ef;
+    ef.effects = ids;
+    ef.fit.params = params;
+    ef.fit.free_params = free_params;
+    const Scores cal = score_samples(in.model_id, ids, params, in.sensor, in.calibration);
+    for (std::size_t i = 0; i < cal.sse.size(); ++i) {
+      ef.fit.calibration_sse_px2 += cal.sse[i];
+      ef.fit.calibration_count += 2 * cal.count[i];
+    }
+    Scores val = score_samples(in.model_id, ids, params, in.sensor, in.validation);
+    ef.fit.validation.sq_err_px2 = val.sse;
+    ef.fit.validation.count = val.count;
+    ef.validation = std::move(val.metrics);
+    ef.time_s = seconds_since(start);
+    return ef;
+  };
+
+  // The base model: fitted (joint stage tables of fit.hpp) or as given.
+  {
+    const auto ts = std::chrono::steady_clock::now();
+    ParamSet base = in.base_params;
+    if (o.fit_base) {
+      FitOptions bo = fo;
+      bo.joint = true;
+      o.progress("base model fit", 0.0);
+      const CalibrationResult br = fit_model(in.model_id, in.sensor, in.calibration, in.base_params, bo);
+      check_cancel(br);
+      base = br.params;
+    }
+    rep.fits[""] = finish({}, base, base_free.size(), ts);
+  }
+
+  const FitAndScore fit_and_score = [&](const std::vector<std::string>& ids) -> FitResult {
+    const std::string key = effect_set_key(ids);
+    if (auto it = rep.fits.find(key); it != rep.fits.end()) return it->second.fit;
+    const auto ts = std::chrono::steady_clock::now();
+    ParamSet start = combined_table(in.model_id, ids, in.sensor, in.calibration);
+    copy_shared(rep.fits.at("").fit.params, &start);
+    // Warm start from the fit of the same set without its last effect (the previous greedy round).
+    std::vector<std::string> prefix(ids.begin(), ids.end() - (ids.empty() ? 0 : 1));
+    std::vector<std::string> warm;
+    if (auto it = rep.fits.find(effect_set_key(prefix)); it != rep.fits.end()) {
+      copy_shared(it->second.fit.params, &start);
+      warm = prefix;
+    }
+    std::vector<FitStage> stages;
+    std::vector<std::string> joint = base_free;
+    for (const auto& id : ids) {
+      const auto free = effect_free_params(start, id);
+      joint.insert(joint.end(), free.begin(), free.end());
+      if (std::find(warm.begin(), warm.end(), id) == warm.end())
+        stages.push_back({"effect:" + id, free, motions, false, {}});
+    }
+    if (joint.size() > stages.back().params.size()) stages.push_back({"joint", joint, motions, false, {}});
+    const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
+      return build_model(in.model_id, ids, in.sensor, ind);
+    };
+    o.progress("fit " + in.model_id + "+" + key, static_cast<double>(rep.fits.size()) /
+                                                     static_cast<double>(candidates.size() * o.selection.max_effects + 1));
+    const CalibrationResult cr = run_fit_stages(in.model_id + "+" + key, make, stages, in.calibration, start, fo);
+    check_cancel(cr);
+    rep.fits[key] = finish(ids, cr.params, joint.size(), ts);
+    return rep.fits[key].fit;
+  };
+
+  rep.selection = select_effects(candidates, fit_and_score, o.selection);
+  o.progress("residual structure", 1.0);
+  rep.before = rep.fits.at("");
+  rep.after = rep.fits.at(effect_set_key(rep.selection.selected));
+  std::vector<FitSample> everything = in.calibration;
+  everything.insert(everything.end(), in.validation.begin(), in.validation.end());
+  rep.structure_before = analyse_residual(in.model_id, {}, rep.before.fit.params, in.sensor, everything, o.bins);
+  rep.structure_after = analyse_residual(in.model_id, rep.selection.selected, rep.after.fit.params, in.sensor,
+                                         everything, o.bins);
+  rep.time_s = seconds_since(t0);
+  return rep;
+}
+
+nlohmann::ordered_json effect_params_json(const ParamSet& params, const std::string& effect_id) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  const std::string prefix = effect_id + kEffectParamSeparator;
+  for (std::size_t i = 0; i < params.size(); ++i) {
+    const std::string& n = params.specs()[i].name;
+    if (n.rfind(prefix, 0) == 0) j[n.substr(prefix.size())] = params[i];
+  }
+  return j;
+}
+
+}  // namespace sb

@@ -1,0 +1,311 @@
+// Reports of the residual loop (residual.hpp): JSON, Markdown and PNG plots (OpenCV drawing).
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "core/base/reproducible.hpp"
+#include "core/base/error.hpp"
+#include "core/loop/effects.hpp"
+#include "core/loop/residual.hpp"
+#include "core/data/tsd.hpp"
+#include "core/base/format.hpp"
+
+namespace sb {
+
+namespace {
+
+// JSON has no NaN: empty metrics become null.
+nlohmann::ordered_json num(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
+
+nlohmann::ordered_json metrics_json(const EffectFit& f) {
+  nlohmann::ordered_json by = nlohmann::ordered_json::object();
+  for (const auto& [motion, acc] : f.validation.per_motion) {
+    const MetricsResult m = acc.result();
+    by[motion] = {{"rmse_px", num(m.rmse_px)}, {"cs", num(m.cs)}, {"n", m.n}};
+  }
+  const MetricsResult all = f.validation.overall.result();
+  nlohmann::ordered_json j;
+  j["effects"] = f.effects;
+  j["validation_rmse_px"] = num(all.rmse_px);
+  j["validation_cs"] = num(all.cs);
+  j["by_motion"] = by;
+  j["calibration_rmse_px"] = num(std::sqrt(2 * f.fit.calibration_sse_px2 / f.fit.calibration_count));
+  j["free_params"] = f.fit.free_params;
+  j["params"] = f.fit.params.to_json();
+  if (timings_in_outputs()) j["fit_time_s"] = f.time_s;
+  return j;
+}
+
+nlohmann::ordered_json structure_json(const ResidualStructure& s) {
+  nlohmann::ordered_json cov = nlohmann::ordered_json::array();
+  for (const auto& t : s.covariates) {
+    nlohmann::ordered_json bins = nlohmann::ordered_json::array();
+    for (std::size_t b = 0; b < t.labels.size(); ++b)
+      bins.push_back({{"bin", t.labels[b]}, {"rms_px", num(t.rms_px[b])}, {"count", t.count[b]}});
+    cov.push_back({{"covariate", t.name}, {"unit", t.unit}, {"bins", bins}});
+  }
+  nlohmann::ordered_json mean = nlohmann::ordered_json::array(), pc1 = nlohmann::ordered_json::array();
+  for (const auto& v : s.mean_field_px) mean.push_back({v.x(), v.y()});
+  for (const auto& v : s.pc1_px) pc1.push_back({v.x(), v.y()});
+  return {{"rmse_px", num(s.rmse_px)}, {"marker_frames", s.marker_frames}, {"frames", s.frames},
+          {"explained_variance_pc1_3", s.explained_variance}, {"covariates", cov},
+          {"mean_field_px", mean}, {"pc1_px", pc1}};
+}
+
+const EffectFit* fit_of(const ResidualReport& r, const std::vector<std::string>& ids) {
+  auto it = r.fits.find(effect_set_key(ids));
+  return it == r.fits.end() ? nullptr : &it->second;
+}
+
+// ------------------------------------------------------------------ plots
+
+const cv::Scalar kInk(40, 40, 40), kGrid(215, 215, 215), kBlue(200, 90, 30), kRed(40, 40, 210), kGrey(150, 150, 150);
+
+void text(cv::Mat& img, const std::string& s, cv::Point p, double scale = 0.45, cv::Scalar c = kInk) {
+  cv::putText(img, s, p, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
+}
+
+// Axis labels and parameter values: three significant digits.
+std::string g3(double v) { return format_number(v, "%.3g", "nan"); }
+
+// RMS vs covariate: before (blue) and after (red) lines over the bins.
+cv::Mat covariate_plot(const CovariateTable& before, const CovariateTable* after) {
+  const int W = 480, H = 300, L = 60, R = 20, T = 30, B = 55;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  double ymax = 0;
+  for (double v : before.rms_px) ymax = std::isfinite(v) ? std::max(ymax, v) : ymax;
+  if (after)
+    for (double v : after->rms_px) ymax = std::isfinite(v) ? std::max(ymax, v) : ymax;
+  ymax = ymax > 0 ? 1.1 * ymax : 1.0;
+  const int n = static_cast<int>(before.labels.size());
+  const auto px = [&](int b) { return L + (n <= 1 ? 0 : (W - L - R) * b / (n - 1)); };
+  const auto py = [&](double v) { return static_cast<int>(H - B - (H - T - B) * v / ymax); };
+  for (int g = 0; g <= 4; ++g) {
+    const double v = ymax * g / 4;
+    cv::line(img, {L, py(v)}, {W - R, py(v)}, kGrid);
+    text(img, g3(v), {5, py(v) + 4}, 0.4);
+  }
+  cv::rectangle(img, {L, T}, {W - R, H - B}, kInk);
+  const auto series = [&](const CovariateTable& t, cv::Scalar c) {
+    cv::Point prev(-1, -1);
+    for (int b = 0; b < n; ++b) {
+      if (!std::isfinite(t.rms_px[b])) {
+        prev = {-1, -1};
+        continue;
+      }
+      const cv::Point p(px(b), py(t.rms_px[b]));
+      cv::circle(img, p, 3, c, cv::FILLED, cv::LINE_AA);
+      if (prev.x >= 0) cv::line(img, prev, p, c, 2, cv::LINE_AA);
+      prev = p;
+    }
+  };
+  series(before, kBlue);
+  if (after) series(*after, kRed);
+  for (int b = 0; b < n; ++b) {
+    const std::string lab = before.unit.empty() ? before.labels[b] : g3(before.centre[b]);
+    text(img, lab, {px(b) - 14, H - B + 16}, 0.38);
+  }
+  text(img, before.name + (before.unit.empty() ? "" : " (" + before.unit + ")"), {L, H - 12}, 0.5);
+  text(img, "residual RMS (px)", {L, T - 10}, 0.5);
+  text(img, "before", {W - 150, T - 10}, 0.45, kBlue);
+  if (after) text(img, "after", {W - 80, T - 10}, 0.45, kRed);
+  return img;
+}
+
+// Arrows of a per-marker field at the markers' image positions, scaled so the longest is 0.8 pitch.
+cv::Mat quiver_plot(const Sensor& sensor, const std::vector<Vec2>& field, const std::string& title) {
+  const int S = 2, top = 40;
+  const int W = sensor.camera.width_px * S, H = sensor.camera.height_px * S + top;
+  cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
+  double longest = 0;
+  for (const auto& v : field) longest = std::max(longest, v.norm());
+  double pitch = std::numeric_limits<double>::infinity();
+  const auto& m = sensor.markers_rest_px;
+  for (std::size_t i = 1; i < m.size(); ++i) pitch = std::min(pitch, (m[i] - m[0]).norm());
+  if (!std::isfinite(pitch) || pitch <= 0) pitch = 30;
+  const double gain = longest > 0 ? 0.8 * pitch / longest : 0.0;
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const cv::Point2d p(m[i].x() * S, m[i].y() * S + top);
+    cv::circle(img, p, 2, kGrey, cv::FILLED, cv::LINE_AA);
+    const cv::Point2d q = p + cv::Point2d(field[i].x(), field[i].y()) * gain * S;
+    if (field[i].norm() * gain > 0.5) cv::arrowedLine(img, p, q, kRed, 2, cv::LINE_AA, 0, 0.25);
+  }
+  text(img, title, {10, 18}, 0.55);
+  text(img, "longest arrow = " + g3(longest) + " px (drawn x" + g3(gain) + ")", {10, 34}, 0.45, kGrey);
+  return img;
+}
+
+void write_png(const std::string& path, const cv::Mat& img) {
+  std::vector<unsigned char> buf;
+  if (!cv::imencode(".png", img, buf)) throw InputError(path, "could not encode the plot");
+  write_file_atomic(path, std::string(buf.begin(), buf.end()));
+}
+
+std::string slug(const std::string& s) {
+  std::string o;
+  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return o;
+}
+
+// Tables: three decimals, a dash where a value is missing.
+std::string f3(double v) { return format_number(v, "%.3f", "–"); }
+
+}  // namespace
+
+nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
+  nlohmann::ordered_json j;
+  j["dataset"] = r.dataset;
+  j["model"] = r.model_id;
+  j["base_fitted"] = r.fit_base;
+  j["before"] = metrics_json(r.before);
+  nlohmann::ordered_json cands = nlohmann::ordered_json::array();
+  nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
+  for (std::size_t round = 0; round < r.selection.rounds.size(); ++round) {
+    nlohmann::ordered_json rj = nlohmann::ordered_json::array();
+    for (const auto& c : r.selection.rounds[round]) {
+      nlohmann::ordered_json cj;
+      cj["effect"] = c.candidate;
+      const EffectFit* f = fit_of(r, c.effect_ids);
+      cj["params"] = f ? effect_params_json(f->fit.params, c.candidate) : nlohmann::ordered_json::object();
+      cj["validation_rmse_px"] = num(c.rmse_px);
+      cj["improvement_pct"] = num(c.improvement_pct);
+      cj["ci95_pct"] = {num(c.improvement_ci_pct.low), num(c.improvement_ci_pct.high)};
+      cj["delta_bic"] = num(c.delta_bic);
+      cj["accepted"] = c.accepted;
+      cj["reason"] = c.reason;
+      cj["fitted_with"] = c.effect_ids;
+      if (round == 0) cands.push_back(cj);
+      rj.push_back(cj);
+    }
+    rounds.push_back(rj);
+  }
+  j["candidates"] = cands;
+  j["selected"] = r.selection.selected;
+  nlohmann::ordered_json sel_params = nlohmann::ordered_json::object();
+  for (const auto& id : r.selection.selected) sel_params[id] = effect_params_json(r.after.fit.params, id);
+  j["selected_params"] = sel_params;
+  j["after"] = metrics_json(r.after);
+  j["rounds"] = rounds;
+  j["residual_before"] = structure_json(r.structure_before);
+  j["residual_after"] = structure_json(r.structure_after);
+  if (timings_in_outputs()) j["time_s"] = r.time_s;
+  return j;
+}
+
+std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir, const std::string& stem) {
+  std::vector<std::string> names;
+  const bool changed = !r.selection.selected.empty();
+  for (std::size_t c = 0; c < r.structure_before.covariates.size(); ++c) {
+    const auto& t = r.structure_before.covariates[c];
+    const CovariateTable* after = changed && c < r.structure_after.covariates.size() ? &r.structure_after.covariates[c]
+                                                                                      : nullptr;
+    // The after table has its own bin edges; plot it only when they match the before table's.
+    if (after && after->labels != t.labels) after = nullptr;
+    const std::string name = stem + "_rms_vs_" + slug(t.name) + ".png";
+    write_png((std::filesystem::path(dir) / name).string(), covariate_plot(t, after));
+    names.push_back(name);
+  }
+  const std::string mean = stem + "_mean_residual.png", pc1 = stem + "_pc1.png";
+  write_png((std::filesystem::path(dir) / mean).string(),
+            quiver_plot(*r.sensor, r.structure_before.mean_field_px, "mean residual (measured - " + r.model_id + ")"));
+  write_png((std::filesystem::path(dir) / pc1).string(),
+            quiver_plot(*r.sensor, r.structure_before.pc1_px,
+                        "residual PC1 (" + f3(100 * (r.structure_before.explained_variance.empty()
+                                                         ? 0.0
+                                                         : r.structure_before.explained_variance[0])) +
+                            " % of variance)"));
+  names.push_back(mean);
+  names.push_back(pc1);
+  return names;
+}
+
+std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots) {
+  std::string md;
+  md += "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
+  md += std::string("Base model ") + (r.fit_base ? "fitted on the calibration split (staged + joint)"
+                                                  : "with the given parameters (not refitted)") +
+        "; scores on the validation split. Residual = measured − predicted.\n\n";
+  const auto& sb = r.structure_before;
+  md += "## What the residual looked like\n\n";
+  md += "Base residual RMS " + f3(sb.rmse_px) + " px over " + std::to_string(sb.marker_frames) + " marker-frames (" +
+        std::to_string(sb.frames) + " frames, calibration + validation). Principal components of the centred residual "
+        "(frames × 2·markers) explain ";
+  for (std::size_t c = 0; c < sb.explained_variance.size(); ++c)
+    md += (c ? ", " : "") + std::string("PC") + std::to_string(c + 1) + " " + f3(100 * sb.explained_variance[c]) + " %";
+  md += " of its variance.\n\n";
+  double mean_norm = 0;
+  for (const auto& v : sb.mean_field_px) mean_norm = std::max(mean_norm, v.norm());
+  md += "Largest mean-residual arrow: " + f3(mean_norm) + " px.\n\n";
+  for (const auto& t : sb.covariates) {
+    md += "**" + t.name + (t.unit.empty() ? "" : " (" + t.unit + ")") + "** — RMS px per bin: ";
+    for (std::size_t b = 0; b < t.labels.size(); ++b)
+      md += (b ? " · " : "") + t.labels[b] + ": " + f3(t.rms_px[b]) + " (n " + std::to_string(t.count[b]) + ")";
+    md += "\n\n";
+  }
+  for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
+  md += "\n## Which effect explains it\n\n";
+  md += "Each catalogued effect was wrapped around the base model and fitted jointly with it on calibration; "
+        "accepted when the 95 % paired-bootstrap interval of the validation improvement lies above the margin and "
+        "the calibration BIC improves (docs/effects.md).\n\n";
+  for (std::size_t round = 0; round < r.selection.rounds.size(); ++round) {
+    md += "Round " + std::to_string(round + 1) + ":\n\n| effect | val. RMSE px | improvement % | 95 % CI % | ΔBIC | "
+          "accepted | parameters |\n|---|---|---|---|---|---|---|\n";
+    auto row = r.selection.rounds[round];
+    std::sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.improvement_pct > b.improvement_pct; });
+    for (const auto& c : row) {
+      const EffectFit* f = fit_of(r, c.effect_ids);
+      std::string params;
+      if (f) {
+        const auto pj = effect_params_json(f->fit.params, c.candidate);   // items() must not outlive it
+        for (const auto& [k, v] : pj.items()) params += (params.empty() ? "" : ", ") + k + " = " + g3(v.get<double>());
+      }
+      md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
+            f3(c.improvement_ci_pct.low) + ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " +
+            (c.accepted ? "yes" : "no") + " | " + params + " |\n";
+    }
+    md += "\n";
+  }
+  if (r.selection.selected.empty()) {
+    md += "**Selected: nothing.** No catalogued effect improves the validation error reliably at this data size; "
+          "the residual is not attributed.\n\n";
+  } else {
+    md += "**Selected: " + effect_set_key(r.selection.selected) + ".** Parameters found:\n\n";
+    bool any_bound = false;
+    for (const auto& id : r.selection.selected) {
+      const auto pj = effect_params_json(r.after.fit.params, id);
+      for (const auto& [k, v] : pj.items()) {
+        md += "- `" + id + "." + k + "` = " + g3(v.get<double>());
+        const std::string name = id + kEffectParamSeparator + k;
+        const ParamSpec& spec = r.after.fit.params.specs()[r.after.fit.params.index_of(name)];
+        const bool at_min = v.get<double>() <= spec.min, at_max = v.get<double>() >= spec.max;
+        if (at_min || at_max) md += std::string(" **(at its ") + (at_min ? "lower" : "upper") + " bound)**";
+        any_bound = any_bound || at_min || at_max;
+        md += "\n";
+      }
+    }
+    if (any_bound)
+      md += "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
+            "effect is standing in for something the model lacks rather than measuring that physics.\n";
+    md += "\n";
+  }
+  md += "## Error before and after (validation)\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
+        "|---|---|---|---|---|\n";
+  for (const auto& [motion, acc] : r.before.validation.per_motion) {
+    const MetricsResult b = acc.result();
+    auto it = r.after.validation.per_motion.find(motion);
+    const MetricsResult a = it == r.after.validation.per_motion.end() ? MetricsResult{} : it->second.result();
+    md += "| " + motion + " | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n";
+  }
+  const MetricsResult b = r.before.validation.overall.result(), a = r.after.validation.overall.result();
+  md += "| **all** | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n\n";
+  if (timings_in_outputs()) md += "Run time " + f3(r.time_s) + " s.\n";
+  return md;
+}
+
+}  // namespace sb

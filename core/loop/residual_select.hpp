@@ -1,0 +1,87 @@
+#pragma once
+// Attribution of a model's residual to catalogued effects (docs/effects.md, "Selection rule").
+//
+// The caller owns the data and the fitting: fit_and_score(ids) wraps the base model with the effects
+// `ids` (empty = the base model alone), fits the parameters on calibration data, and scores the fitted
+// model on held-out validation samples. This module decides, from those scores only, which effects
+// the data support: greedily, one at a time, each accepted only if
+//   (1) the paired bootstrap interval of its validation RMSE improvement lies above a margin, and
+//   (2) its BIC on the calibration data improves on the model it extends.
+// Selecting nothing is a valid outcome.
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/base/params.hpp"
+
+namespace sb {
+
+// Per validation sample (one unit of resampling: best a whole sequence, since the frames of one
+// sequence are correlated): the sum of squared residual components and how many were summed.
+struct ValidationErrors {
+  std::vector<double> sq_err_px2;
+  std::vector<double> count;
+};
+
+struct FitResult {
+  ValidationErrors validation;
+  double calibration_sse_px2 = 0.0;   // sum of squared residuals on the calibration data after the fit
+  double calibration_count = 0.0;     // residual components in that sum (> 0)
+  std::size_t free_params = 0;        // parameters the fit adjusted
+  ParamSet params;                    // the fitted table
+};
+
+using FitAndScore = std::function<FitResult(const std::vector<std::string>& effect_ids)>;
+
+struct SelectionOptions {
+  int bootstrap_resamples = 2000;
+  std::uint64_t seed = 0x5eedbeefULL;     // the bootstrap is deterministic for a given seed
+  double confidence = 0.95;               // two-sided percentile interval
+  double min_lower_bound_pct = 1.0;       // accept only if the interval's lower bound exceeds this margin
+  std::size_t max_effects = 2;            // greedy rounds
+};
+
+struct Interval {
+  double low = 0.0;
+  double high = 0.0;
+};
+
+struct CandidateScore {
+  std::string candidate;                  // the effect tried in this round
+  std::vector<std::string> effect_ids;    // the full set fitted: previous selection + candidate
+  double reference_rmse_px = 0.0;         // the model it extends
+  double rmse_px = 0.0;
+  double improvement_pct = 0.0;           // 100 (reference - candidate) / reference, all samples
+  Interval improvement_ci_pct;            // paired bootstrap over validation samples
+  double delta_bic = 0.0;                 // BIC(candidate) - BIC(reference) on calibration; < 0 is better
+  bool accepted = false;                  // passed both tests (the round keeps the best accepted one)
+  std::string reason;                     // why it passed or failed, for reports
+};
+
+struct SelectionResult {
+  std::vector<std::string> selected;      // in the order chosen; empty when nothing is supported
+  FitResult base;                         // fit_and_score({})
+  FitResult final_fit;                    // fit_and_score(selected)
+  double base_rmse_px = 0.0;
+  double final_rmse_px = 0.0;
+  std::vector<std::vector<CandidateScore>> rounds;  // every candidate tried, per greedy round
+};
+
+// sqrt(sum sq_err / sum count); throws std::invalid_argument for mismatched or empty vectors.
+double validation_rmse(const ValidationErrors& e);
+// Gaussian BIC: n ln(SSE / n) + k ln(n).
+double gaussian_bic(double sse, double n, std::size_t k);
+// Percentile interval of 100 (RMSE_ref - RMSE_cand) / RMSE_ref over `resamples` paired bootstrap
+// resamples of the validation samples (the same sample indices for both). Throws std::invalid_argument
+// when the two do not have the same number of samples.
+Interval bootstrap_improvement_pct(const ValidationErrors& reference, const ValidationErrors& candidate,
+                                   int resamples, std::uint64_t seed, double confidence);
+// Scores `candidate` against `reference` with the acceptance rule of the options.
+CandidateScore score_candidate(const FitResult& reference, const FitResult& candidate,
+                               const SelectionOptions& options);
+
+SelectionResult select_effects(const std::vector<std::string>& candidate_ids, const FitAndScore& fit_and_score,
+                               const SelectionOptions& options = {});
+
+}  // namespace sb

@@ -1,0 +1,160 @@
+#include "core/loop/residual_view.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "core/loop/effects.hpp"
+#include "core/base/error.hpp"
+#include "core/data/json_read.hpp"
+#include "core/calibration/prediction_export.hpp"
+
+namespace sb {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A metric the report wrote as null (nothing to score) reads as NaN.
+double number_or_nan(const nlohmann::json& obj, const char* key, const std::string& file, const std::string& ptr) {
+  const nlohmann::json& v = jsonin::member(obj, key, file, ptr);
+  return v.is_null() ? kNaN : jsonin::finite_number(v, file, jsonin::child(ptr, key));
+}
+
+std::vector<std::string> effect_list(const nlohmann::json& j, const std::string& file, const std::string& ptr) {
+  if (!j.is_array()) jsonin::fail(file, ptr, "expected an array of effect ids");
+  std::vector<std::string> ids;
+  const auto& known = effect_ids();
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    ids.push_back(jsonin::string(j[i], file, jsonin::child(ptr, i)));
+    if (std::find(known.begin(), known.end(), ids.back()) == known.end())
+      jsonin::fail(file, jsonin::child(ptr, i), "unknown effect '" + ids.back() + "'");
+  }
+  return ids;
+}
+
+ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string& file, const std::string& ptr) {
+  jsonin::require_object(c, file, ptr);
+  ResidualCandidateView v;
+  v.effect = jsonin::string(jsonin::member(c, "effect", file, ptr), file, jsonin::child(ptr, "effect"));
+  v.validation_rmse_px = number_or_nan(c, "validation_rmse_px", file, ptr);
+  v.improvement_pct = number_or_nan(c, "improvement_pct", file, ptr);
+  const std::string ci_ptr = jsonin::child(ptr, "ci95_pct");
+  const nlohmann::json& ci = jsonin::member(c, "ci95_pct", file, ptr);
+  if (!ci.is_array() || ci.size() != 2) jsonin::fail(file, ci_ptr, "expected [low, high]");
+  v.ci95_low_pct = ci[0].is_null() ? kNaN : jsonin::finite_number(ci[0], file, jsonin::child(ci_ptr, std::size_t{0}));
+  v.ci95_high_pct = ci[1].is_null() ? kNaN : jsonin::finite_number(ci[1], file, jsonin::child(ci_ptr, std::size_t{1}));
+  if (const auto* a = jsonin::find(c, "accepted")) v.accepted = jsonin::boolean(*a, file, jsonin::child(ptr, "accepted"));
+  if (const auto* r = jsonin::find(c, "reason")) v.reason = jsonin::string(*r, file, jsonin::child(ptr, "reason"));
+  return v;
+}
+
+}  // namespace
+
+ResidualSummary load_residual_summary(const std::string& path) {
+  const nlohmann::json j = jsonin::load_file(path);
+  jsonin::require_object(j, path, "");
+  ResidualSummary s;
+  s.file = path;
+  if (const auto* d = jsonin::find(j, "dataset")) s.dataset = jsonin::string(*d, path, "/dataset");
+  s.model_id = jsonin::string(jsonin::member(j, "model", path, ""), path, "/model");
+  try {
+    (void)default_params(s.model_id);
+  } catch (const std::exception& e) {
+    jsonin::fail(path, "/model", e.what());
+  }
+  const nlohmann::json& before = jsonin::member(j, "before", path, "");
+  jsonin::require_object(before, path, "/before");
+  s.before_rmse_px = number_or_nan(before, "validation_rmse_px", path, "/before");
+  s.before_params = jsonin::member(before, "params", path, "/before");
+  jsonin::require_object(s.before_params, path, "/before/params");
+  const nlohmann::json& after = jsonin::member(j, "after", path, "");
+  jsonin::require_object(after, path, "/after");
+  s.after_rmse_px = number_or_nan(after, "validation_rmse_px", path, "/after");
+  s.after_params = jsonin::member(after, "params", path, "/after");
+  jsonin::require_object(s.after_params, path, "/after/params");
+  s.selected = effect_list(jsonin::member(j, "selected", path, ""), path, "/selected");
+  // The corrected model is the one "after" was fitted with: it must be the selection.
+  const auto after_effects = effect_list(jsonin::member(after, "effects", path, "/after"), path, "/after/effects");
+  if (after_effects != s.selected) jsonin::fail(path, "/after/effects", "differs from /selected");
+
+  const nlohmann::json& cands = jsonin::member(j, "candidates", path, "");
+  if (!cands.is_array()) jsonin::fail(path, "/candidates", "expected an array");
+  for (std::size_t i = 0; i < cands.size(); ++i)
+    s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i)));
+  // Ranked: largest improvement first; an unscored (NaN) candidate last.
+  std::stable_sort(s.candidates.begin(), s.candidates.end(), [](const auto& a, const auto& b) {
+    const double ia = std::isfinite(a.improvement_pct) ? a.improvement_pct : -1e300;
+    const double ib = std::isfinite(b.improvement_pct) ? b.improvement_pct : -1e300;
+    return ia > ib;
+  });
+  // The parameter table must fit the corrected model (names and ranges): check it here, where the
+  // error can still name the file.
+  try {
+    ParamSet p = combined_param_table(default_params(s.model_id), s.selected);
+    p.update_from_json(s.after_params, path + ": /after/params");
+    (void)fitted_base_params(s);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    jsonin::fail(path, "/after/params", e.what());
+  }
+  return s;
+}
+
+ParamSet fitted_base_params(const ResidualSummary& summary) {
+  ParamSet p = default_params(summary.model_id);
+  p.update_from_json(summary.before_params, summary.file + ": /before/params");
+  return p;
+}
+
+std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary, std::shared_ptr<const Sensor> sensor,
+                                                 std::shared_ptr<const Indenter> indenter) {
+  auto base = make_model(summary.model_id, sensor, indenter);
+  auto model = wrap_with_effects(std::move(base), summary.selected, std::move(sensor), std::move(indenter));
+  ParamSet p = model->params();
+  p.update_from_json(summary.after_params, summary.file + ": /after/params");
+  model->set_params(p);
+  return model;
+}
+
+std::vector<Vec2> residual_field(const std::vector<Vec2>& measured, const std::vector<Vec2>& predicted) {
+  std::vector<Vec2> r(measured.size(), Vec2(kNaN, kNaN));
+  for (std::size_t i = 0; i < measured.size() && i < predicted.size(); ++i) r[i] = measured[i] - predicted[i];
+  return r;   // NaN - x stays NaN: a lost marker stays lost
+}
+
+// ------------------------------------------------------------------------------ FieldSeriesJob
+
+FieldSeriesJob::~FieldSeriesJob() { clear(); }
+
+void FieldSeriesJob::clear() {
+  cancel_ = true;
+  if (future_.valid()) future_.wait();
+  future_ = {};
+  result_.clear();
+}
+
+void FieldSeriesJob::start(std::unique_ptr<ShearModel> model, std::vector<Pose> path, double dt_s) {
+  clear();
+  cancel_ = false;
+  // The model moves into the task: the worker owns everything it touches.
+  future_ = std::async(std::launch::async, [this, m = std::shared_ptr<ShearModel>(std::move(model)),
+                                            path = std::move(path), dt_s] { return predict_along(*m, path, dt_s, &cancel_); });
+}
+
+bool FieldSeriesJob::running() const {
+  return future_.valid() && future_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+}
+
+void FieldSeriesJob::wait() const {
+  if (future_.valid()) future_.wait();
+}
+
+const std::vector<std::vector<Vec2>>& FieldSeriesJob::result() {
+  if (future_.valid() && !running()) result_ = future_.get();   // an exception in the worker propagates
+  return result_;
+}
+
+}  // namespace sb

@@ -1,0 +1,74 @@
+#pragma once
+// What the workbench shows of a residual analysis (`shearbench residual --json OUT.json`): the ranked
+// effect candidates with their validation improvement and its 95 % interval, the selected effects with
+// their fitted parameters, and the corrected model (base + selected effects) that the field panels can
+// show beside the base model. No GL here, so it is unit-tested.
+#include <atomic>
+#include <future>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/models/model.hpp"
+
+namespace sb {
+
+struct ResidualCandidateView {
+  std::string effect;
+  double validation_rmse_px = 0;
+  double improvement_pct = 0;
+  double ci95_low_pct = 0, ci95_high_pct = 0;
+  bool accepted = false;
+  std::string reason;   // why it was (not) selected
+};
+
+struct ResidualSummary {
+  std::string file;            // the JSON it came from
+  std::string dataset;
+  std::string model_id;        // the base model: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized
+  double before_rmse_px = 0;   // validation split, base model
+  double after_rmse_px = 0;    // validation split, base model + selected effects
+  std::vector<ResidualCandidateView> candidates;   // ranked: largest improvement first
+  std::vector<std::string> selected;               // effect ids, in the order they wrap the base
+  nlohmann::json before_params;                    // the base model fitted alone (or as given)
+  nlohmann::json after_params;                     // the corrected model's whole parameter table
+};
+
+// Reads the residual JSON. Throws InputError naming the file and the JSON pointer of a missing or bad
+// entry, or an unknown model / effect id.
+ResidualSummary load_residual_summary(const std::string& path);
+
+// The base model's parameters as the analysis fitted them (before any effect): the fair reference for
+// the corrected model. Throws InputError when they do not fit the model's table.
+ParamSet fitted_base_params(const ResidualSummary& summary);
+
+// The corrected model: `model_id` wrapped with the selected effects at the fitted parameters (the base's
+// own parameters included: they were refitted jointly when the analysis fitted the base).
+std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary,
+                                                 std::shared_ptr<const Sensor> sensor,
+                                                 std::shared_ptr<const Indenter> indenter);
+
+// measured - predicted per marker; NaN where the measurement is NaN (a marker the tracker lost) or
+// the predicted field is shorter. Empty when `measured` is empty.
+std::vector<Vec2> residual_field(const std::vector<Vec2>& measured, const std::vector<Vec2>& predicted);
+
+// The fields of `model` (reset first) along `path`, one per step, computed on a worker thread so the
+// UI never waits; starting again or destroying the job cancels the running computation.
+class FieldSeriesJob {
+ public:
+  ~FieldSeriesJob();
+  void start(std::unique_ptr<ShearModel> model, std::vector<Pose> path, double dt_s);
+  void clear();
+  bool running() const;
+  // The finished series (empty while running or after clear()).
+  const std::vector<std::vector<Vec2>>& result();
+  void wait() const;
+
+ private:
+  std::atomic<bool> cancel_{false};
+  std::future<std::vector<std::vector<Vec2>>> future_;
+  std::vector<std::vector<Vec2>> result_;
+};
+
+}  // namespace sb

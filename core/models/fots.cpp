@@ -1,0 +1,284 @@
+#include "core/models/fots.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace sb {
+
+namespace {
+
+const double kCameraPxPerMetre = Camera{}.px_per_metre();  // GelSight Mini 1/0.0634 mm
+constexpr int kSlotGrain = 32;  // slots per parallel task (a slot costs about a microsecond)
+
+// Python's int(): truncation toward zero.
+double trunc_px(double v, bool integer) { return integer ? std::trunc(v) : v; }
+
+// R(theta) d with c = cos(theta), s = sin(theta) computed once per slot.
+Vec2 rotate(const Vec2& d, double c, double s) { return {c * d.x() - s * d.y(), s * d.x() + c * d.y()}; }
+
+// Rotation vector z of a quaternion as torch's quaternion_to_axis_angle computes it: angle
+// 2 atan2(|v|, w) in [0, 2 pi] along v/|v| (no wrapping, so the hemisphere of q matters).
+double rotvec_z(const Quat& q) {
+  const double vn = q.vec().norm();
+  if (vn == 0) return 0;
+  return 2 * std::atan2(vn, q.w()) * q.z() / vn;
+}
+
+}  // namespace
+
+double twist_about_z(const Mat3& R) {
+  const Quat q(R);
+  double a = 2 * std::atan2(q.z(), q.w());
+  if (a > std::numbers::pi) a -= 2 * std::numbers::pi;
+  if (a <= -std::numbers::pi) a += 2 * std::numbers::pi;
+  return a;
+}
+
+std::vector<ParamSpec> fots_param_specs() {
+  return {
+      {"lambda_d", "px^-2", 0.00125, 1e-7, 1, "dilation Gaussian rate (FOTS calibration, fots_test.py)", true},
+      {"lambda_s", "px^-2", 0.00021, 1e-7, 1, "shear Gaussian rate (FOTS calibration)", true},
+      {"lambda_t", "px^-2", 0.00038, 1e-7, 1, "twist Gaussian rate (FOTS calibration)", true},
+      {"px_per_mm", "px/mm", kCameraPxPerMetre * 1e-3, 1, 100,
+       "image scale; default the GelSight Mini camera 1/0.0634 (FOTS repo: 19.58 for its own sensor)"},
+      {"integer_px", "", 1, 0, 1, "1: truncate the shear vector and anchor to integer px as FOTS's int() (faithful)"},
+      {"twist_clip_deg", "deg", 50, 0, 180, "twist angle clip (FOTS: 50)"},
+  };
+}
+
+std::vector<ParamSpec> fots_reimpl_param_specs() {
+  return {
+      {"lambda_d", "m^-1", 300, 1, 1e5, "dilation rate on non-squared distance (HydroShear fots.yaml)", true},
+      {"lambda_s", "m^-1", 203.3439, 1, 1e5, "shear rate on non-squared distance", true},
+      {"lambda_t", "m^-1", 326, 1, 1e5, "twist rate on non-squared distance", true},
+      {"kappa_d", "px/m", 2.5 * kCameraPxPerMetre, 1, 1e9,
+       "dilation scale: 2.5 x camera px/m (authors 2.5 x 1/0.065 mm = 38461.5)", true},
+      {"kappa_s", "px/m", kCameraPxPerMetre, 1, 1e9, "shear scale: camera px/m (authors 15384.6)", true},
+      {"kappa_t", "px/m", kCameraPxPerMetre, 1, 1e9, "twist scale: camera px/m (authors 15384.6)", true},
+  };
+}
+
+FotsBatch::FotsBatch(FotsVariant variant, std::shared_ptr<const Sensor> sensor,
+                     std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params)
+    : variant_(variant), sensor_(std::move(sensor)), indenter_(std::move(indenter)), slots_(std::max(slots, 0)),
+      scratch_(std::max(slots, 0)) {
+  if (!sensor_) throw std::invalid_argument("fots: sensor required");
+  if (!indenter_ || !indenter_->sdf) throw std::invalid_argument("fots: indenter with an SDF required");
+  set_params(params);
+}
+
+void FotsBatch::set_params(const ParamSet& p) {
+  params_ = p;
+  lambda_d_ = p.get("lambda_d");
+  lambda_s_ = p.get("lambda_s");
+  lambda_t_ = p.get("lambda_t");
+  const auto& M = sensor_->p_EM;
+  const int n = static_cast<int>(M.size());
+  dil_x_.resize(static_cast<std::size_t>(n) * n);
+  dil_y_.resize(static_cast<std::size_t>(n) * n);
+  auto set_dil = [&](int j, int k, double w, const Vec2& d) {
+    dil_x_[static_cast<std::size_t>(k) * n + j] = w * d.x();
+    dil_y_[static_cast<std::size_t>(k) * n + j] = w * d.y();
+  };
+  if (variant_ == FotsVariant::Original) {
+    px_per_mm_ = p.get("px_per_mm");
+    integer_px_ = param_flag(p, "integer_px");
+    twist_clip_rad_ = p.get("twist_clip_deg") * std::numbers::pi / 180;
+    // Markers in image pixels at px_per_mm about the principal point (the camera's own scale by default).
+    m_px_.resize(n);
+    for (int j = 0; j < n; ++j) m_px_[j] = sensor_->camera.principal_px + M[j].head<2>() * (px_per_mm_ * 1e3);
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+        set_dil(j, k, std::exp(-lambda_d_ * (m_px_[j] - m_px_[k]).squaredNorm()), m_px_[j] - m_px_[k]);
+  } else {
+    kappa_d_ = p.get("kappa_d");
+    kappa_s_ = p.get("kappa_s");
+    kappa_t_ = p.get("kappa_t");
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k)
+        set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
+  }
+}
+
+void FotsBatch::reset() {
+  for (int i = 0; i < slots(); ++i) reset_slot(i);
+}
+
+void FotsBatch::reset_slot(int slot) { slots_.at(slot) = Slot{}; }
+
+void FotsBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px,
+                     std::span<FieldOutput> diagnostics) {
+  const int n = slots();
+  const std::size_t nm = sensor_->p_EM.size();
+  const char* id = variant_ == FotsVariant::Original ? "fots" : "fots-reimpl";
+  if (static_cast<int>(X_EI.size()) != n || disp_px.size() != n * nm)
+    throw std::invalid_argument(std::string(id) + ": step needs one pose and markers() displacements per slot");
+  if (!diagnostics.empty() && static_cast<int>(diagnostics.size()) != n)
+    throw std::invalid_argument(std::string(id) + ": diagnostics must be empty or one per slot");
+  for (const Pose& X : X_EI) require_finite_pose(X, id);
+  auto body = [&](const tbb::blocked_range<int>& r) {
+    PhaseClock clock(profile_);
+    for (int i = r.begin(); i < r.end(); ++i) {
+      Vec2* d = &disp_px[i * nm];
+      if (variant_ == FotsVariant::Original)
+        step_original(slots_[i], X_EI[i], d, scratch_[i], clock);
+      else
+        step_reimpl(slots_[i], X_EI[i], d, scratch_[i], clock);
+      if (!diagnostics.empty()) {
+        FieldOutput& o = diagnostics[i];
+        o.disp_px.assign(d, d + nm);
+        o.marker_in_contact.resize(nm);
+        for (std::size_t j = 0; j < nm; ++j) o.marker_in_contact[j] = scratch_[i].phi_I[j] < 0 ? 1 : 0;
+        o.p_EP.clear();
+        o.anchor_EP.clear();
+        o.point_state.clear();
+      }
+    }
+  };
+  if (n == 1)
+    body(tbb::blocked_range<int>(0, 1));
+  else
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
+}
+
+void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& clock) const {
+  const auto& M = sensor_->p_EM;
+  const std::size_t nm = M.size();
+  sc.m_I.resize(nm);
+  sc.phi_I.resize(nm);
+  const Mat3 Rt = X_EI.linear().transpose();
+  const Vec3 t = X_EI.translation();
+  for (std::size_t j = 0; j < nm; ++j) sc.m_I[j] = Rt * (M[j] - t);
+  clock.lap(Phase::TransformCull);
+  indenter_->sdf->values(sc.m_I, sc.phi_I);
+  clock.lap(Phase::Sdf);
+}
+
+void FotsBatch::add_dilation(const Scratch& sc, double g, Vec2* disp) const {
+  const int nm = static_cast<int>(sc.phi_I.size());
+  for (int k = 0; k < nm; ++k) {
+    if (sc.phi_I[k] >= 0) continue;
+    const double gh = g * -sc.phi_I[k];
+    const double* wx = &dil_x_[static_cast<std::size_t>(k) * nm];
+    const double* wy = &dil_y_[static_cast<std::size_t>(k) * nm];
+    for (int j = 0; j < nm; ++j) disp[j] += Vec2(gh * wx[j], gh * wy[j]);
+  }
+}
+
+void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const {
+  markers_in_indenter(X_EI, sc, clock);
+  const int nm = static_cast<int>(sc.phi_I.size());
+  bool any = false;
+  for (double v : sc.phi_I) any = any || v < 0;
+  for (int j = 0; j < nm; ++j) disp[j] = Vec2::Zero();
+  if (!any) {  // contact lost: the trajectory history starts again at the next contact
+    slot.in_contact = false;
+    clock.lap(Phase::State);
+    return;
+  }
+  if (!slot.in_contact) {
+    slot.in_contact = true;
+    slot.X_ref = X_EI;
+  }
+  clock.lap(Phase::State);
+  // Dilate: x' = x + sum_C h_i (x - c_i) exp(-lambda_d |x - c_i|^2), h_i the marker's depth in mm.
+  sc.x_px.assign(m_px_.begin(), m_px_.end());
+  Vec2* xd = sc.x_px.data();
+  add_dilation(sc, 1e3, xd);
+  clock.lap(Phase::Dilation);
+  // Shear from the planar translation of the indenter origin since first contact (integer px as FOTS).
+  const double px_per_m = px_per_mm_ * 1e3;
+  const Vec3 t0 = slot.X_ref.translation(), t1 = X_EI.translation();
+  const Vec2 centre = sensor_->camera.principal_px;
+  const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), integer_px_), trunc_px(t0.y() * px_per_m + centre.y(), integer_px_));
+  const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, integer_px_), trunc_px((t1.y() - t0.y()) * px_per_m, integer_px_));
+  // Each kernel's exps in one vectorised batch (exp_in_place, <= 1e-14 relative; exponents below -700
+  // are clamped, which changes a weight of < 1e-304 by less than itself). The twist is evaluated at the
+  // sheared positions, so its batch follows the shear's.
+  sc.args.resize(static_cast<std::size_t>(nm));
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_s_ * (xd[j] - G).squaredNorm(), -700.0);
+  exp_in_place(sc.args.data(), nm);
+  for (int j = 0; j < nm; ++j) xd[j] += s * sc.args[j];
+  // Twist about G by the in-plane rotation since first contact, clipped, at the sheared positions.
+  const double raw = twist_about_z(X_EI.linear() * slot.X_ref.linear().transpose());
+  const double theta = std::clamp(raw, -twist_clip_rad_, twist_clip_rad_);
+  const double ct = std::cos(theta), st = std::sin(theta);
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_t_ * (xd[j] - G).squaredNorm(), -700.0);
+  exp_in_place(sc.args.data(), nm);
+  for (int j = 0; j < nm; ++j) {
+    const Vec2 d = xd[j] - G;
+    xd[j] += (rotate(d, ct, st) - d) * sc.args[j];
+  }
+  for (int j = 0; j < nm; ++j) disp[j] = xd[j] - m_px_[j];
+  clock.lap(Phase::Shear);
+}
+
+void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const {
+  markers_in_indenter(X_EI, sc, clock);
+  const auto& M = sensor_->p_EM;
+  const int nm = static_cast<int>(M.size());
+  int n_in = 0;
+  Vec3 c_sum = Vec3::Zero();
+  for (int j = 0; j < nm; ++j)
+    if (sc.phi_I[j] < 0) {
+      ++n_in;
+      c_sum += sc.m_I[j];
+    }
+  for (int j = 0; j < nm; ++j) disp[j] = Vec2::Zero();
+  if (n_in == 0) {
+    // The authors reset the SE(2) history here and write this contact-free pose as its first entry, so
+    // the next contact's shear is measured from this pose (HS fots_sensors.py L121-124, L204).
+    slot.in_contact = false;
+    slot.have_prev = true;
+    slot.X_prev = X_EI;
+    clock.lap(Phase::State);
+    return;
+  }
+  auto se2_of = [&](const Pose& X, Quat* q_io, bool continuity) {
+    const Pose X_EC = X * Eigen::Translation3d(slot.c_I);
+    Quat q(X_EC.linear());
+    if (continuity) {
+      if (q.coeffs().dot(q_io->coeffs()) < 0) q.coeffs() *= -1;
+    } else if (q.w() < 0) {
+      q.coeffs() *= -1;  // first entry: canonical hemisphere w >= 0
+    }
+    *q_io = q;
+    return Vec3(X_EC.translation().x(), X_EC.translation().y(), rotvec_z(q));
+  };
+  if (!slot.in_contact) {
+    // Anchor: the contact-patch centre in I at first contact (the authors set it once after the grasp).
+    slot.in_contact = true;
+    slot.c_I = c_sum / n_in;
+    slot.se2_ref = se2_of(slot.have_prev ? slot.X_prev : X_EI, &slot.q_last, false);
+  }
+  const Vec3 se2 = se2_of(X_EI, &slot.q_last, true);
+  const Vec2 dxy = se2.head<2>() - slot.se2_ref.head<2>();
+  const double dtheta = std::clamp(se2.z() - slot.se2_ref.z(), -std::numbers::pi, std::numbers::pi);
+  const Vec2 G = slot.se2_ref.head<2>();
+  slot.X_prev = X_EI;
+  slot.have_prev = true;
+  clock.lap(Phase::State);
+  const double ct = std::cos(dtheta), st = std::sin(dtheta);
+  // Both kernels' exps in one vectorised batch (exp_in_place; exponents below -700 are clamped, which
+  // changes a weight of < 1e-304 by less than itself).
+  sc.args.resize(2 * static_cast<std::size_t>(nm));
+  for (int j = 0; j < nm; ++j) {
+    const double r = (M[j].head<2>() - G).norm();
+    sc.args[2 * j] = std::max(-lambda_s_ * r, -700.0);
+    sc.args[2 * j + 1] = std::max(-lambda_t_ * r, -700.0);
+  }
+  exp_in_place(sc.args.data(), 2 * nm);
+  for (int j = 0; j < nm; ++j) {
+    const Vec2 d = M[j].head<2>() - G;
+    disp[j] = kappa_s_ * dxy * sc.args[2 * j] + kappa_t_ * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
+  }
+  clock.lap(Phase::Shear);
+  add_dilation(sc, kappa_d_, disp);
+  clock.lap(Phase::Dilation);
+}
+
+}  // namespace sb

@@ -1,0 +1,149 @@
+#pragma once
+// HydroShear (Dang, Lee et al. 2026) as the authors' code computes it (BASELINES.md §3.3), in the tsd/1
+// elastomer frame E (gel z <= 0, +z out of the gel; the authors' frame is this one mirrored in z).
+//
+// Each indenter surface point o_i = X_EI * o_i^I carries a state u_i (metres): the displacement from
+// the point back to its anchor, where it entered the gel (normal part) and where it stuck (tangential
+// part). Per step, with s = phi_E(o_t), s' = phi_E(o_{t-1}):
+//   alpha = (relu(-s) - relu(-s')) / (s' - s)       (1 in->in, 0 out->out, the in-gel fraction when crossing)
+//   delta = alpha (o_{t-1} - o_t)                   (minus the point's motion inside the gel)
+//   u_n = relu(u~_n + delta_n),  u_t = u~_t + delta_t,  |u_t| <= (mu E / K) u_n   (stick / slip)
+//   u   = H(-s) (u_n n + u_t)                        (reset when the point leaves the gel)
+// The "forces" of the paper are f_n = E u_n, f_t = K u_t (area A = 1). Marker field (px):
+//   M_d(m_j) = kappa_d sum_k relu(-phi_I(m_k)) (m_j - m_k) exp(-lambda_d |m_j - m_k|^2)
+//   M_s(m_j) = kappa_s sum_i w_i (-f_i^xy) exp(-lambda_s |m_j - (o_i + u_i)|^2)
+// with w_i = f_n,i (the authors' code) or -phi_E(o_i) (the paper). See docs/models.md.
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/models/model.hpp"
+#include "core/models/model_common.hpp"
+#include "core/models/phase_profile.hpp"
+
+namespace sb {
+
+std::vector<ParamSpec> hydroshear_param_specs();
+
+struct HydroShearParams {
+  double lambda_d, lambda_s, mu, kappa_d, kappa_s, K, E, g_aug;
+  Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
+  bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
+  bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
+  bool flat_pad_fast;      // analytic phi_E for a flat pad instead of sensor.gel_sdf
+  static HydroShearParams from(const ParamSet& p);
+};
+
+// One tracked point's state as a diagnostic.
+struct HydroShearPoint {
+  int index;               // into indenter.samples.p_IS
+  double phi_E;            // phi_E at the last committed step (< 0: in the gel)
+  Vec3 u_E;                // state in metres (anchor = point + u)
+  double u_n;              // normal part of u (>= 0)
+  PointState state;
+};
+
+// E x S independent (environment, sensor) slots sharing one sensor and one indenter. Each slot keeps
+// only the points inside the gel (a sparse list in the batch's point order) and the previous pose, so
+// memory is O(contact).
+//
+// Speed (docs/performance.md). The indenter points are grouped once into small spatial clusters with a
+// bounding sphere in I; for a flat pad (gel z_E <= 0) a cluster whose sphere lies above z_E = 0 cannot
+// have a point in the gel (phi_E >= z_E > 0), so it costs one dot product and its points are never
+// transformed: their state is zero and stays zero, exactly as the dense loop computes it. The shear
+// Gaussians factor per grid axis and use a two-exp recurrence (GaussianAxis); the dilation runs only
+// when the indenter's SDF bounds reach the marker plane, and only over the markers inside. Per slot,
+// the points are handled as columns (structure of arrays) by the branch-free loops of
+// core/models/hydroshear_kernels, which the compiler vectorises across points; the slot keeps only each
+// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed).
+class HydroShearBatch {
+ public:
+  HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
+                  const ParamSet& params);
+  ~HydroShearBatch();
+  HydroShearBatch(HydroShearBatch&&) noexcept;
+  HydroShearBatch(const HydroShearBatch& other);   // copies the state; fresh scratch
+  int slots() const { return static_cast<int>(slots_.size()); }
+  int markers() const { return static_cast<int>(sensor_->p_EM.size()); }
+  void set_params(const ParamSet& params);
+  const ParamSet& params() const { return params_; }
+  void reset();
+  void reset_slot(int slot);
+  // X_EI[slot]; disp_px[slot * markers() + j]; diagnostics empty or one per slot. Slots run in parallel.
+  void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
+  // The committed tracked points of one slot (for tests and the GUI), in the batch's point order
+  // (clusters), not sorted by index.
+  std::vector<HydroShearPoint> tracked(int slot) const;
+  // Phase timing of later steps into `profile` (nullptr: off). Not owned.
+  void set_profile(PhaseProfile* profile) { profile_ = profile; }
+
+ private:
+  // Points as columns (structure of arrays), in point order: what the vectorised kernels read and write.
+  struct PointColumns {
+    std::vector<int> pos;                  // position in the point order (perm_)
+    std::vector<double> ux, uy, uz;        // the state u (metres)
+    std::vector<std::uint8_t> slip;
+    int size() const { return static_cast<int>(pos.size()); }
+    void resize(int n);
+    void swap(PointColumns& other) noexcept;
+  };
+  struct Slot {
+    PointColumns points;                   // exactly the points with phi_E < 0 at the last step
+    Pose X_prev = Pose::Identity();
+    bool first = true;
+  };
+  // Consecutive positions [begin, end) of the point order with a bounding sphere in I.
+  struct Cluster {
+    int begin, end;
+    Vec3 centre_I;
+    double radius;
+  };
+  struct Scratch;
+  struct StepColumns;
+  void build_clusters();
+  void step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag, Scratch& scratch,
+                 PhaseClock& clock) const;
+  void gather_candidates(const Pose& X_EI, Scratch& sc) const;
+  void phi_columns(const double* x, const double* y, const double* z, const Vec3& shift, int n, double* phi) const;
+  static void lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index,
+                           StepColumns& in);
+  void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
+  void augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
+  void normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const;
+  void shear_sum(const Pose& X_EI, Scratch& sc) const;
+  void shear_sum_fast(Scratch& sc, int mp) const;
+  void shear_point_slow(Scratch& sc, int i, double vx, double vy) const;
+  void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
+  // Inline: called for every candidate point when the gel is not a flat pad.
+  double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
+
+  std::shared_ptr<const Sensor> sensor_;
+  std::shared_ptr<const Indenter> indenter_;
+  ParamSet params_;
+  HydroShearParams k_;
+  bool flat_ = false;
+  FlatPad pad_;
+  MarkerGridLayout grid_;
+  GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
+  // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
+  // .y), rows padded with zeros to kernels::dilation_stride(nm).
+  std::vector<double> dil_x_, dil_y_;
+  double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
+  // The point order: pos -> index into samples.p_IS (perm_) and back (pos_of_); p_I_/n_I_ in that order.
+  std::vector<int> perm_, pos_of_;
+  std::vector<Vec3> p_I_, n_I_;
+  std::vector<double> pIx_, pIy_, pIz_;     // p_I_ as columns
+  std::vector<Cluster> clusters_;
+  // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
+  // their points: one test skips the whole group. begin/end index clusters_ here.
+  std::vector<Cluster> groups_;
+  double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
+  bool cull_ = false;
+  std::vector<Slot> slots_;
+  struct ScratchPool;
+  std::unique_ptr<ScratchPool> pool_;
+  PhaseProfile* profile_ = nullptr;
+};
+
+}  // namespace sb

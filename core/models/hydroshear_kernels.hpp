@@ -1,0 +1,75 @@
+#pragma once
+// HydroShear's per-point arithmetic over structure-of-arrays columns: straight-line loops with no
+// branches and no cross-iteration state, so the compiler vectorises them across points, each compiled
+// for AVX2/FMA and the baseline (core/base/vector_clones.hpp). HydroShearBatch gathers the points of one
+// slot into columns, calls these, and scatters the result; the equations are in core/models/hydroshear.hpp.
+// tests/test_model_kernels.cpp checks the whole batch against a dense per-point reference loop.
+#include <cstdint>
+
+#include "core/models/model_common.hpp"
+
+namespace sb::hydroshear_kernels {
+
+// p_E = X * p (X: rotation R row-major r[9], translation t[3]), for n points.
+void transform_points(const double* r, const double* t, const double* x, const double* y, const double* z, int n,
+                      double* ox, double* oy, double* oz);
+
+// phi[i] = pad.value(p_i + shift), the box distance of FlatPad::value without its branch.
+void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, const double* y, const double* z, int n,
+                  double* phi);
+
+// One tracker step per point from (s_prev, q) to (s, p) with old state o, split along n (unit); cone =
+// mu E / K. Writes u (metres), u_n and slip (1: clipped to the cone, 0: stick). normal_z: n = +z for
+// every point (the authors' split) and the n columns are not read.
+struct AdvanceColumns {
+  const double *s_prev, *qx, *qy, *qz;   // phi_E and position at the previous pose
+  const double *s, *px, *py, *pz;        // now (s < 0: the caller passes only points in the gel)
+  const double *ox, *oy, *oz;            // old state (0 for a point that enters)
+  const double *nx, *ny, *nz;            // split normal, out of the gel
+};
+void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n, double* ux, double* uy, double* uz,
+                    double* un, std::uint8_t* slip);
+
+// The shear sum's per-point operands on a uniform marker grid (see HydroShearBatch::shear_sum):
+// (vx, vy) = -w f^xy, and the three exponents of the factored Gaussian of the anchor a = p + u:
+// lead = -l (x0 - a_x)^2 - l (y0 - a_y)^2 - l (z0 - a_z)^2, rx, ry the axes' ratio exponents.
+// fast[i] = 0 when a partial product could come near underflow (the caller sums that point another
+// way); its exponents are then 0 and its weight must not be used.
+struct ShearColumns {
+  const double *px, *py, *pz;            // the real point o_i (the anchor is o_i + u_i)
+  const double *ux, *uy, *uz, *un;       // state
+  const double *phi;                     // phi_E used by the paper's weight
+  const double *nx, *ny, *nz;            // split normal (not read when normal_z)
+};
+struct ShearConstants {
+  double E, K, lambda_s, z0;
+  bool weight_paper;
+  bool normal_z;                         // n = +z for every point
+  double x0, xn, hx, y0, yn, hy;         // the grid axes' first and last coordinates and pitches
+  double max_total_exponent;
+};
+void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* lead,
+                    double* rx, double* ry, std::uint8_t* fast);
+
+// From exp(lead), exp(rx), exp(ry) (already exponentiated) the transposed operands of the sum, with
+// the point's E_i = exp(lead) folded into X and its weight into W:
+//   Xt[c * mp + i] = E_i X_i[c]            (X_i[c] the ratio recurrence of GaussianAxis, X_i[0] = 1)
+//   Wt[r * mp + i] = fast_i vx_i Y_i[r],  Wt[(rows + r) * mp + i] = fast_i vy_i Y_i[r]
+// so that sum_i Wt[r] Xt[c] = sum_i vx_i exp(-l |m_rc - a_i|^2). For i < mp (points past n must have
+// zero weight and finite exponents); qx, qy: the axes' constants. Zeroes the padding rows that
+// add_products_nt reads.
+void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
+                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
+                    double* Wt);
+
+// S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
+// 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
+void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
+
+// The dilation's sums over the markers inside the indenter: d[j] = sum_q h[q] K[ks[q] * stride + j] for
+// j < stride, for both axes (Kx, Ky k-major, rows padded with zeros to dilation_stride(markers)).
+inline int dilation_stride(int markers) { return (markers + 7) / 8 * 8; }
+void dilation_sum(const double* Kx, const double* Ky, int stride, const int* ks, const double* h, int nk, double* dx,
+                  double* dy);
+
+}  // namespace sb::hydroshear_kernels

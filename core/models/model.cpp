@@ -1,0 +1,71 @@
+// The model registry: ids, default parameter tables, and single-sensor ShearModel instances, each a
+// batch of one of the batched kernels (hydroshear.hpp, fots.hpp, tacsl.hpp).
+#include "core/models/model.hpp"
+
+#include <stdexcept>
+
+#include "core/models/fots.hpp"
+#include "core/models/hydroshear.hpp"
+#include "core/models/tacsl.hpp"
+
+namespace sb {
+
+namespace {
+
+// Adapts a batch with one slot to ShearModel. Batch: set_params, params, reset, step(span...).
+template <class Batch>
+class SingleSlotModel final : public ShearModel {
+ public:
+  SingleSlotModel(std::string id, std::shared_ptr<Batch> batch) : id_(std::move(id)), batch_(std::move(batch)) {}
+  std::string id() const override { return id_; }
+  const ParamSet& params() const override { return batch_->params(); }
+  void set_params(const ParamSet& params) override { batch_->set_params(params); }
+  void reset() override { batch_->reset(); }
+  void step(const Pose& X_EI, double dt, FieldOutput* out) override {
+    disp_.resize(batch_->markers());
+    if (out) {
+      batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, std::span<FieldOutput>(out, 1));
+    } else {
+      batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, {});
+    }
+  }
+  std::unique_ptr<ShearModel> clone() const override {
+    return std::make_unique<SingleSlotModel>(id_, std::make_shared<Batch>(*batch_));
+  }
+
+ private:
+  std::string id_;
+  std::shared_ptr<Batch> batch_;
+  std::vector<Vec2> disp_;
+};
+
+}  // namespace
+
+const std::vector<std::string>& model_ids() {
+  static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized"};
+  return ids;
+}
+
+ParamSet default_params(const std::string& id) {
+  if (id == "hydroshear") return ParamSet(hydroshear_param_specs());
+  if (id == "fots") return ParamSet(fots_param_specs());
+  if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
+  if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
+  if (id == "tacsl-normalized") return ParamSet(tacsl_param_specs(true));
+  throw std::invalid_argument("unknown model id '" + id + "' (known: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized)");
+}
+
+std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
+                                       std::shared_ptr<const Indenter> indenter) {
+  const ParamSet p = default_params(id);
+  if (id == "hydroshear")
+    return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p));
+  if (id == "fots" || id == "fots-reimpl") {
+    const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;
+    return std::make_unique<SingleSlotModel<FotsBatch>>(id, std::make_shared<FotsBatch>(v, sensor, indenter, 1, p));
+  }
+  return std::make_unique<SingleSlotModel<TacslBatch>>(
+      id, std::make_shared<TacslBatch>(id == "tacsl-normalized", sensor, indenter, 1, p));
+}
+
+}  // namespace sb

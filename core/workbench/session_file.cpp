@@ -1,0 +1,124 @@
+#include "core/workbench/session_file.hpp"
+
+#include <cmath>
+
+#include "core/base/atomic_write.hpp"
+#include "core/base/error.hpp"
+#include "core/data/json_read.hpp"
+
+namespace sb {
+namespace {
+
+using nlohmann::json;
+
+// A pose as [x, y, z, qw, qx, qy, qz] (metres, w-first unit quaternion), as in tsd/1 poses.csv.
+nlohmann::ordered_json pose_json(const Pose& X) {
+  const Quat q(X.linear());
+  const Vec3 p = X.translation();
+  return nlohmann::ordered_json::array({p.x(), p.y(), p.z(), q.w(), q.x(), q.y(), q.z()});
+}
+
+Pose pose_from_json(const json& j, const std::string& file, const std::string& ptr) {
+  if (!j.is_array() || j.size() != 7) jsonin::fail(file, ptr, "expected [x, y, z, qw, qx, qy, qz]");
+  double v[7];
+  for (std::size_t i = 0; i < 7; ++i) v[i] = jsonin::finite_number(j[i], file, jsonin::child(ptr, i));
+  const Quat q = normalized_quaternion(v[3], v[4], v[5], v[6], file + ": " + ptr, nullptr);
+  return make_pose(Vec3(v[0], v[1], v[2]), q);
+}
+
+std::string optional_string(const json& j, const char* key, const std::string& file, const std::string& ptr,
+                            const std::string& fallback) {
+  const json* v = jsonin::find(j, key);
+  return v ? jsonin::string(*v, file, jsonin::child(ptr, key)) : fallback;
+}
+
+}  // namespace
+
+nlohmann::ordered_json session_to_json(const SessionFile& s) {
+  nlohmann::ordered_json j;
+  j["format"] = "shearbench-session";
+  j["version"] = SessionFile::kFormatVersion;
+  j["open"] = {{"scene", s.open.scene_path},       {"dataset", s.open.dataset_dir},         {"sample", s.open.sample_id},
+               {"fots", s.open.fots_id},           {"tacsl", s.open.tacsl_id},              {"indenter_mesh", s.open.indenter_mesh},
+               {"indenter_scale", s.open.indenter_scale}};
+  j["params"] = s.params;
+  nlohmann::ordered_json path = nlohmann::ordered_json::array();
+  for (const auto& X : s.path) path.push_back(pose_json(X));
+  j["path_X_EI"] = path;
+  j["step"] = s.step;
+  j["display"] = {{"auto_scale", s.auto_scale}, {"arrow_gain", s.arrow_gain}, {"colour_max_px", s.colour_max_px}};
+  if (!s.residual_file.empty())
+    j["residual"] = {{"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
+  return j;
+}
+
+SessionFile session_from_json(const json& j, const std::string& file) {
+  jsonin::reject_unknown_keys(j, {"format", "version", "open", "params", "path_X_EI", "step", "display", "residual"},
+                              file, "");
+  if (jsonin::string(jsonin::member(j, "format", file, ""), file, "/format") != "shearbench-session")
+    jsonin::fail(file, "/format", "not a shearbench session file");
+  const int version = jsonin::integer(jsonin::member(j, "version", file, ""), file, "/version");
+  if (version < SessionFile::kOldestReadableVersion || version > SessionFile::kFormatVersion)
+    jsonin::fail(file, "/version", "unsupported session version " + std::to_string(version) + " (this build reads " +
+                                       std::to_string(SessionFile::kOldestReadableVersion) + " to " +
+                                       std::to_string(SessionFile::kFormatVersion) + ")");
+  if (version < 2 && jsonin::find(j, "residual"))
+    jsonin::fail(file, "/residual", "a version 1 session has no residual section");
+  SessionFile s;
+  const json& open = jsonin::member(j, "open", file, "");
+  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "fots", "tacsl", "indenter_mesh", "indenter_scale"},
+                              file, "/open");
+  s.open.scene_path = optional_string(open, "scene", file, "/open", "");
+  s.open.dataset_dir = optional_string(open, "dataset", file, "/open", "");
+  s.open.sample_id = optional_string(open, "sample", file, "/open", "");
+  s.open.fots_id = optional_string(open, "fots", file, "/open", s.open.fots_id);
+  s.open.tacsl_id = optional_string(open, "tacsl", file, "/open", s.open.tacsl_id);
+  s.open.indenter_mesh = optional_string(open, "indenter_mesh", file, "/open", "");
+  if (const json* v = jsonin::find(open, "indenter_scale"))
+    s.open.indenter_scale = jsonin::positive_number(*v, file, "/open/indenter_scale");
+
+  if (const json* p = jsonin::find(j, "params")) {
+    jsonin::require_object(*p, file, "/params");
+    for (const auto& [id, table] : p->items()) jsonin::require_object(table, file, jsonin::child("/params", id));
+    s.params = *p;
+  }
+  if (const json* path = jsonin::find(j, "path_X_EI")) {
+    if (!path->is_array()) jsonin::fail(file, "/path_X_EI", "expected an array of poses");
+    s.path.reserve(path->size());
+    for (std::size_t k = 0; k < path->size(); ++k)
+      s.path.push_back(pose_from_json((*path)[k], file, jsonin::child("/path_X_EI", k)));
+  }
+  if (const json* step = jsonin::find(j, "step")) {
+    s.step = jsonin::integer(*step, file, "/step");
+    if (s.step < -1 || s.step >= static_cast<int>(std::max<std::size_t>(s.path.size(), 1)))
+      jsonin::fail(file, "/step", "step " + std::to_string(s.step) + " is outside the path (" +
+                                      std::to_string(s.path.size()) + " poses)");
+  }
+  if (const json* d = jsonin::find(j, "display")) {
+    jsonin::reject_unknown_keys(*d, {"auto_scale", "arrow_gain", "colour_max_px"}, file, "/display");
+    if (const json* v = jsonin::find(*d, "auto_scale")) s.auto_scale = jsonin::boolean(*v, file, "/display/auto_scale");
+    if (const json* v = jsonin::find(*d, "arrow_gain")) {
+      s.arrow_gain = jsonin::finite_number(*v, file, "/display/arrow_gain");
+      if (s.arrow_gain < 0) jsonin::fail(file, "/display/arrow_gain", "must be >= 0");
+    }
+    if (const json* v = jsonin::find(*d, "colour_max_px")) {
+      s.colour_max_px = jsonin::finite_number(*v, file, "/display/colour_max_px");
+      if (s.colour_max_px < 0) jsonin::fail(file, "/display/colour_max_px", "must be >= 0");
+    }
+  }
+  if (const json* r = jsonin::find(j, "residual")) {
+    jsonin::reject_unknown_keys(*r, {"file", "residual_fields", "corrected"}, file, "/residual");
+    s.residual_file = jsonin::string(jsonin::member(*r, "file", file, "/residual"), file, "/residual/file");
+    if (const json* v = jsonin::find(*r, "residual_fields")) s.residual_fields = jsonin::boolean(*v, file, "/residual/residual_fields");
+    if (const json* v = jsonin::find(*r, "corrected")) s.residual_corrected = jsonin::boolean(*v, file, "/residual/corrected");
+  }
+  return s;
+}
+
+SessionFile load_session_file(const std::string& path) { return session_from_json(jsonin::load_file(path), path); }
+
+void save_session_file(const std::string& path, const SessionFile& s) {
+  write_file_atomic(path, session_to_json(s).dump(1) + "\n");
+}
+
+}  // namespace sb

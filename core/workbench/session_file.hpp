@@ -1,0 +1,52 @@
+#pragma once
+// The workbench session file: what the user made, so it can be saved, reopened, autosaved and offered
+// back after a crash. JSON with a format version; written atomically; every bad value is reported as
+// "file: /json/pointer: what". Parameter tables are kept as JSON here and validated by the models'
+// ParamSet when applied (the session reader does not depend on the model registry).
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose.hpp"
+
+namespace sb {
+
+// What is open (as for `shearbench gui`): a scene, or a dataset sample, and the model variants shown.
+// The session file keeps it, and the CLI's gui and render fill it from their flags.
+struct SessionSource {
+  std::string scene_path;           // empty: scenes/default.json
+  std::string dataset_dir;          // replay a tsd/1 dataset instead of a scene
+  std::string sample_id;            // empty: the dataset's first sample
+  std::string fots_id = "fots";     // or fots-reimpl
+  std::string tacsl_id = "tacsl";   // or tacsl-normalized
+  std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
+  double indenter_scale = 0.002;    // file units to metres for indenter_mesh
+};
+
+struct SessionFile {
+  // Version 2 added the optional "residual" section; version 1 files (without it) are still read.
+  static constexpr int kFormatVersion = 2;
+  static constexpr int kOldestReadableVersion = 1;
+  SessionSource open;
+  // What the user did: every model's parameters (model id -> table), the pose path X_EI(0..n-1)
+  // including drags, and the step shown.
+  nlohmann::json params = nlohmann::json::object();
+  std::vector<Pose> path;
+  int step = -1;
+  // How it is shown.
+  bool auto_scale = true;
+  double arrow_gain = 0.0;       // 0: the workbench's default
+  double colour_max_px = 0.0;
+  // A residual analysis shown in the Residual section (empty: none) and its two switches.
+  std::string residual_file;
+  bool residual_fields = false;
+  bool residual_corrected = true;
+};
+
+nlohmann::ordered_json session_to_json(const SessionFile& s);
+// `file` names the source in errors.
+SessionFile session_from_json(const nlohmann::json& j, const std::string& file);
+SessionFile load_session_file(const std::string& path);
+void save_session_file(const std::string& path, const SessionFile& s);
+
+}  // namespace sb
