@@ -18,33 +18,11 @@ namespace {
 
 using sb::Vec3;
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5), as a distance.
-double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return ap.norm();
-  const Vec3 bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return bp.norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + ab * (d1 / (d1 - d3)))).norm();
-  const Vec3 cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return cp.norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + ac * (d2 / (d2 - d6)))).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
-    return (p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6))))).norm();
-  const double denom = 1.0 / (va + vb + vc);
-  return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
-}
-
 // Unsigned distance from p to the mesh, brute force over every triangle.
 double mesh_distance(const sb::TriMesh& m, const Vec3& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& f : m.faces)
-    best = std::min(best, point_triangle_distance(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]));
+    best = std::min(best, sb::point_triangle_distance(p, m.vertices[f[0]], m.vertices[f[1]], m.vertices[f[2]]));
   return best;
 }
 
@@ -278,4 +256,20 @@ TEST_CASE("mesh SDF of an open mesh (allow_open) keeps a best-effort sign", "[sd
   CHECK(sdf->value(Vec3(0, 0, 0.002)) < 0);    // 3 mm deep
   CHECK(sdf->value(Vec3(0, 0.006, 0)) > 0);    // 1 mm outside
   CHECK(sdf->value(Vec3(0.004, 0, 0)) == Approx(-0.001).margin(1e-5));
+}
+
+TEST_CASE("point_triangle_distance in each closest-point region", "[sdf]") {
+  // Triangle a = (0,0,0), b = (1,0,0), c = (0,1,0) in the plane z = 0.
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  constexpr double kTol = 1e-12;
+  // Above the face: the distance is the height.
+  CHECK(sb::point_triangle_distance(Vec3(0.25, 0.25, 2), a, b, c) == Approx(2).margin(kTol));
+  // Beyond vertex a in -x, -y: |(-1, -1, 0)| = sqrt(2).
+  CHECK(sb::point_triangle_distance(Vec3(-1, -1, 0), a, b, c) == Approx(std::sqrt(2.0)).margin(kTol));
+  // Below edge ab (y < 0, 0 < x < 1): the distance is |y| = 1.
+  CHECK(sb::point_triangle_distance(Vec3(0.5, -1, 0), a, b, c) == Approx(1).margin(kTol));
+  // Beyond edge bc (x + y = 1): |1 + 1 - 1| / sqrt(2) from (1, 1, 0).
+  CHECK(sb::point_triangle_distance(Vec3(1, 1, 0), a, b, c) == Approx(1 / std::sqrt(2.0)).margin(kTol));
+  // Beyond vertex c along +y and above: |(0, 1, 1)| = sqrt(2).
+  CHECK(sb::point_triangle_distance(Vec3(0, 2, 1), a, b, c) == Approx(std::sqrt(2.0)).margin(kTol));
 }

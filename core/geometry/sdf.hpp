@@ -50,6 +50,8 @@ struct MeshSdfOptions {
   bool allow_open = false;          // best effort for meshes with holes (sign from a flood fill)
 };
 SdfPtr make_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options = {});
+// Unsigned distance from p to the triangle abc (what the mesh field is built from; also the tests' exact reference).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 
 // ---- a dense cache of any field on a regular grid (fast path; optional nearest-voxel lookup that
 // reproduces pytorch_volumetric.CachedSDF, the lookup the HydroShear authors' code uses)

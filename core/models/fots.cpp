@@ -128,21 +128,10 @@ void FotsBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp
         step_original(slots_[i], X_EI[i], d, scratch_[i], clock);
       else
         step_reimpl(slots_[i], X_EI[i], d, scratch_[i], clock);
-      if (!diagnostics.empty()) {
-        FieldOutput& o = diagnostics[i];
-        o.disp_px.assign(d, d + nm);
-        o.marker_in_contact.resize(nm);
-        for (std::size_t j = 0; j < nm; ++j) o.marker_in_contact[j] = scratch_[i].phi_I[j] < 0 ? 1 : 0;
-        o.p_EP.clear();
-        o.anchor_EP.clear();
-        o.point_state.clear();
-      }
+      if (!diagnostics.empty()) marker_contact_diagnostics(d, scratch_[i].phi_I, diagnostics[i]);
     }
   };
-  if (n == 1)
-    body(tbb::blocked_range<int>(0, 1));
-  else
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
+  for_each_slot_range(n, kSlotGrain, body);
 }
 
 void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& clock) const {

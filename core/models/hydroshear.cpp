@@ -280,11 +280,7 @@ void HydroShearBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2
       step_slot(slots_[i], X_EI[i], &disp_px[i * nm], diagnostics.empty() ? nullptr : &diagnostics[i], scratch,
                 clock);
   };
-  if (n == 1) {
-    body(tbb::blocked_range<int>(0, 1));
-  } else {
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
-  }
+  for_each_slot_range(n, kSlotGrain, body);
 }
 
 namespace {

@@ -161,4 +161,14 @@ void require_finite_pose(const Pose& X_EI, std::string_view model_id) {
   if (!is_finite(X_EI)) throw std::invalid_argument(std::string(model_id) + ": the indenter pose X_EI is not finite");
 }
 
+void marker_contact_diagnostics(const Vec2* disp, const std::vector<double>& phi_I, FieldOutput& out) {
+  const std::size_t nm = phi_I.size();
+  out.disp_px.assign(disp, disp + nm);
+  out.marker_in_contact.resize(nm);
+  for (std::size_t j = 0; j < nm; ++j) out.marker_in_contact[j] = phi_I[j] < 0 ? 1 : 0;
+  out.p_EP.clear();
+  out.anchor_EP.clear();
+  out.point_state.clear();
+}
+
 }  // namespace sb

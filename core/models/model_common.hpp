@@ -8,6 +8,8 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <vector>
 
 #include "core/models/model.hpp"
@@ -109,5 +111,19 @@ inline bool param_flag(const ParamSet& p, std::string_view name) { return p.get(
 // Throws std::invalid_argument naming the model when a pose is not finite. A string_view: called per
 // slot and step, it must not build a std::string ("tacsl-normalized" is past the small-string buffer).
 void require_finite_pose(const Pose& X_EI, std::string_view model_id);
+
+// Runs body(range) over the slots [0, n) of a batched step: inline for a single slot (the workbench's one
+// sensor pays no task overhead), else as TBB tasks of `grain` slots.
+template <class Body>
+void for_each_slot_range(int n, int grain, const Body& body) {
+  if (n == 1)
+    body(tbb::blocked_range<int>(0, 1));
+  else
+    tbb::parallel_for(tbb::blocked_range<int>(0, n, grain), body);
+}
+
+// Diagnostics of a model that tracks no surface points (FOTS, TacSL): the field, and a marker counts as
+// in contact where it is inside the indenter (phi_I < 0).
+void marker_contact_diagnostics(const Vec2* disp, const std::vector<double>& phi_I, FieldOutput& out);
 
 }  // namespace sb

@@ -74,21 +74,10 @@ void TacslBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> dis
     for (int i = r.begin(); i < r.end(); ++i) {
       Vec2* d = &disp_px[i * nm];
       step_slot(slots_[i], X_EI[i], dt, d, clock);
-      if (!diagnostics.empty()) {
-        FieldOutput& o = diagnostics[i];
-        o.disp_px.assign(d, d + nm);
-        o.marker_in_contact.resize(nm);
-        for (std::size_t j = 0; j < nm; ++j) o.marker_in_contact[j] = slots_[i].phi_I[j] < 0 ? 1 : 0;
-        o.p_EP.clear();
-        o.anchor_EP.clear();
-        o.point_state.clear();
-      }
+      if (!diagnostics.empty()) marker_contact_diagnostics(d, slots_[i].phi_I, diagnostics[i]);
     }
   };
-  if (n == 1)
-    body(tbb::blocked_range<int>(0, 1));
-  else
-    tbb::parallel_for(tbb::blocked_range<int>(0, n, kSlotGrain), body);
+  for_each_slot_range(n, kSlotGrain, body);
 }
 
 void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, PhaseClock& clock) const {
