@@ -23,3 +23,22 @@ TEST_CASE("data_path shows a file under the data root as data:<relative>, others
   CHECK(sb::data_path("", r).empty());
   fs::remove_all(root);
 }
+
+TEST_CASE("a relative data root is made absolute once, so a scene's folder cannot move it", "[data_root]") {
+  // From a working folder W with a data root "rel/data": the root is W/rel/data; a scene in W/scenes
+  // naming data:meshes/m.obj resolves to W/rel/data/meshes/m.obj, not W/scenes/rel/data/meshes/m.obj
+  // (joining a relative root to the scene's folder was the bug).
+  const fs::path work = fs::temp_directory_path() / "sb_test_data_root_rel";
+  fs::create_directories(work / "rel" / "data" / "meshes");
+  fs::create_directories(work / "scenes");
+  const fs::path saved = fs::current_path();
+  fs::current_path(work);
+  const std::string root = sb::resolve_data_root("rel/data");
+  const std::string mesh = sb::resolve_path("data:meshes/m.obj", root, (work / "scenes").string());
+  fs::current_path(saved);
+  CHECK(fs::path(root).is_absolute());
+  CHECK(fs::path(root) == (work / "rel" / "data").lexically_normal());
+  // The resolved mesh path, joined once more to the scene's folder (as the indenter loader does), stays put.
+  CHECK(sb::resolve_path(mesh, root, (work / "scenes").string()) == (work / "rel" / "data" / "meshes" / "m.obj").string());
+  fs::remove_all(work);
+}

@@ -9,14 +9,27 @@ namespace fs = std::filesystem;
 
 namespace sb {
 
+namespace {
+
+// The root as an absolute, normalised path: a relative root would be resolved again against whatever
+// folder a path inside it is later joined to (a scene's folder turned ../shared/data/meshes/cow.obj into
+// scenes/../shared/data/meshes/cow.obj).
+std::string absolute_root(const fs::path& root) {
+  std::error_code ec;
+  const fs::path abs = fs::absolute(root, ec);
+  return (ec ? root : abs).lexically_normal().string();
+}
+
+}  // namespace
+
 std::string resolve_data_root(const std::string& cli_value) {
-  if (!cli_value.empty()) return cli_value;
-  if (const char* env = std::getenv("SHEARBENCH_DATA"); env && *env) return env;
-  if (fs::exists("../shared/data")) return "../shared/data";
+  if (!cli_value.empty()) return absolute_root(cli_value);
+  if (const char* env = std::getenv("SHEARBENCH_DATA"); env && *env) return absolute_root(env);
+  if (fs::exists("../shared/data")) return absolute_root("../shared/data");
   // Running from build/ or elsewhere: the layout puts shared/ beside the repository.
   const fs::path beside_source = fs::path(SHEARBENCH_SOURCE_DIR) / ".." / "shared" / "data";
-  if (fs::exists(beside_source)) return fs::weakly_canonical(beside_source).string();
-  return "../shared/data";
+  if (fs::exists(beside_source)) return absolute_root(beside_source);
+  return absolute_root("../shared/data");
 }
 
 std::string resolve_path(const std::string& path, const std::string& data_root, const std::string& base_dir) {

@@ -5,7 +5,8 @@
 
 namespace sb {
 
-// `cli_value` is the --data flag (empty when not given).
+// `cli_value` is the --data flag (empty when not given). The result is absolute (relative roots are taken
+// from the working directory), so joining it to a scene's folder cannot move it.
 std::string resolve_data_root(const std::string& cli_value = "");
 // Resolves "data:<relative>" against the data root; other paths are returned unchanged (relative ones
 // joined to base_dir when base_dir is not empty).
