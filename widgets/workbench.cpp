@@ -413,7 +413,7 @@ void Workbench::draw_fit_panel() {
       if (ImGui::Selectable(display_name(snap_.models[m].id).c_str(), m == fit_model_)) fit_model_ = m;
     ImGui::EndCombo();
   }
-  ImGui::Checkbox("joint refinement", &fit_joint_);
+  ImGui::Checkbox("joint refinement (off: the paper's stages only)", &fit_joint_);
   ImGui::SameLine();
   ImGui::SetNextItemWidth(-70);
   ImGui::SliderInt("iter##fit", &fit_iterations_, 1, 100);

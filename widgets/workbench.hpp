@@ -153,7 +153,7 @@ class Workbench {
   std::string data_root_;
   char fit_dataset_[512] = "";
   int fit_model_ = 0;
-  bool fit_joint_ = false;
+  bool fit_joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
   int fit_iterations_ = 30;
   std::string fit_model_id_;          // the model the shown result belongs to
   bool fit_result_handled_ = false;   // applied or discarded

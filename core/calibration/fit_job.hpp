@@ -18,7 +18,7 @@ struct FitJobRequest {
   std::string model_id;
   ParamSet start;                       // the parameters the user has now
   std::vector<std::string> stages;      // empty: the model's whole table
-  bool joint = false;
+  bool joint = true;   // stages, then the joint refinement: the best fit (false: the paper's stages only)
   int max_iterations = 30;
 };
 

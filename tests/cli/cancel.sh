@@ -26,7 +26,7 @@ run_and_interrupt() {
 # 0.2 s, which can end between two polls of the log.
 printf '{"old": true}\n' > "$work/params.json"
 cp "$work/params.json" "$work/params.expected"
-rc=$(run_and_interrupt INT " iter " "$work/fit.log" "$exe" fit --dataset "$data/twin/twin_sphere8" --model all --joint --out "$work/params.json")
+rc=$(run_and_interrupt INT " iter " "$work/fit.log" "$exe" fit --dataset "$data/twin/twin_sphere8" --model all --out "$work/params.json")
 [[ $rc == 130 ]] || { echo "FAIL: fit exit code $rc after SIGINT, expected 130"; cat "$work/fit.log"; exit 1; }
 cmp "$work/params.json" "$work/params.expected" || { echo "FAIL: the cancelled fit changed params.json"; exit 1; }
 grep -q "cancelled" "$work/fit.log" || { echo "FAIL: the fit did not say it was cancelled"; exit 1; }
