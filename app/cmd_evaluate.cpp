@@ -5,6 +5,7 @@
 #include <iostream>
 
 #include "app/command.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/base/data_root.hpp"
 #include "core/calibration/evaluate.hpp"
 #include "core/data/json_read.hpp"
@@ -16,6 +17,7 @@ struct EvaluateArgs {
   std::string dataset;
   std::string model;
   std::string params;
+  std::string param_set = kDefaultParamSet;
   std::string split = "all";
   std::string json_out;
   std::string markdown_out;
@@ -30,10 +32,13 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   else ids.push_back(a.model);
   const nlohmann::json params_file = a.params.empty() ? nlohmann::json() : jsonin::load_file(a.params);
 
+  const NamedParamSet set = load_param_set(a.param_set);
   Warnings warnings;
   std::vector<EvaluationResult> results;
   for (const auto& id : ids) {
-    const nlohmann::json table = params_for_model(params_file, id, ids.size() == 1, a.params);
+    // The set's table, then --params on top.
+    nlohmann::json table = set.params(id).to_json();
+    table.update(params_for_model(params_file, id, ids.size() == 1, a.params));
     const ModelFactory factory = dataset_model_factory(ds, id, table, root, a.params, &warnings);
     results.push_back(evaluate_dataset(ds, factory, a.split, id, &warnings));
     if (!g.quiet) {
@@ -54,6 +59,7 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
 void add_flags(CLI::App& sub, EvaluateArgs& a) {
   add_dataset_flag(sub, a.dataset);
   sub.add_option("--model", a.model, "model id or 'all'")->required();
+  add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--split", a.split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));
   sub.add_option("--json", a.json_out, "write the results as JSON")->required();

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/base/reproducible.hpp"
 #include "core/base/data_root.hpp"
 #include "core/calibration/evaluate.hpp"
@@ -23,6 +24,7 @@ struct SimulateArgs {
   std::string scene;
   std::string model;
   std::string params;
+  std::string param_set = kDefaultParamSet;
   std::string out;
 };
 
@@ -34,8 +36,8 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
       build_indenter(scene.indenter_spec, root, fs::path(a.scene).parent_path().string(), &warnings));
   if (indenter->name.empty()) indenter->name = "indenter";
 
-  // Parameters: defaults, then the scene's table for this model, then --params.
-  ParamSet params = default_params(a.model);
+  // Parameters: the set (default twin_sphere35), then the scene's table for this model, then --params.
+  ParamSet params = load_param_set(a.param_set).params(a.model);
   if (const auto it = scene.params.find(a.model); it != scene.params.end())
     params.update_from_json(it->second, a.scene + ": /params/" + a.model);
   if (!a.params.empty())
@@ -88,6 +90,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
 void add_flags(CLI::App& sub, SimulateArgs& a) {
   sub.add_option("--scene", a.scene, "scene JSON (scenes/*.json)")->required();
   sub.add_option("--model", a.model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized")->required();
+  add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--out", a.out, "output dataset folder")->required();
 }

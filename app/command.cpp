@@ -15,4 +15,11 @@ CLI::Option* add_params_flag(CLI::App& sub, std::string& params, const std::stri
   return sub.add_option("--params", params, what + ": {model: {name: value}} or a flat {name: value}");
 }
 
+CLI::Option* add_param_set_flag(CLI::App& sub, std::string& param_set) {
+  return sub.add_option("--param-set", param_set,
+                        "parameter set to start from: a name in assets/params (see `shearbench params`) or a file; "
+                        "'published' = the authors' values")
+      ->capture_default_str();
+}
+
 }  // namespace sb::app

@@ -50,5 +50,8 @@ struct Subcommand {
 CLI::Option* add_dataset_flag(CLI::App& sub, std::string& dataset);
 // --params FILE: parameter JSON keyed by model id, or flat for one model.
 CLI::Option* add_params_flag(CLI::App& sub, std::string& params, const std::string& what = "parameter JSON");
+// --param-set NAME|FILE: the parameter set a command starts from (assets/params; default twin_sphere35,
+// `published` for the authors' values); --params applies on top.
+CLI::Option* add_param_set_flag(CLI::App& sub, std::string& param_set);
 
 }  // namespace sb::app

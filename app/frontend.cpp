@@ -47,6 +47,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
       work_(options.autosave_interval_s),
       autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
+  workbench_.set_param_set(session_.param_set);
   workbench_.set_metrics(field_metrics());
   workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
@@ -63,6 +64,7 @@ void Frontend::reopen(const SessionOptions& session) {
   session_ = std::move(next);
   session_options_ = session;
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
+  workbench_.set_param_set(session_.param_set);
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
   baseline_pending_ = Baseline::Clean;
@@ -117,6 +119,12 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     if (req.switch_model) switch_model(req.switch_model->first, req.switch_model->second);
     if (req.export_fields) start_export(*req.export_fields);
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
+    if (req.param_set) {
+      SessionOptions o = session_options_;
+      o.open.param_set = *req.param_set;
+      reopen(o);
+      workbench_.set_message("every model starts again from parameter set " + *req.param_set);
+    }
     if (req.open_dataset) {
       SessionOptions o = session_options_;
       o.open.dataset_dir = *req.open_dataset;
@@ -203,7 +211,9 @@ int Frontend::export_fields(const std::string& dir) {
 
 void Frontend::switch_model(int slot, const std::string& model_id) {
   AppState& state = *session_.state;
-  state.request_model(static_cast<std::size_t>(slot), make_model(model_id, state.sensor(), state.indenter()));
+  auto model = make_model(model_id, state.sensor(), state.indenter());
+  model->set_params(session_.param_set.params(model_id));   // the variant starts from the set too
+  state.request_model(static_cast<std::size_t>(slot), std::move(model));
   // The session remembers the variant (what `gui --fots/--tacsl` would open).
   if (model_id.rfind("fots", 0) == 0) session_options_.open.fots_id = model_id;
   if (model_id.rfind("tacsl", 0) == 0) session_options_.open.tacsl_id = model_id;

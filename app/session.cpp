@@ -1,5 +1,8 @@
 #include "app/session.hpp"
 
+#include "app/command.hpp"
+#include "core/calibration/param_sets.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -44,11 +47,14 @@ Scene builtin_default_scene() {
 
 namespace {
 
+// Each model starts from the session's parameter set, then the scene's table for it.
 std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
+                                                     const NamedParamSet& param_set,
                                                      std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
   for (const std::string& id : {std::string("hydroshear"), o.open.fots_id, o.open.tacsl_id}) {
     auto m = make_model(id, scene.sensor, indenter);
+    m->set_params(param_set.params(id));
     if (auto it = scene.params.find(id); it != scene.params.end()) {
       ParamSet p = m->params();
       p.update_from_json(it->second, scene.path.empty() ? "scene" : scene.path);
@@ -81,6 +87,7 @@ void load_measured(Session& s, const std::string& data_root) {
 
 Session open_session(const SessionOptions& o) {
   Session s;
+  s.param_set = load_param_set(o.open.param_set);   // before anything else: a bad name is the first error
   const std::string root = resolve_data_root(o.data_root);
   double indenter_bottom_shift = 0;
   if (!o.open.dataset_dir.empty()) {
@@ -121,7 +128,7 @@ Session open_session(const SessionOptions& o) {
     const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
     for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
   }
-  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, indenter), s.scene.X_EI,
+  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, s.param_set, indenter), s.scene.X_EI,
                                        s.scene.dt_s);
   if (!s.scene.dataset_dir.empty()) load_measured(s, root);
   if (s.title.empty())
@@ -172,10 +179,11 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
+  add_param_set_flag(sub, open.param_set);
 }
 
 std::vector<std::string> source_arguments(const SessionSource& open) {
-  std::vector<std::string> args = {"--fots", open.fots_id, "--tacsl", open.tacsl_id};
+  std::vector<std::string> args = {"--fots", open.fots_id, "--tacsl", open.tacsl_id, "--param-set", open.param_set};
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) args.insert(args.end(), {flag, value});
   };

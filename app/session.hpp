@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/workbench/app_state.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/data/scene.hpp"
 #include "core/workbench/session_file.hpp"
 #include "widgets/workbench.hpp"
@@ -26,6 +27,7 @@ std::vector<std::string> source_arguments(const SessionSource& open);
 
 struct Session {
   Scene scene;
+  NamedParamSet param_set;     // what the models started from (before the scene's own tables)
   std::unique_ptr<AppState> state;
   ui::MeasuredData measured;
   ui::ReplayUi replay;

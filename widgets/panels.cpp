@@ -17,7 +17,8 @@ std::string display_name(const std::string& id) {
   return id;
 }
 
-bool param_panel(const std::string& model_id, ParamSet& params) {
+bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference,
+                 const ParamSet* published) {
   bool changed = false;
   ImGui::PushID(model_id.c_str());
   for (std::size_t i = 0; i < params.size(); ++i) {
@@ -37,13 +38,17 @@ bool param_panel(const std::string& model_id, ParamSet& params) {
     }
     if (ImGui::IsItemHovered() && !spec.help.empty()) ImGui::SetTooltip("%s", spec.help.c_str());
     ImGui::SameLine();
-    if (ImGui::SmallButton("R") && params[i] != spec.default_value) {
-      params.set(i, spec.default_value);
+    if (ImGui::SmallButton("R") && params[i] != reference[i]) {
+      params.set(i, reference[i]);
       changed = true;
     }
-    if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset to %g", spec.default_value);
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset to %g (the parameter set's value)", reference[i]);
     ImGui::SameLine();
     ImGui::TextUnformatted(spec.name.c_str());
+    if (published != nullptr) {
+      ImGui::SameLine();
+      ImGui::TextDisabled("published %.4g", (*published)[i]);
+    }
     ImGui::PopID();
   }
   ImGui::PopID();

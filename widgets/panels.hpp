@@ -11,7 +11,10 @@ namespace sb::ui {
 
 // One slider per ParamSpec (unit in the format, logarithmic where spec.log_scale, hover for help) and
 // a reset-to-default button. Returns true when a value changed.
-bool param_panel(const std::string& model_id, ParamSet& params);
+// Sliders of one model's parameters. R resets a slider to `reference` (the active parameter set's value);
+// with `published`, each row also shows the authors' value.
+bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference,
+                 const ParamSet* published = nullptr);
 
 // Numeric entry of the indenter pose: position in mm and roll-pitch-yaw (extrinsic xyz) in degrees.
 bool pose_panel(Pose& X_EI);

@@ -262,12 +262,15 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     if (ImGui::SmallButton("Load")) req.load_params = std::string(params_path_);
     ImGui::SameLine();
     if (ImGui::SmallButton("Save")) req.save_params = std::string(params_path_);
+    draw_param_set_row(req);
     for (std::size_t m = 0; m < snap_.models.size() && m < edit_params_.size(); ++m) {
       const std::string& id = snap_.models[m].id;
       if (!ImGui::TreeNodeEx(id.c_str(), m == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", display_name(id).c_str()))
         continue;
       // Slider edits go to a local copy that is sent as a whole; the snapshot catches up after the replay.
-      if (param_panel(id, edit_params_[m])) state_->request_params(m, edit_params_[m]);
+      const ParamSet published = default_params(id);
+      if (param_panel(id, edit_params_[m], param_set_.params(id), show_published_ ? &published : nullptr))
+        state_->request_params(m, edit_params_[m]);
       ImGui::TreePop();
     }
   }
@@ -400,6 +403,23 @@ void Workbench::draw_rmse_plots() {
 }
 
 // Calibration on a worker thread (core/calibration/fit_job.hpp): the panel polls its status each frame.
+// The parameter set every model started from: a combo to start again from another, its provenance as a
+// tooltip (what it was fitted on, by which command, its validation RMSE), and the published values.
+void Workbench::draw_param_set_row(WorkbenchRequest& req) {
+  ImGui::TextUnformatted("parameter set");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(150);
+  if (ImGui::BeginCombo("##param_set", param_set_.name.c_str())) {
+    for (const std::string& name : param_set_names())
+      if (ImGui::Selectable(name.c_str(), name == param_set_.name) && name != param_set_.name) req.param_set = name;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", param_set_.summary().c_str());
+  ImGui::SameLine();
+  ImGui::Checkbox("published", &show_published_);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the authors' published value beside each slider");
+}
+
 void Workbench::draw_fit_panel() {
   if (fit_dataset_[0] == '\0' && !replay_.dataset_dir.empty())
     std::snprintf(fit_dataset_, sizeof fit_dataset_, "%s", replay_.dataset_dir.c_str());

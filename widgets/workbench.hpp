@@ -12,6 +12,7 @@
 #include "core/workbench/app_state.hpp"
 #include "core/workbench/field_export.hpp"
 #include "core/calibration/fit_job.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/loop/residual_view.hpp"
 #include "core/calibration/rmse_series.hpp"
 #include "widgets/field_panel.hpp"
@@ -50,6 +51,7 @@ struct WorkbenchRequest {
   std::string screenshot_region;            // empty: the whole window; else a ScreenRegion name
   std::optional<int> open_sample;           // index into ReplayUi::samples
   std::optional<std::string> open_dataset;  // a dataset folder (its first sample)
+  std::optional<std::string> param_set;     // start every model again from this parameter set
   std::optional<std::string> load_params;   // params.json path
   std::optional<std::string> save_params;
   std::optional<std::string> save_session;  // session file path
@@ -93,6 +95,9 @@ class Workbench {
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
   void set_session_path(const std::string& path);
   void set_data_root(std::string root) { data_root_ = std::move(root); }
+  // The parameter set the models started from: named in the Parameters section (provenance as tooltip),
+  // the value R resets a slider to.
+  void set_param_set(NamedParamSet set) { param_set_ = std::move(set); }
   std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
   // Where the 3D view and each field panel were drawn in the last frame.
@@ -117,6 +122,7 @@ class Workbench {
   void draw_question(WorkbenchRequest& req);
   void update_rmse_series();
   void draw_fit_panel();
+  void draw_param_set_row(WorkbenchRequest& req);
   void draw_residual_panel(WorkbenchRequest& req);
   void draw_variant_switches(WorkbenchRequest& req);
   void draw_export_row(WorkbenchRequest& req);
@@ -153,6 +159,8 @@ class Workbench {
   std::string data_root_;
   char fit_dataset_[512] = "";
   int fit_model_ = 0;
+  NamedParamSet param_set_ = published_param_set();
+  bool show_published_ = false;
   bool fit_joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
   int fit_iterations_ = 30;
   std::string fit_model_id_;          // the model the shown result belongs to

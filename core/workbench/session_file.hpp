@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/calibration/param_sets.hpp"
 #include "core/geometry/pose.hpp"
 
 namespace sb {
@@ -21,6 +22,7 @@ struct SessionSource {
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
   std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
   double indenter_scale = 0.002;    // file units to metres for indenter_mesh
+  std::string param_set = kDefaultParamSet;   // the parameter set the models start from
 };
 
 struct SessionFile {

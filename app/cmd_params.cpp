@@ -1,0 +1,105 @@
+// `shearbench params`: the shipped parameter sets (assets/params/<name>.json) with their provenance, and
+// `--rebuild`, which regenerates every fitted set: each model fitted on the set's dataset's calibration
+// split from the published values (stages, then the joint refinement: `fit` with no flags) and scored on
+// its validation split. `shearbench --reproducible params --rebuild` writes the same bytes every time.
+#include <cstdio>
+#include <filesystem>
+
+#include "app/command.hpp"
+#include "core/base/atomic_write.hpp"
+#include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
+#include "core/calibration/param_sets.hpp"
+#include "core/calibration/report.hpp"
+#include "core/data/tsd.hpp"
+
+namespace sb::app {
+namespace {
+
+// A fitted set: its name, the dataset it is fitted on and what it is for.
+struct SetRecipe {
+  const char* name;
+  const char* dataset;
+  const char* description;
+};
+
+constexpr SetRecipe kRecipes[] = {
+    {"twin_sphere35", "data:twin/twin_sphere35",
+     "the default: fitted on the FE twin of the HydroShear paper's calibration (35 mm sphere on a GelSight Mini)"},
+    {"twin_sphere8", "data:twin/twin_sphere8", "fitted on the FE twin with an 8 mm sphere (smaller contacts)"},
+};
+
+struct ParamsArgs {
+  bool rebuild = false;
+  std::vector<std::string> sets;   // empty: all
+  std::string out_dir;             // empty: assets/params
+};
+
+nlohmann::json validation_json(const EvaluationResult& e, const Dataset& ds) {
+  nlohmann::json m = evaluation_to_json({e}, ds, "validation")["models"][e.model_id];
+  m.erase("samples");
+  m.erase("seconds");
+  return m;
+}
+
+NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const GlobalOptions& g) {
+  FidelityOptions o;
+  o.dataset_dirs = {resolve_path(recipe.dataset, root, "")};
+  o.fit.joint = true;   // the best fit `fit` gives with no flags
+  o.data_root = root;
+  if (!g.quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "params: %s\n", line.c_str()); };
+  const DatasetFidelity r = run_fidelity(o).at(0);
+  const Dataset ds = read_dataset(r.dir);
+  NamedParamSet set;
+  set.name = recipe.name;
+  nlohmann::json validation = nlohmann::json::object(), published = nlohmann::json::object();
+  for (std::size_t i = 0; i < r.fits.size(); ++i) {
+    const std::string& id = r.fits[i].model_id;
+    set.tables[id] = r.fits[i].params.to_json();
+    validation[id] = validation_json(r.fitted[i], ds);
+    published[id] = validation_json(r.defaults[i], ds);
+  }
+  set.provenance = {{"description", recipe.description},
+                    {"dataset", recipe.dataset},
+                    {"split", "fitted on the calibration split, scored on the validation split"},
+                    {"fit", "every model from the published values: its stages, then the joint refinement"},
+                    {"command", std::string("shearbench --reproducible params --rebuild --set ") + recipe.name},
+                    {"validation", validation},
+                    {"validation_published", published}};
+  return set;
+}
+
+int run_params(const ParamsArgs& a, const GlobalOptions& g) {
+  if (!a.rebuild) {
+    for (const auto& name : param_set_names()) {
+      const NamedParamSet s = load_param_set(name);
+      std::printf("%s%s\n%s\n\n", name.c_str(), name == kDefaultParamSet ? " (default)" : "", s.summary().c_str());
+    }
+    return 0;
+  }
+  const std::string root = resolve_data_root(g.data_root_flag);
+  const std::string dir = a.out_dir.empty() ? param_sets_dir() : a.out_dir;
+  std::filesystem::create_directories(dir);
+  bool any = false;
+  for (const SetRecipe& recipe : kRecipes) {
+    if (!a.sets.empty() && std::find(a.sets.begin(), a.sets.end(), recipe.name) == a.sets.end()) continue;
+    any = true;
+    const std::string path = (std::filesystem::path(dir) / (std::string(recipe.name) + ".json")).string();
+    save_param_set(path, fit_set(recipe, root, g));
+    if (!g.quiet) std::fprintf(stderr, "params: wrote %s\n", path.c_str());
+  }
+  if (!any) throw InputError("--set", "no fitted set of that name (twin_sphere35, twin_sphere8; 'published' is not fitted)");
+  return 0;
+}
+
+void add_flags(CLI::App& sub, ParamsArgs& a) {
+  sub.add_flag("--rebuild", a.rebuild, "refit the fitted sets from the published values and write them");
+  sub.add_option("--set", a.sets, "only these sets (with --rebuild)")->delimiter(',');
+  sub.add_option("--out-dir", a.out_dir, "where --rebuild writes (default: assets/params)");
+}
+
+const Subcommand<ParamsArgs> kSubcommand{
+    "params", "the shipped parameter sets and their provenance; --rebuild refits them", 38, add_flags, run_params};
+
+}  // namespace
+}  // namespace sb::app

@@ -1,0 +1,108 @@
+#include "core/calibration/param_sets.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "core/base/atomic_write.hpp"
+#include "core/base/error.hpp"
+#include "core/base/format.hpp"
+#include "core/data/json_read.hpp"
+#include "core/models/model.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sb {
+
+ParamSet NamedParamSet::params(const std::string& model_id) const {
+  ParamSet p = default_params(model_id);
+  if (const auto it = tables.find(model_id); it != tables.end())
+    p.update_from_json(it->second, (file.empty() ? name : file) + ": /params/" + model_id);
+  return p;
+}
+
+std::string NamedParamSet::summary() const {
+  std::string s = "parameter set '" + name + "'";
+  if (const auto* d = provenance.is_object() ? &provenance : nullptr) {
+    if (d->contains("description")) s += ": " + (*d)["description"].get<std::string>();
+    if (d->contains("command")) s += "\nmade by: " + (*d)["command"].get<std::string>();
+    if (d->contains("validation")) {
+      s += "\nvalidation RMSE / CS (overall) on " + d->value("dataset", std::string("its dataset")) + ":";
+      for (const auto& [id, v] : (*d)["validation"].items())
+        if (v.contains("overall"))
+          s += "\n  " + id + ": " + format_number(v["overall"].value("rmse_px", NAN)) + " px, CS " +
+               format_number(v["overall"].value("cs", NAN));
+    }
+  }
+  return s;
+}
+
+std::string param_sets_dir() {
+  if (fs::is_directory("assets/params")) return fs::absolute("assets/params").lexically_normal().string();
+  return (fs::path(SHEARBENCH_SOURCE_DIR) / "assets" / "params").string();
+}
+
+std::vector<std::string> param_set_names() {
+  std::vector<std::string> names{kPublishedParamSet};
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(param_sets_dir(), ec))
+    if (e.path().extension() == ".json" && e.path().stem() != kPublishedParamSet) names.push_back(e.path().stem().string());
+  std::sort(names.begin() + 1, names.end());
+  return names;
+}
+
+NamedParamSet published_param_set() {
+  NamedParamSet s;
+  s.name = kPublishedParamSet;
+  s.provenance = {{"description", "the authors' values as their code sets them (BASELINES.md), tuned for their "
+                                  "cameras and units, not fitted to our data"}};
+  return s;
+}
+
+NamedParamSet load_param_set(const std::string& name_or_file) {
+  if (name_or_file == kPublishedParamSet) return published_param_set();
+  const bool is_file = name_or_file.find('/') != std::string::npos || fs::path(name_or_file).extension() == ".json";
+  const std::string file = is_file ? name_or_file : (fs::path(param_sets_dir()) / (name_or_file + ".json")).string();
+  if (!fs::exists(file)) {
+    std::string known;
+    for (const auto& n : param_set_names()) known += (known.empty() ? "" : ", ") + n;
+    throw InputError(file, "no parameter set '" + name_or_file + "' (known: " + known + ")");
+  }
+  const nlohmann::json j = jsonin::load_file(file);
+  jsonin::require_object(j, file, "");
+  jsonin::reject_unknown_keys(j, {"format", "name", "provenance", "params"}, file, "");
+  if (jsonin::string(jsonin::member(j, "format", file, ""), file, "/format") != "shearbench-param-set/1")
+    jsonin::fail(file, "/format", "expected \"shearbench-param-set/1\"");
+  NamedParamSet s;
+  s.file = file;
+  s.name = jsonin::string(jsonin::member(j, "name", file, ""), file, "/name");
+  if (const auto* p = jsonin::find(j, "provenance")) s.provenance = *p;
+  const nlohmann::json& params = jsonin::member(j, "params", file, "");
+  jsonin::require_object(params, file, "/params");
+  for (const auto& [id, table] : params.items()) {
+    const std::string ptr = jsonin::child("/params", id);
+    if (std::find(model_ids().begin(), model_ids().end(), id) == model_ids().end())
+      jsonin::fail(file, ptr, "unknown model '" + id + "'");
+    jsonin::require_object(table, file, ptr);
+    s.tables[id] = table;
+    s.params(id);   // every name known and every value in range, reported here rather than at first use
+  }
+  return s;
+}
+
+nlohmann::ordered_json param_set_to_json(const NamedParamSet& set) {
+  nlohmann::ordered_json j;
+  j["format"] = "shearbench-param-set/1";
+  j["name"] = set.name;
+  j["provenance"] = set.provenance;
+  nlohmann::ordered_json params = nlohmann::ordered_json::object();
+  for (const auto& [id, table] : set.tables) params[id] = table;
+  j["params"] = params;
+  return j;
+}
+
+void save_param_set(const std::string& path, const NamedParamSet& set) {
+  write_file_atomic(path, param_set_to_json(set).dump(2) + "\n");
+}
+
+}  // namespace sb

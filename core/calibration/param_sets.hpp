@@ -1,0 +1,41 @@
+#pragma once
+// Named parameter sets (assets/params/<name>.json): every model's parameters and where they came from
+// (dataset, split, the command, validation RMSE and CS per motion). The workbench, `simulate`, `render`
+// and `evaluate` start from kDefaultParamSet unless told otherwise (--param-set NAME, --params FILE on
+// top); `published` holds the authors' values (default_params). `shearbench params --rebuild` regenerates
+// every fitted set from the published values, so a set never depends on an earlier version of itself.
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "core/base/params.hpp"
+
+namespace sb {
+
+inline constexpr const char* kDefaultParamSet = "twin_sphere35";
+inline constexpr const char* kPublishedParamSet = "published";
+
+struct NamedParamSet {
+  std::string name;
+  std::string file;                       // where it was read from (empty: built in memory)
+  nlohmann::json provenance;              // free-form: dataset, split, command, validation per model
+  std::map<std::string, nlohmann::json> tables;   // model id -> {name: value} (absent: published values)
+
+  // The model's parameters: the published values with this set's table on top.
+  ParamSet params(const std::string& model_id) const;
+  // One line per model a person can read (the workbench's tooltip, `params --list`).
+  std::string summary() const;
+};
+
+// The folder of the shipped sets: ./assets/params when run from the repository root, else the source tree's.
+std::string param_sets_dir();
+std::vector<std::string> param_set_names();
+// `name_or_file`: a set's name (assets/params/<name>.json) or a path to a set file. "published" needs no
+// file. Throws InputError naming the file and the JSON pointer of a bad entry.
+NamedParamSet load_param_set(const std::string& name_or_file);
+NamedParamSet published_param_set();
+nlohmann::ordered_json param_set_to_json(const NamedParamSet& set);
+void save_param_set(const std::string& path, const NamedParamSet& set);
+
+}  // namespace sb
