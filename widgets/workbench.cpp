@@ -695,7 +695,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y));
   ImGui::SetNextWindowSize(ImVec2(right_w, view_h));
   ImGui::Begin("3D", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
-  viewport_.update(snap_, marker_model_);
+  viewport_.update(snap_, marker_model_, scale_.colour_max_px);
   const ImVec2 view_origin = ImGui::GetCursorScreenPos();
   regions_.push_back({"3D view", view_origin.x, view_origin.y, right_w, view_h});
   if (auto target = viewport_.draw(right_w, view_h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
@@ -706,8 +706,8 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
     }
   }
   {
-    const std::string label = "3D markers: " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
-                              "   tracked points: stick green, slip orange, free grey; contact patch orange";
+    const std::string label = "markers: |d| of " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
+                              " (panel colours)   tracked points: stick green, slip orange, free grey";
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
     dl->AddRectFilled(ImVec2(view_origin.x + 4, view_origin.y + 4), ImVec2(view_origin.x + 12 + ts.x, view_origin.y + 8 + ts.y),
