@@ -528,7 +528,11 @@ bool Workbench::set_enlarged(const std::string& panel) {
 
 // Every model's (du, dv) of one marker, and the measurement's, beside the marker.
 void Workbench::draw_marker_tooltip(int marker, ImVec2 at) {
-  ImGui::SetNextWindowPos(ImVec2(at.x + 14, at.y + 10));
+  // Beside the marker, on the side with room (a tooltip placed by hand is not kept on screen by ImGui).
+  const ImVec2 size = ImGui::GetMainViewport()->Size;
+  const ImVec2 pivot(at.x > 0.6f * size.x ? 1.0f : 0.0f, at.y > 0.5f * size.y ? 1.0f : 0.0f);
+  ImGui::SetNextWindowPos(ImVec2(at.x + (pivot.x > 0 ? -14.0f : 14.0f), at.y + (pivot.y > 0 ? -10.0f : 10.0f)),
+                          ImGuiCond_Always, pivot);
   ImGui::BeginTooltip();
   ImGui::Text("marker %d", marker);
   if (ImGui::BeginTable("##markertip", 4, ImGuiTableFlags_SizingFixedFit)) {
