@@ -112,6 +112,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
 
   const bool hovered = interactive && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(p0, p1);
   if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) result.toggle_enlarge = true;
+  if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) result.clicked = true;
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   // A marker answers the mouse within about half the default marker pitch (33 image px).
   float best_d2 = std::pow(std::max(8.0f, 16.0f * zoom), 2.0f);

@@ -48,6 +48,7 @@ struct FieldPanelResult {
   float height = 0;          // the height used
   int hovered_marker = -1;   // the marker under the mouse (nearest within reach), -1: none
   bool toggle_enlarge = false;   // the enlarge / back button was pressed, or the image double-clicked
+  bool clicked = false;          // the image was clicked (the workbench shows this model in the 3D view)
 };
 
 // The panel's words for a field far off the colour scale ("field up to 44 px, 22x the colour scale:

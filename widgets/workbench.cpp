@@ -634,6 +634,8 @@ void Workbench::draw_fields(float width, float height) {
     const ImVec2 panel_top = ImGui::GetCursorScreenPos();
     const FieldPanelResult r = draw_field_panel(in, scale_, pw, options_.interactive);
     if (r.toggle_enlarge) enlarged_ = one ? std::string() : names[i];
+    // The model panel last clicked (or enlarged) is the one the 3D view colours its markers by.
+    if ((r.clicked || r.toggle_enlarge) && i < n - 1) marker_model_ = i;
     if (r.hovered_marker >= 0 || (forced_hover_ >= 0 && first_shown && forced_hover_ < int(in.rest_px->size()))) {
       hovered = r.hovered_marker >= 0 ? r.hovered_marker : forced_hover_;
       const float zoom = pw / float(iw);
@@ -652,7 +654,8 @@ void Workbench::draw_fields(float width, float height) {
 }
 
 bool Workbench::animating() const {
-  return state_ != nullptr && (snap_.playing || viewport_.busy() || state_->version() != snap_.version ||
+  // An enlarged panel hides the 3D view: its pending re-render waits for the view to come back.
+  return state_ != nullptr && (snap_.playing || (enlarged_.empty() && viewport_.busy()) || state_->version() != snap_.version ||
                                state_->pending_edits() > 0 || export_job_.status().running() || !export_reported_);
 }
 
