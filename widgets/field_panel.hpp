@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/geometry/pose.hpp"
+#include "core/workbench/field_display.hpp"   // off_scale_note, drawn_arrow
 
 namespace sb::ui {
 
@@ -22,8 +23,6 @@ struct FieldScale {
   float max_arrow_px = 0.0f;
 };
 
-// A field this many times the top of the colour map is called out in words on its panel.
-inline constexpr double kOffScaleFactor = 5.0;
 
 struct FieldMetrics {
   double rmse_px = 0;
@@ -51,12 +50,7 @@ struct FieldPanelResult {
   bool clicked = false;          // the image was clicked (the workbench shows this model in the 3D view)
 };
 
-// The panel's words for a field far off the colour scale ("field up to 44 px, 22x the colour scale:
-// arrows clipped"), empty when within kOffScaleFactor of it. `clipped`: some arrow was cut.
-std::string off_scale_note(double max_px, double colour_max_px, bool clipped);
-// The drawn arrow of displacement `d` (image px) from `gain`, cut to `max_len` (0: no cut); `*cut` says
-// whether it was.
-Vec2 drawn_arrow(const Vec2& d, double gain, double max_len, bool* cut);
+
 
 // RGBA of a magnitude on the colour map (t in [0, 1], clamped): dark blue, teal, green, yellow.
 ImU32 colour_map(float t);
