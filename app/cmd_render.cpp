@@ -32,6 +32,8 @@ struct RenderArgs {
   bool residual_fields = false;
   std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
   double drag_twist_deg = 0; // ... twisting it about the pad normal by this much
+  std::string enlarge;       // a field panel's name: drawn enlarged to the whole field area
+  int hover_marker = -1;     // a marker's tooltip shown as if hovered
 };
 
 Vec3 parse_mm_triple(const std::string& text) {
@@ -64,6 +66,9 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
     front.workbench().set_residual_view(a.residual_fields, true);
     front.workbench().apply_residual_base_params();   // the base beside the corrected model, both fitted
   }
+  if (!a.enlarge.empty() && !front.workbench().set_enlarged(a.enlarge))
+    throw InputError("--enlarge", "no field panel '" + a.enlarge + "' (the models' names as shown, Measured)");
+  front.workbench().set_hover_marker(a.hover_marker);
   AppState& state = *front.session().state;
   if (a.profile > 0) {
     const auto ms = front.profile_drag(a.profile);
@@ -109,6 +114,8 @@ void add_flags(CLI::App& sub, RenderArgs& a) {
   sub.add_option("--drag-twist-deg", a.drag_twist_deg, "... twisting it by this angle about the normal");
   sub.add_flag("--visible", a.visible, "show the window while rendering");
   sub.add_option("--panel", a.panel, "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
+  sub.add_option("--enlarge", a.enlarge, "draw this field panel enlarged to the whole field area (e.g. 'FOTS', 'Measured')");
+  sub.add_option("--hover-marker", a.hover_marker, "show marker N's tooltip (every model's (du, dv)) as if hovered");
   sub.add_option("--export-fields", a.export_fields, "also write every model's field along the path as DIR/<model>/ (tsd/1)");
   sub.add_option("--residual", a.residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
   sub.add_flag("--residual-fields", a.residual_fields, "draw measured - model instead of the model fields");

@@ -11,6 +11,7 @@
 #include <regex>
 
 #include "core/base/data_root.hpp"
+#include "core/base/display_path.hpp"
 #include "core/base/error.hpp"
 #include "core/data/json_read.hpp"
 #include "core/calibration/metrics.hpp"
@@ -75,7 +76,8 @@ void load_measured(Session& s, const std::string& data_root) {
   s.measured.disp_px = std::move(data.markers_px);
   s.measured.frame_paths = std::move(data.frame_paths);
   s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";
-  s.replay.dataset_dir = data_path(s.scene.dataset_dir, data_root);   // "data:twin/..." when under the data root
+  // "data:twin/..." when under the data root, relative when under the working folder: not this machine's paths.
+  s.replay.dataset_dir = display_path(s.scene.dataset_dir, data_root);
   s.replay.samples.clear();
   for (const auto& smp : ds.samples) s.replay.samples.push_back(smp.id);
   s.replay.sample_index = static_cast<int>(
@@ -132,7 +134,7 @@ Session open_session(const SessionOptions& o) {
                                        s.scene.dt_s);
   if (!s.scene.dataset_dir.empty()) load_measured(s, root);
   if (s.title.empty())
-    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : s.scene.path) : s.scene.name;
+    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : display_path(s.scene.path, root)) : s.scene.name;
   return s;
 }
 

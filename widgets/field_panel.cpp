@@ -59,11 +59,30 @@ double nice_floor(double x) {
   return p;
 }
 
-float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width) {
+namespace {
+// A text box with a translucent dark background; `anchor_bottom`: `at` is its bottom-left corner.
+void label_box(ImDrawList* dl, ImVec2 at, const std::string& text, ImU32 colour, ImU32 background, bool anchor_bottom) {
+  const ImVec2 ts = ImGui::CalcTextSize(text.c_str());
+  const ImVec2 c(at.x, anchor_bottom ? at.y - ts.y : at.y);
+  dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), background, 2.0f);
+  dl->AddText(c, colour, text.c_str());
+}
+}  // namespace
+
+FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width, bool interactive) {
+  FieldPanelResult result;
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 top = ImGui::GetCursorScreenPos();
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  ImGui::TextUnformatted(elide(in.title, width).c_str());
+  // Title row: the name, and at its right end the button that enlarges the panel (or brings it back).
+  const char* button = in.enlarged ? "back" : "enlarge";
+  const float button_w = ImGui::CalcTextSize(button).x + 2 * ImGui::GetStyle().FramePadding.x;
+  ImGui::TextUnformatted(elide(in.title, width - button_w - 4).c_str());
+  ImGui::SetCursorScreenPos(ImVec2(top.x + width - button_w, top.y));
+  if (ImGui::SmallButton(button)) result.toggle_enlarge = true;
+  if (interactive && ImGui::IsItemHovered())
+    ImGui::SetTooltip(in.enlarged ? "back to all panels (or double-click the field)"
+                                  : "enlarge to the whole field area (or double-click the field)");
   const float zoom = width / static_cast<float>(in.image_width_px);
   const float height = in.image_height_px * zoom;
   const ImVec2 p0(top.x, top.y + line);
@@ -73,46 +92,69 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   else
     dl->AddRectFilled(p0, p1, kGelColour);
   dl->AddRect(p0, p1, kFrameColour);
-  dl->PushClipRect(p0, p1, true);
+  dl->PushClipRect(p0, p1, true);   // nothing drawn for this field leaves its panel
+
+  const bool hovered = interactive && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(p0, p1);
+  if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) result.toggle_enlarge = true;
+  if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) result.clicked = true;
+  const ImVec2 mouse = ImGui::GetIO().MousePos;
+  // A marker answers the mouse within about half the default marker pitch (33 image px).
+  float best_d2 = std::pow(std::max(8.0f, 16.0f * zoom), 2.0f);
 
   const auto to_screen = [&](const Vec2& uv) { return ImVec2(p0.x + float(uv.x()) * zoom, p0.y + float(uv.y()) * zoom); };
   const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
   const float dot = std::max(1.5f, 2.2f * zoom);
+  bool any_cut = false;
   if (in.rest_px != nullptr) {
     for (std::size_t m = 0; m < in.rest_px->size(); ++m) {
       const ImVec2 r = to_screen((*in.rest_px)[m]);
+      if (hovered) {
+        const float d2 = (r.x - mouse.x) * (r.x - mouse.x) + (r.y - mouse.y) * (r.y - mouse.y);
+        if (d2 < best_d2) best_d2 = d2, result.hovered_marker = static_cast<int>(m);
+      }
       const bool contact = in.in_contact != nullptr && m < in.in_contact->size() && (*in.in_contact)[m] != 0;
       dl->AddCircleFilled(r, dot, contact ? kContactColour : kRestColour);
+      if (static_cast<int>(m) == in.highlight_marker) {
+        dl->AddCircle(r, dot + 5, IM_COL32(0, 0, 0, 255), 0, 3.0f);
+        dl->AddCircle(r, dot + 5, IM_COL32(255, 255, 255, 255), 0, 1.5f);
+      }
       if (!have_field || m >= in.disp_px->size()) continue;
       const Vec2 d = (*in.disp_px)[m];
       if (!std::isfinite(d.x()) || !std::isfinite(d.y())) continue;  // a marker the tracker lost
       const double mag = d.norm();
       if (mag < kMinArrowPx) continue;
       const ImU32 col = colour_map(float(mag / scale.colour_max_px));
-      const ImVec2 tip(r.x + float(d.x()) * scale.arrow_gain * zoom, r.y + float(d.y()) * scale.arrow_gain * zoom);
-      draw_arrow(dl, r, tip, col, std::max(1.5f, 0.9f * zoom));
+      bool cut = false;
+      const Vec2 a = drawn_arrow(d, scale.arrow_gain, scale.max_arrow_px, &cut) * zoom;
+      const ImVec2 tip(r.x + float(a.x()), r.y + float(a.y()));
+      const float thickness = std::max(1.5f, 0.9f * zoom);
+      draw_arrow(dl, r, tip, col, thickness);
+      if (cut) {   // a second head behind the first: longer than drawn
+        any_cut = true;
+        const float back = std::min(7.0f, 0.4f * float(a.norm()));
+        const float len = float(a.norm());
+        draw_arrow(dl, r, ImVec2(tip.x - float(a.x()) / len * back, tip.y - float(a.y()) / len * back), col, thickness);
+      }
     }
   }
   if (have_field) {
     // The panel's own largest displacement, bottom left: the shared arrow scale can make a small field
-    // look empty.
+    // look empty, and a field far above the colour scale is said so in words.
     double max_px = 0;
     for (const Vec2& d : *in.disp_px)
       if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
+    const std::string off = off_scale_note(max_px, scale.colour_max_px, any_cut);
     char buf[48];
     std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
-    const ImVec2 ts = ImGui::CalcTextSize(buf);
-    const ImVec2 c(p0.x + 3, p1.y - ts.y - 3);
-    dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
-    dl->AddText(c, IM_COL32(255, 255, 255, 255), buf);
+    label_box(dl, ImVec2(p0.x + 3, p1.y - 3), off.empty() ? std::string(buf) : off,
+              off.empty() ? IM_COL32(255, 255, 255, 255) : IM_COL32(255, 190, 90, 255),
+              off.empty() ? IM_COL32(0, 0, 0, 150) : IM_COL32(0, 0, 0, 190), true);
   }
   if (in.metrics) {   // against the measurement, top right of the image (the title row keeps its width)
     char buf[96];
     std::snprintf(buf, sizeof buf, "RMSE %.2f px CS %.2f", in.metrics->rmse_px, in.metrics->cs);
     const ImVec2 ts = ImGui::CalcTextSize(buf);
-    const ImVec2 c(p1.x - ts.x - 3, p0.y + 3);
-    dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), IM_COL32(0, 0, 0, 150), 2.0f);
-    dl->AddText(c, IM_COL32(255, 220, 120, 255), buf);
+    label_box(dl, ImVec2(p1.x - ts.x - 3, p0.y + 3), buf, IM_COL32(255, 220, 120, 255), IM_COL32(0, 0, 0, 150), false);
   }
   if (!have_field && !in.note.empty()) {
     const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());
@@ -123,7 +165,8 @@ float draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float
   dl->PopClipRect();
   ImGui::SetCursorScreenPos(ImVec2(top.x, p1.y + 4));
   ImGui::Dummy(ImVec2(width, 0));
-  return line + height + 4;
+  result.height = line + height + 4;
+  return result;
 }
 
 float draw_field_legend(const FieldScale& scale, float image_zoom, float width) {

@@ -93,7 +93,10 @@ void draw_help_overlay(bool* open) {
                                 {"Shift+drag", "push in / pull out"},
                                 {"Ctrl+drag", "twist about the pad normal"},
                                 {"Alt+drag", "tilt (x) and roll (y)"},
-                                {"drag elsewhere", "orbit; middle: pan; right / wheel: zoom"}};
+                                {"drag elsewhere", "orbit; middle: pan; right / wheel: zoom"},
+                                {"click a model's field", "colour the 3D view's markers by its |d|"},
+                                {"double-click a field", "enlarge that panel to the whole field area / back"},
+                                {"hover a marker", "its (du, dv) in every model and the measurement"}};
       for (auto& m : mouse) {
         ImGui::TableNextRow();
         ImGui::TableNextColumn();

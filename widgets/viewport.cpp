@@ -8,6 +8,8 @@
 #include <vtkCellArray.h>
 #include <vtkCellPicker.h>
 #include <vtkCubeSource.h>
+#include <vtkFloatArray.h>
+#include <vtkPlane.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
@@ -29,6 +31,9 @@
 
 #include <algorithm>
 #include <cmath>
+
+#include "core/geometry/indent.hpp"
+#include "widgets/field_panel.hpp"
 
 namespace sb::ui {
 
@@ -112,8 +117,139 @@ vtkSmartPointer<vtkMatrix4x4> vtk_matrix_mm(const Pose& X) {
   return m;
 }
 
+// The flat gel's top surface is a grid of this many cells along its longer side: 0.26 mm, 97 x 80
+// vertices for the GelSight Mini pad (the dent of a 4 mm sphere 1 mm deep, 5.3 mm across, spans 20).
+// 128 cells cost ~2 ms more per frame on llvmpipe while dragging the cow (render --profile).
+constexpr int kTopGridCells = 96;
+// A dented vertex sits this far below the indenter's surface, so the indenter (drawn first, opaque or
+// not) is not z-fighting with the gel where they touch.
+constexpr double kDentClearanceM = 0.02e-3;
+// An indenter wider than this fraction of the pad's shorter side would hide the pad: it is cut away
+// above the contact (kCutHeightM above its lowest point) and the rest drawn as a faint ghost.
+constexpr double kBigIndenterFraction = 0.6;
+constexpr double kCutHeightM = 3.0e-3;
+
+std::array<unsigned char, 3> rgb_of(ImU32 c) {
+  return {static_cast<unsigned char>(c >> IM_COL32_R_SHIFT), static_cast<unsigned char>(c >> IM_COL32_G_SHIFT),
+          static_cast<unsigned char>(c >> IM_COL32_B_SHIFT)};
+}
+
+// The flat pad drawn as a top surface grid that can be dented, and its sides and bottom.
+struct PadSurface {
+  int nx = 0, ny = 0;
+  std::vector<Vec3> rest_E;     // grid vertices, z = 0 (metres)
+  std::vector<Vec3> now_E;      // with the dent
+  vtkNew<vtkPolyData> top;
+  vtkNew<vtkPoints> points;
+  vtkNew<vtkFloatArray> normals;
+  vtkNew<vtkActor> top_actor;
+  vtkNew<vtkActor> sides_actor;
+  bool dented = false;
+
+  void build(const Vec2& size_m, double thickness_m);
+  // Dents the grid where the indenter is below the surface; cheap when it is not (nothing to redo).
+  void indent(const Indenter& indenter, const Pose& X_EI, double z_min_E, const Eigen::AlignedBox2d& footprint_E);
+  void upload();
+};
+
+void PadSurface::build(const Vec2& size_m, double thickness_m) {
+  const double cell = std::max(size_m.x(), size_m.y()) / kTopGridCells;
+  nx = static_cast<int>(std::ceil(size_m.x() / cell)) + 1;
+  ny = static_cast<int>(std::ceil(size_m.y() / cell)) + 1;
+  rest_E.resize(static_cast<std::size_t>(nx) * ny);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i)
+      rest_E[j * nx + i] = Vec3(size_m.x() * (double(i) / (nx - 1) - 0.5), size_m.y() * (double(j) / (ny - 1) - 0.5), 0);
+  now_E = rest_E;
+  vtkNew<vtkCellArray> quads;
+  for (int j = 0; j + 1 < ny; ++j)
+    for (int i = 0; i + 1 < nx; ++i) {
+      const vtkIdType a = j * nx + i;
+      const vtkIdType ids[4] = {a, a + 1, a + 1 + nx, a + nx};
+      quads->InsertNextCell(4, ids);
+    }
+  points->SetNumberOfPoints(static_cast<vtkIdType>(rest_E.size()));
+  normals->SetNumberOfComponents(3);
+  normals->SetNumberOfTuples(static_cast<vtkIdType>(rest_E.size()));
+  top->SetPoints(points);
+  top->SetPolys(quads);
+  top->GetPointData()->SetNormals(normals);
+  dented = true;   // upload the flat state once
+  upload();
+  dented = false;
+  vtkNew<vtkPolyDataMapper> top_mapper;
+  top_mapper->SetInputData(top);
+  top_mapper->ScalarVisibilityOff();
+  top_actor->SetMapper(top_mapper);
+
+  // Sides and bottom: the box without its top face (flat normals, near faces only).
+  vtkNew<vtkCubeSource> box;
+  const double sx = size_m.x() * kMmPerM, sy = size_m.y() * kMmPerM, t = thickness_m * kMmPerM;
+  box->SetBounds(-sx / 2, sx / 2, -sy / 2, sy / 2, -t, 0.0);
+  box->Update();
+  vtkNew<vtkPolyData> sides;
+  sides->DeepCopy(box->GetOutput());
+  vtkNew<vtkCellArray> kept;
+  vtkCellArray* faces = sides->GetPolys();
+  faces->InitTraversal();
+  vtkIdType n;
+  const vtkIdType* ids;
+  while (faces->GetNextCell(n, ids)) {
+    bool on_top = true;
+    for (vtkIdType k = 0; k < n; ++k) on_top = on_top && sides->GetPoint(ids[k])[2] > -1e-9;
+    if (!on_top) kept->InsertNextCell(n, ids);
+  }
+  sides->SetPolys(kept);
+  vtkNew<vtkPolyDataMapper> sides_mapper;
+  sides_mapper->SetInputData(sides);
+  sides_mapper->ScalarVisibilityOff();
+  sides_actor->SetMapper(sides_mapper);
+  sides_actor->GetProperty()->BackfaceCullingOn();
+  for (vtkActor* a : {top_actor.GetPointer(), sides_actor.GetPointer()}) {
+    a->GetProperty()->SetColor(0.95, 0.88, 0.72);
+    a->GetProperty()->SetAmbient(0.45);
+    a->GetProperty()->SetDiffuse(0.65);
+    a->PickableOff();
+  }
+  top_actor->GetProperty()->SetOpacity(1.0);   // opaque: the dent is shaded, and nothing is under it to see
+  sides_actor->GetProperty()->SetOpacity(0.45);
+}
+
+void PadSurface::indent(const Indenter& indenter, const Pose& X_EI, double z_min_E, const Eigen::AlignedBox2d& footprint_E) {
+  if (z_min_E >= 0 && !dented) return;   // not touching, and nothing to undo
+  now_E = rest_E;
+  dented = z_min_E < 0;
+  if (dented) {
+    // Only the grid under the part of the indenter below the surface can move.
+    std::vector<std::size_t> idx;
+    std::vector<Vec3> q;
+    for (std::size_t k = 0; k < rest_E.size(); ++k)
+      if (footprint_E.contains(rest_E[k].head<2>())) idx.push_back(k), q.push_back(rest_E[k]);
+    indent_down(*indenter.sdf, X_EI, q);
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      now_E[idx[k]].z() = q[k].z() < 0 ? q[k].z() - kDentClearanceM : 0.0;
+  }
+  upload();
+  dented = z_min_E < 0;
+}
+
+void PadSurface::upload() {
+  const auto at = [&](int i, int j) { return now_E[std::clamp(j, 0, ny - 1) * nx + std::clamp(i, 0, nx - 1)]; };
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const Vec3& p = now_E[j * nx + i];
+      points->SetPoint(j * nx + i, p.x() * kMmPerM, p.y() * kMmPerM, p.z() * kMmPerM);
+      // Normal from central differences of the height.
+      const Vec3 dx = at(i + 1, j) - at(i - 1, j), dy = at(i, j + 1) - at(i, j - 1);
+      const Vec3 n = dx.cross(dy).normalized();
+      normals->SetTuple3(j * nx + i, n.x(), n.y(), n.z());
+    }
+  points->Modified();
+  normals->Modified();
+  top->Modified();
+}
+
 constexpr std::array<unsigned char, 3> kMarkerRgb{25, 25, 30};
-constexpr std::array<unsigned char, 3> kMarkerContactRgb{220, 40, 40};
 constexpr std::array<unsigned char, 3> kStickRgb{40, 190, 80};
 constexpr std::array<unsigned char, 3> kSlipRgb{235, 80, 40};
 constexpr std::array<unsigned char, 3> kFreeRgb{150, 150, 160};
@@ -131,8 +267,14 @@ struct Viewport3D::Impl {
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   vtkNew<vtkCellPicker> picker;
 
-  vtkNew<vtkActor> pad;
+  vtkNew<vtkActor> pad;          // a mesh gel (domed): drawn as its mesh, not dented
+  PadSurface flat_pad;           // a flat gel: a dentable top surface and its sides
+  bool flat = true;
   vtkNew<vtkActor> indenter;
+  vtkNew<vtkActor> indenter_ghost;   // a big indenter above the cut, faint
+  vtkNew<vtkPlane> cut_below, cut_above;
+  bool big_indenter = false;
+  float colour_max_px = 1.0f;
   vtkSmartPointer<vtkPolyData> indenter_data;
   vtkNew<vtkUnsignedCharArray> indenter_colours;
   PointCloud markers{7.0};
@@ -232,6 +374,13 @@ void Viewport3D::Impl::render(int w, int h) {
   // Copy VTK's display framebuffer into our texture.
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
   window->BlitDisplayFramebuffer();
+  // Translucent geometry leaves alpha < 1 behind it, and ImGui::Image blends the texture over the
+  // dark window: force alpha to 1 so what VTK drew is what is shown.
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_TRUE);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   window->GetState()->Pop();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
@@ -261,6 +410,8 @@ bool Viewport3D::Impl::ray_plane(double x, double y, double z_plane, Vec3* hit) 
 Viewport3D::Viewport3D() : impl_(std::make_unique<Impl>()) {
   Impl& s = *impl_;
   s.renderer->AddActor(s.pad);
+  s.renderer->AddActor(s.flat_pad.top_actor);
+  s.renderer->AddActor(s.flat_pad.sides_actor);
   s.renderer->AddActor(s.markers.actor);
   s.overlay->AddActor(s.tracked.actor);
   s.overlay->AddActor(s.anchors.actor);
@@ -269,6 +420,7 @@ Viewport3D::Viewport3D() : impl_(std::make_unique<Impl>()) {
   s.overlay->InteractiveOff();
   s.overlay->SetActiveCamera(s.renderer->GetActiveCamera());
   s.renderer->AddActor(s.indenter);
+  s.renderer->AddActor(s.indenter_ghost);
   vtkNew<vtkPolyDataMapper> links_mapper;
   links_mapper->SetInputData(s.links);
   s.links_actor->SetMapper(links_mapper);
@@ -296,29 +448,25 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.sensor = &sensor;
   s.indenter_src = &indenter;
 
-  // The pad: the gel mesh when the sensor has one, else the flat box it stands for.
-  vtkNew<vtkPolyDataMapper> pad_mapper;
-  // A flat gel is drawn as the exact box; a mesh gel (domed) as its mesh.
-  if (sensor.gel.surface != "flat" && !sensor.gel_mesh.empty()) {
+  // The pad: a flat gel as a top surface the indenter dents, a mesh gel (domed) as its mesh.
+  s.flat = sensor.gel.surface == "flat" || sensor.gel_mesh.empty();
+  s.pad->SetVisibility(!s.flat);
+  s.flat_pad.top_actor->SetVisibility(s.flat);
+  s.flat_pad.sides_actor->SetVisibility(s.flat);
+  if (s.flat) {
+    s.flat_pad.build(sensor.gel.size_m, sensor.gel.thickness_m);
+  } else {
+    vtkNew<vtkPolyDataMapper> pad_mapper;
     s.pad->GetProperty()->BackfaceCullingOff();
     pad_mapper->SetInputData(polydata_from_mesh(sensor.gel_mesh, true));
-  } else {
-    vtkNew<vtkCubeSource> box;
-    const double sx = sensor.gel.size_m.x() * kMmPerM, sy = sensor.gel.size_m.y() * kMmPerM;
-    const double t = sensor.gel.thickness_m * kMmPerM;
-    box->SetBounds(-sx / 2, sx / 2, -sy / 2, sy / 2, -t, 0.0);
-    box->Update();
-    // Near faces only: the box's inner walls seen through it read as a different shape.
-    s.pad->GetProperty()->BackfaceCullingOn();
-    pad_mapper->SetInputData(box->GetOutput());
+    pad_mapper->ScalarVisibilityOff();
+    s.pad->SetMapper(pad_mapper);
+    s.pad->GetProperty()->SetColor(0.95, 0.88, 0.72);
+    s.pad->GetProperty()->SetOpacity(0.45);
+    s.pad->GetProperty()->SetAmbient(0.6);
+    s.pad->GetProperty()->SetDiffuse(0.5);
+    s.pad->PickableOff();
   }
-  pad_mapper->ScalarVisibilityOff();
-  s.pad->SetMapper(pad_mapper);
-  s.pad->GetProperty()->SetColor(0.95, 0.88, 0.72);
-  s.pad->GetProperty()->SetOpacity(0.45);
-  s.pad->GetProperty()->SetAmbient(0.6);
-  s.pad->GetProperty()->SetDiffuse(0.5);
-  s.pad->PickableOff();
 
   s.indenter_data = polydata_from_mesh(indenter.mesh);
   s.indenter_colours->SetNumberOfTuples(s.indenter_data->GetNumberOfPoints());
@@ -331,6 +479,27 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.indenter->SetMapper(ind_mapper);
   s.indenter->GetProperty()->SetSpecular(0.3);
   s.indenter->GetProperty()->SetSpecularPower(20);
+  // Translucent, so the dent it makes shows through it. A big indenter (the 35 mm sphere, the cow)
+  // would hide the pad: only its part near the pad is drawn so, the rest as a faint ghost.
+  s.indenter->GetProperty()->SetOpacity(0.55);
+  const Eigen::Vector3d extent = indenter.mesh.bounds().sizes();
+  s.big_indenter = std::max(extent.x(), extent.y()) > kBigIndenterFraction * sensor.gel.size_m.minCoeff();
+  ind_mapper->RemoveAllClippingPlanes();
+  vtkNew<vtkPolyDataMapper> ghost_mapper;
+  ghost_mapper->SetInputData(s.indenter_data);
+  ghost_mapper->ScalarVisibilityOff();
+  s.indenter_ghost->SetMapper(ghost_mapper);
+  s.indenter_ghost->GetProperty()->SetColor(0.8, 0.8, 0.85);
+  s.indenter_ghost->GetProperty()->SetOpacity(0.12);
+  s.indenter_ghost->GetProperty()->BackfaceCullingOn();
+  s.indenter_ghost->PickableOff();
+  s.indenter_ghost->SetVisibility(s.big_indenter);
+  if (s.big_indenter) {
+    s.cut_below->SetNormal(0, 0, -1);   // keeps z <= the cut (VTK keeps the side the normal points to)
+    s.cut_above->SetNormal(0, 0, 1);
+    ind_mapper->AddClippingPlane(s.cut_below);
+    ghost_mapper->AddClippingPlane(s.cut_above);
+  }
   s.markers.actor->PickableOff();
   s.tracked.actor->PickableOff();
   s.anchors.actor->PickableOff();
@@ -341,11 +510,11 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.dirty = true;
 }
 
-void Viewport3D::update(const AppSnapshot& snap, int model_index) {
+void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_max_px) {
   Impl& s = *impl_;
   if (s.sensor == nullptr) return;
   const Sensor& sensor = *s.sensor;
-  if (snap.version == s.shown_version && model_index == s.shown_model) {
+  if (snap.version == s.shown_version && model_index == s.shown_model && colour_max_px == s.colour_max_px) {
     if (s.moving) {
       s.moving = false;
       if (s.low_res_shown) s.dirty = true;
@@ -354,6 +523,7 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index) {
   }
   s.shown_version = snap.version;
   s.shown_model = model_index;
+  s.colour_max_px = colour_max_px;
   s.dirty = true;
   const FieldOutput* out =
       (model_index >= 0 && model_index < static_cast<int>(snap.models.size())) ? &snap.models[model_index].out : nullptr;
@@ -364,31 +534,52 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index) {
   if (!s.have_pose || !snap.X_EI.isApprox(s.X_EI_shown, 1e-12)) {
     s.indenter->SetUserMatrix(vtk_matrix_mm(snap.X_EI));
     const auto& verts = s.indenter_src->mesh.vertices;
+    double z_min = 1e9;
+    Eigen::AlignedBox2d footprint;   // where the indenter is below the surface (E, metres)
     for (std::size_t i = 0; i < verts.size(); ++i) {
       const Vec3 p_E = snap.X_EI * verts[i];
+      z_min = std::min(z_min, p_E.z());
+      if (p_E.z() < 0) footprint.extend(p_E.head<2>());
       const bool inside = sensor.gel_sdf ? sensor.gel_sdf->value(p_E) < 0 : p_E.z() < 0;
       s.indenter_colours->SetTypedTuple(static_cast<vtkIdType>(i),
                                         inside ? kIndenterContactRgb.data() : kIndenterRgb.data());
     }
     s.indenter_colours->Modified();
+    if (s.flat) {
+      // The mesh's vertices bound the part below the surface only to within a triangle: widen by one.
+      const double margin = 2.0 * std::max(s.indenter_src->mesh.bounds().sizes().maxCoeff() / 64.0, 0.2e-3);
+      if (!footprint.isEmpty()) footprint = Eigen::AlignedBox2d(footprint.min().array() - margin, footprint.max().array() + margin);
+      s.flat_pad.indent(*s.indenter_src, snap.X_EI, z_min, footprint);
+    }
+    if (s.big_indenter) {
+      s.cut_below->SetOrigin(0, 0, (z_min + kCutHeightM) * kMmPerM);
+      s.cut_above->SetOrigin(0, 0, (z_min + kCutHeightM) * kMmPerM);
+    }
     s.X_EI_shown = snap.X_EI;
     s.have_pose = true;
   }
 
-  // Markers, displaced by the model's field (pixels back to metres), red where in contact.
+  // Markers, displaced by the model's field (pixels back to metres), on the dented surface, coloured by
+  // |d| on the field panels' colour scale.
   s.markers.clear();
+  std::vector<Vec3> marker_E(sensor.p_EM.size());
+  std::vector<double> marker_px(sensor.p_EM.size(), 0.0);
   for (std::size_t m = 0; m < sensor.p_EM.size(); ++m) {
-    Vec3 p = sensor.p_EM[m];
-    bool contact = false;
-    if (out != nullptr && m < out->disp_px.size()) {
+    marker_E[m] = sensor.p_EM[m];
+    if (out != nullptr && m < out->disp_px.size() && out->disp_px[m].allFinite()) {
       const Vec2 d = sensor.camera.E_displacement(out->disp_px[m]);
-      p.x() += d.x();
-      p.y() += d.y();
-      contact = m < out->marker_in_contact.size() && out->marker_in_contact[m] != 0;
+      marker_E[m].x() += d.x();
+      marker_E[m].y() += d.y();
+      marker_px[m] = out->disp_px[m].norm();
     }
+  }
+  if (s.flat && s.have_pose) indent_down(*s.indenter_src->sdf, snap.X_EI, marker_E);
+  for (std::size_t m = 0; m < marker_E.size(); ++m) {
+    Vec3 p = marker_E[m];
     // Lift a hair above the surface so the points are not hidden inside the pad.
     p.z() += 0.05e-3;
-    s.markers.add(p * kMmPerM, contact ? kMarkerContactRgb : kMarkerRgb);
+    const bool coloured = out != nullptr && !out->disp_px.empty();
+    s.markers.add(p * kMmPerM, coloured ? rgb_of(colour_map(float(marker_px[m] / std::max(1e-6f, colour_max_px)))) : kMarkerRgb);
   }
   s.markers.commit();
 

@@ -1,6 +1,7 @@
 #pragma once
-// The 3D view (VTK in ImGui): the elastomer pad at its real size (semi-transparent), its markers (red
-// where in contact), the indenter mesh with its contact patch highlighted, and the tracked surface points
+// The 3D view (VTK in ImGui): the elastomer pad at its real size, its top surface dented where the
+// indenter is in it (core/geometry/indent.hpp), its markers coloured by |d| of one model, the indenter
+// (translucent; a big one cut away above the contact) with its contact patch highlighted, and the tracked surface points
 // of a model coloured by Stick / Slip / Free with lines to their anchors. VTK renders into its own
 // framebuffer (vtkGenericOpenGLRenderWindow); the colour texture is shown with ImGui::Image.
 //
@@ -25,8 +26,9 @@ class Viewport3D {
 
   // Builds the actors for a sensor and an indenter (call again when the scene changes).
   void set_scene(const Sensor& sensor, const Indenter& indenter);
-  // Moves the indenter and updates markers and tracked points from one model's output of the snapshot.
-  void update(const AppSnapshot& snapshot, int model_index);
+  // Moves the indenter, dents a flat pad where the indenter is in it, and updates markers (coloured by
+  // |d| up to `colour_max_px`, the field panels' scale) and tracked points from one model's output.
+  void update(const AppSnapshot& snapshot, int model_index, float colour_max_px);
   void set_camera(CameraPreset preset);
   // Renders at `size` pixels and places the image in the current ImGui window. Returns the pose the user
   // drags the indenter to, when `interactive` and a drag is under way.

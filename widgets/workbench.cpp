@@ -25,6 +25,9 @@ constexpr double kTwistRad = 2.0 * M_PI / 180.0;
 // Auto scale: the largest displacement is drawn as this fraction of the marker pitch.
 constexpr double kAutoArrowFractionOfPitch = 0.9;
 constexpr float kPad = 6.0f;
+// The longest arrow drawn, in marker pitches: one and a half reaches past the next marker without
+// crossing the panel (FOTS's 44 px at the default scene's gain would be 70 pitches).
+constexpr double kMaxArrowPitches = 1.5;
 constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
                                     ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
                                     ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoSavedSettings;
@@ -109,6 +112,7 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   for (std::size_t i = 0; i < rest.size(); ++i)
     for (std::size_t j = i + 1; j < rest.size(); ++j) pitch = std::min(pitch, (rest[i] - rest[j]).norm());
   marker_pitch_px_ = pitch < 1e9 && pitch > 0 ? pitch : 33.0;
+  scale_.max_arrow_px = static_cast<float>(kMaxArrowPitches * marker_pitch_px_);
   last_drag_.reset();
 }
 
@@ -525,7 +529,63 @@ void Workbench::draw_question(WorkbenchRequest& req) {
   }
 }
 
-void Workbench::draw_fields(float width) {
+std::vector<std::string> Workbench::panel_names() const {
+  std::vector<std::string> names;
+  for (const auto& m : snap_.models) names.push_back(display_name(m.id));
+  names.push_back(measured_.label);
+  return names;
+}
+
+bool Workbench::set_enlarged(const std::string& panel) {
+  if (!panel.empty()) {
+    if (state_ != nullptr) snap_ = state_->snapshot();
+    const auto names = panel_names();
+    if (std::find(names.begin(), names.end(), panel) == names.end()) return false;
+  }
+  enlarged_ = panel;
+  return true;
+}
+
+// Every model's (du, dv) of one marker, and the measurement's, beside the marker.
+void Workbench::draw_marker_tooltip(int marker, ImVec2 at) {
+  // Beside the marker, on the side with room (a tooltip placed by hand is not kept on screen by ImGui).
+  const ImVec2 size = ImGui::GetMainViewport()->Size;
+  const ImVec2 pivot(at.x > 0.6f * size.x ? 1.0f : 0.0f, at.y > 0.5f * size.y ? 1.0f : 0.0f);
+  ImGui::SetNextWindowPos(ImVec2(at.x + (pivot.x > 0 ? -14.0f : 14.0f), at.y + (pivot.y > 0 ? -10.0f : 10.0f)),
+                          ImGuiCond_Always, pivot);
+  ImGui::BeginTooltip();
+  ImGui::Text("marker %d", marker);
+  if (ImGui::BeginTable("##markertip", 4, ImGuiTableFlags_SizingFixedFit)) {
+    for (const char* h : {"", "du px", "dv px", "|d| px"}) {
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("%s", h);
+    }
+    for (const auto& [title, field] : shown_fields_) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(title.c_str());
+      const bool have = field != nullptr && marker < static_cast<int>(field->size()) &&
+                        (*field)[marker].allFinite();
+      if (!have) {
+        ImGui::TableNextColumn();
+        ImGui::TextDisabled(field == nullptr || field->empty() ? "no field" : "lost");
+        continue;
+      }
+      const Vec2 d = (*field)[marker];
+      ImGui::TableNextColumn();
+      ImGui::Text("%+.3f", d.x());
+      ImGui::TableNextColumn();
+      ImGui::Text("%+.3f", d.y());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.3f", d.norm());
+    }
+    ImGui::EndTable();
+  }
+  ImGui::EndTooltip();
+}
+
+// The four field panels side by side, or the enlarged one alone in the whole area (`height` high).
+void Workbench::draw_fields(float width, float height) {
   const auto* sensor = state_->sensor().get();
   const int iw = sensor->camera.width_px, ih = sensor->camera.height_px;
   const auto* measured = measured_at_step();
@@ -535,16 +595,27 @@ void Workbench::draw_fields(float width) {
   if (background == nullptr) background = textures_->neutral_for(iw, ih);
 
   const int n = static_cast<int>(snap_.models.size()) + 1;
-  const float pw = (width - kPad * (n - 1)) / n;
+  const auto names = panel_names();
+  const int enlarged = static_cast<int>(std::find(names.begin(), names.end(), enlarged_) - names.begin());
+  if (enlarged == n) enlarged_.clear();
+  const bool one = !enlarged_.empty();
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  const float legend_h = 12 + 6 + ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
+  // Enlarged: as wide as fits the area at the image's aspect, centred.
+  const float pw = one ? std::min(width, (height - line - 4 - legend_h) * float(iw) / float(ih))
+                       : (width - kPad * (n - 1)) / n;
+  if (one) ImGui::SetCursorPosX(ImGui::GetCursorPosX() + (width - pw) / 2);
+  std::vector<std::vector<Vec2>> residuals(n);   // measured - model, when the residual view is on
+  shown_fields_.clear();
+  int hovered = -1;
+  ImVec2 hovered_at;
+  bool first_shown = true;
   for (int i = 0; i < n; ++i) {
-    if (i > 0) ImGui::SameLine(0, kPad);
-    ImGui::BeginGroup();
     FieldPanelInput in;
     in.rest_px = &sensor->markers_rest_px;
     in.background = background;
     in.image_width_px = iw;
     in.image_height_px = ih;
-    std::vector<Vec2> residual;   // measured - model, when the residual view is on
     if (i < n - 1) {
       const ModelView& m = snap_.models[i];
       in.title = display_name(m.id);
@@ -561,8 +632,8 @@ void Workbench::draw_fields(float width) {
       in.in_contact = &m.out.marker_in_contact;
       if (measured != nullptr && metrics_ && !field->empty()) in.metrics = metrics_(*field, *measured);
       if (show_residual_fields_ && measured != nullptr && !field->empty()) {
-        residual = residual_field(*measured, *field);
-        in.disp_px = &residual;
+        residuals[i] = residual_field(*measured, *field);
+        in.disp_px = &residuals[i];
         in.title += " residual";
       }
       in.note = snap_.step < 0 ? "before the first step" : "";
@@ -573,18 +644,38 @@ void Workbench::draw_fields(float width) {
                 : snap_.step >= snap_.measured_steps ? "path edited: no measurement"
                                                      : "no measurement at this step";
     }
+    if (i < n - 1 || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
+    if (one && i != enlarged) continue;
+    if (!first_shown) ImGui::SameLine(0, kPad);
+    ImGui::BeginGroup();
+    in.highlight_marker = forced_hover_ >= 0 ? forced_hover_ : hovered_marker_;
+    in.enlarged = one;
     ImGui::PushID(i);
     const ImVec2 panel_top = ImGui::GetCursorScreenPos();
-    const float panel_h = draw_field_panel(in, scale_, pw);
-    regions_.push_back({i < n - 1 ? display_name(snap_.models[i].id) : measured_.label, panel_top.x, panel_top.y, pw, panel_h});
+    const FieldPanelResult r = draw_field_panel(in, scale_, pw, options_.interactive);
+    if (r.toggle_enlarge) enlarged_ = one ? std::string() : names[i];
+    // The model panel last clicked (or enlarged) is the one the 3D view colours its markers by.
+    if ((r.clicked || r.toggle_enlarge) && i < n - 1) marker_model_ = i;
+    if (r.hovered_marker >= 0 || (forced_hover_ >= 0 && first_shown && forced_hover_ < int(in.rest_px->size()))) {
+      hovered = r.hovered_marker >= 0 ? r.hovered_marker : forced_hover_;
+      const float zoom = pw / float(iw);
+      const Vec2& rest = (*in.rest_px)[hovered];
+      hovered_at = ImVec2(panel_top.x + float(rest.x()) * zoom, panel_top.y + line + float(rest.y()) * zoom);
+    }
+    regions_.push_back({names[i], panel_top.x, panel_top.y, pw, r.height});
     ImGui::PopID();
     ImGui::EndGroup();
+    first_shown = false;
   }
-  draw_field_legend(scale_, pw / float(iw), width);
+  hovered_marker_ = hovered;
+  if (one) ImGui::SetCursorPosX(ImGui::GetCursorPosX() + (width - pw) / 2);
+  draw_field_legend(scale_, pw / float(iw), one ? pw : width);
+  if (hovered >= 0) draw_marker_tooltip(hovered, hovered_at);
 }
 
 bool Workbench::animating() const {
-  return state_ != nullptr && (snap_.playing || viewport_.busy() || state_->version() != snap_.version ||
+  // An enlarged panel hides the 3D view: its pending re-render waits for the view to come back.
+  return state_ != nullptr && (snap_.playing || (enlarged_.empty() && viewport_.busy()) || state_->version() != snap_.version ||
                                state_->pending_edits() > 0 || export_job_.status().running() || !export_reported_);
 }
 
@@ -623,13 +714,16 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   draw_controls(req);
   ImGui::End();
 
+  regions_.clear();
+  // An enlarged field panel takes the 3D view's place too: the whole right column.
+  const bool one_panel = !enlarged_.empty();
+  if (!one_panel) {
   ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
   ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y));
   ImGui::SetNextWindowSize(ImVec2(right_w, view_h));
   ImGui::Begin("3D", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
-  viewport_.update(snap_, marker_model_);
+  viewport_.update(snap_, marker_model_, scale_.colour_max_px);
   const ImVec2 view_origin = ImGui::GetCursorScreenPos();
-  regions_.clear();
   regions_.push_back({"3D view", view_origin.x, view_origin.y, right_w, view_h});
   if (auto target = viewport_.draw(right_w, view_h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
                                    options_.interactive)) {
@@ -639,8 +733,8 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
     }
   }
   {
-    const std::string label = "3D markers: " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
-                              "   tracked points: stick green, slip orange, free grey; contact patch orange";
+    const std::string label = "markers: |d| of " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
+                              " (panel colours)   tracked points: stick green, slip orange, free grey";
     ImDrawList* dl = ImGui::GetWindowDrawList();
     const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
     dl->AddRectFilled(ImVec2(view_origin.x + 4, view_origin.y + 4), ImVec2(view_origin.x + 12 + ts.x, view_origin.y + 8 + ts.y),
@@ -649,11 +743,14 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   }
   ImGui::End();
   ImGui::PopStyleVar();
+  }
 
-  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y + view_h));
-  ImGui::SetNextWindowSize(ImVec2(right_w, fields_h));
+  const float fields_top = one_panel ? 0.0f : view_h;
+  const float fields_area_h = one_panel ? H - status_h : fields_h;
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y + fields_top));
+  ImGui::SetNextWindowSize(ImVec2(right_w, fields_area_h));
   ImGui::Begin("Fields", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar);
-  draw_fields(inner_w);
+  draw_fields(inner_w, fields_area_h - 2 * ImGui::GetStyle().WindowPadding.y);
   ImGui::End();
 
   ImGui::SetNextWindowPos(ImVec2(vp->Pos.x, vp->Pos.y + H - status_h));

@@ -80,6 +80,13 @@ class Workbench {
   bool animating() const;
   FieldScale& scale() { return scale_; }
   bool& auto_scale_enabled() { return auto_scale_; }
+  // One field panel enlarged to the whole field area (its name as shown: "FOTS", "Measured"; "" for
+  // all panels). The panel's button and a double-click toggle it; false when no panel has that name.
+  bool set_enlarged(const std::string& panel);
+  const std::string& enlarged() const { return enlarged_; }
+  // Headless renders: show marker `index`'s tooltip (every model's (du, dv) and the measurement's) as
+  // if the mouse were on it in the first panel shown; -1: none.
+  void set_hover_marker(int index) { forced_hover_ = index; }
   // A modal question with buttons; the choice comes back once in WorkbenchRequest::answer.
   void ask(std::string id, std::string text, std::vector<std::string> buttons);
   bool asking() const { return !question_id_.empty(); }
@@ -118,7 +125,9 @@ class Workbench {
   struct Textures;
   void apply_actions(WorkbenchRequest& req);
   void draw_controls(WorkbenchRequest& req);
-  void draw_fields(float width);
+  void draw_fields(float width, float height);
+  void draw_marker_tooltip(int marker, ImVec2 at);
+  std::vector<std::string> panel_names() const;
   void draw_question(WorkbenchRequest& req);
   void update_rmse_series();
   void draw_fit_panel();
@@ -148,6 +157,11 @@ class Workbench {
   bool auto_scale_ = true;
   double marker_pitch_px_ = 33.0;
   int marker_model_ = 0;
+  std::string enlarged_;           // the enlarged field panel's name, "" for none
+  int hovered_marker_ = -1;        // the marker under the mouse in the last frame (ringed in every panel)
+  int forced_hover_ = -1;
+  // What the field panels drew in this frame (title, field or null), for the marker tooltip.
+  std::vector<std::pair<std::string, const std::vector<Vec2>*>> shown_fields_;
   bool show_help_ = false;
   std::vector<ParamSet> edit_params_;
   std::optional<Pose> last_drag_;

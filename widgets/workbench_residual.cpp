@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/base/display_path.hpp"
 #include "core/loop/effects.hpp"
 #include "widgets/workbench.hpp"
 
@@ -21,7 +22,7 @@ std::string joined(const std::vector<std::string>& ids, const char* sep) {
 }  // namespace
 
 void Workbench::set_residual(ResidualSummary summary) {
-  std::snprintf(residual_path_, sizeof residual_path_, "%s", summary.file.c_str());
+  std::snprintf(residual_path_, sizeof residual_path_, "%s", display_path(summary.file, data_root_).c_str());
   residual_ = std::move(summary);
   corrected_job_.clear();
   corrected_started_ = false;

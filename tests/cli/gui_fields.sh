@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Reading a field in the interactive workbench (run under xvfb-run; mouse and keys sent with xdotool),
+# checked against what `render` draws for the same state:
+#  1. a double-click on FOTS's field enlarges it: the window then matches `render --enlarge FOTS`, and
+#     did not before the double-click;
+#  2. the mouse on a marker shows its tooltip: the window matches `render --enlarge FOTS --hover-marker 31`
+#     better than the same render without the tooltip;
+#  3. the panel's "back" button returns to all panels.
+# Positions are for a 1280 x 800 window (the default scene's 320 x 240 image, FOTS second of four panels).
+set -euo pipefail
+exe=$1; compare=$2; work=$3
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
+src=$(cd "$(dirname "$0")/../.." && pwd)
+rm -rf "$work"; mkdir -p "$work"; cd "$work"
+command -v xdotool >/dev/null || { echo "FAIL: xdotool is not installed (apt-get install xdotool)"; exit 1; }
+[[ -n "${DISPLAY:-}" ]] || { echo "FAIL: no DISPLAY (run under xvfb-run)"; exit 1; }
+export SHEARBENCH_AUTOSAVE="$work/autosave.json"
+scene="$src/scenes/default.json"
+
+render() { "$exe" -q render --scene "$scene" --size 1280x800 --no-timings --out "$@"; }
+render "$work/enlarged.png" --enlarge FOTS
+render "$work/enlarged_hover.png" --enlarge FOTS --hover-marker 31
+
+"$exe" gui --scene "$scene" --size 1280x800 >"$work/gui.log" 2>&1 &
+pid=$!
+trap 'kill -9 $pid 2>/dev/null || true' EXIT
+wid=""
+for _ in $(seq 1 200); do
+  wid=$(xdotool search --pid $pid --name shearbench 2>/dev/null | head -1 || true); [[ -n "$wid" ]] && break; sleep 0.1
+done
+[[ -n "$wid" ]] || { echo "FAIL: the workbench window never appeared"; cat "$work/gui.log"; exit 1; }
+sleep 2
+xdotool key --window "$wid" End; sleep 2   # the last step, as render shows it
+park() { xdotool mousemove --window "$wid" 640 792; sleep 0.8; }   # the status bar: nothing to hover
+shot() {   # P writes screenshots/shearbench_<time>.png; one per second at most
+  rm -rf screenshots; sleep 1.1
+  xdotool key --window "$wid" p
+  for _ in $(seq 1 50); do ls screenshots/*.png >/dev/null 2>&1 && break; sleep 0.1; done
+  mv screenshots/*.png "$work/$1.png"
+}
+ssim() { "$compare" "$1" "$2" "$work/diff.png" 0 | sed -n 's/^SSIM \([0-9.]*\).*/\1/p'; }
+above() { python3 -c "import sys; sys.exit(0 if float('$1') > float('$2') else 1)"; }
+
+park; shot all_panels
+# FOTS's field: x 566..796, y 547..718 in the window.
+# Each press held 50 ms and the two 150 ms apart: two presses within one frame would count once (the
+# GLFW backend keeps one "just pressed" per frame), and a loaded machine draws a frame in up to ~100 ms.
+xdotool mousemove --window "$wid" 690 690; sleep 0.3
+xdotool mousedown 1; sleep 0.05; xdotool mouseup 1; sleep 0.1; xdotool mousedown 1; sleep 0.05; xdotool mouseup 1
+sleep 1
+park; shot after_double_click
+s_before=$(ssim "$work/enlarged.png" "$work/all_panels.png")
+s_after=$(ssim "$work/enlarged.png" "$work/after_double_click.png")
+echo "SSIM with render --enlarge FOTS: before the double-click $s_before, after $s_after"
+above "$s_after" 0.95 || { echo "FAIL: the double-clicked panel is not drawn enlarged"; exit 1; }
+above 0.9 "$s_before" || { echo "FAIL: all panels already looked enlarged (the check cannot fail)"; exit 1; }
+echo "ok: a double-click enlarged FOTS"
+
+# Marker 31 (the centre one, image (160, 120)) in the enlarged panel: x 336 + 160 * 2.9, y 28 + 120 * 2.9.
+xdotool mousemove --window "$wid" 800 376; sleep 1; shot hover
+s_tip=$(ssim "$work/enlarged_hover.png" "$work/hover.png")
+s_plain=$(ssim "$work/enlarged.png" "$work/hover.png")
+echo "SSIM of the hovered window with the tooltip render $s_tip, without it $s_plain"
+above "$s_tip" "$s_plain" || { echo "FAIL: no marker tooltip where the mouse is"; exit 1; }
+echo "ok: hovering marker 31 shows its tooltip"
+
+xdotool mousemove --window "$wid" 1243 15; sleep 0.3; xdotool click 1; sleep 1   # "back"
+park; shot back
+s_back=$(ssim "$work/all_panels.png" "$work/back.png")
+echo "SSIM after back with the first window $s_back"
+above "$s_back" 0.95 || { echo "FAIL: back did not return to all panels"; exit 1; }
+echo "ok: back returned to all panels"
