@@ -412,15 +412,14 @@ void Workbench::draw_rmse_plots() {
 void Workbench::draw_param_set_row(WorkbenchRequest& req) {
   ImGui::TextUnformatted("parameter set");
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(150);
+  ImGui::SetNextItemWidth(-1);
   if (ImGui::BeginCombo("##param_set", param_set_.name.c_str())) {
     for (const std::string& name : param_set_names())
       if (ImGui::Selectable(name.c_str(), name == param_set_.name) && name != param_set_.name) req.param_set = name;
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", param_set_.summary().c_str());
-  ImGui::SameLine();
-  ImGui::Checkbox("published", &show_published_);
+  ImGui::Checkbox("show the published values", &show_published_);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the authors' published value beside each slider");
 }
 
