@@ -24,11 +24,8 @@ render "$work/enlarged_hover.png" --enlarge FOTS --hover-marker 31
 "$exe" gui --scene "$scene" --size 1280x800 >"$work/gui.log" 2>&1 &
 pid=$!
 trap 'kill -9 $pid 2>/dev/null || true' EXIT
-wid=""
-for _ in $(seq 1 200); do
-  wid=$(xdotool search --pid $pid --name shearbench 2>/dev/null | head -1 || true); [[ -n "$wid" ]] && break; sleep 0.1
-done
-[[ -n "$wid" ]] || { echo "FAIL: the workbench window never appeared"; cat "$work/gui.log"; exit 1; }
+source "$(dirname "${BASH_SOURCE[0]}")/wait_window.sh"
+wid=$(wait_window $pid) || { echo "FAIL: the workbench window never appeared"; cat "$work/gui.log"; exit 1; }
 sleep 2
 xdotool key --window "$wid" End; sleep 2   # the last step, as render shows it
 park() { xdotool mousemove --window "$wid" 640 792; sleep 0.8; }   # the status bar: nothing to hover

@@ -21,19 +21,12 @@ press_quit() {
   xdotool keyup --window "$1" shift 2>/dev/null || true   # the window may be gone already
 }
 
-wait_window() {   # prints the window id of the shearbench window of process $1
-  for _ in $(seq 1 200); do
-    local w; w=$(xdotool search --pid "$1" --name shearbench 2>/dev/null | head -1 || true)
-    [[ -n "$w" ]] && { echo "$w"; return 0; }
-    sleep 0.1
-  done
-  return 1
-}
+source "$(dirname "${BASH_SOURCE[0]}")/wait_window.sh"
 
 export SHEARBENCH_AUTOSAVE="$work/autosave.json"
 "$exe" gui --scene "$src/scenes/press_sphere.json" --autosave-interval 1 >"$work/gui1.log" 2>&1 &
 pid=$!
-wid=$(wait_window $pid) || { kill -9 $pid; echo "FAIL: the workbench window never appeared"; cat "$work/gui1.log"; exit 1; }
+wid=$(wait_window $pid) || { kill -9 $pid 2>/dev/null; echo "FAIL: the workbench window never appeared"; cat "$work/gui1.log"; exit 1; }
 sleep 2   # first frames, models built
 for _ in 1 2 3; do xdotool key --window "$wid" Right; sleep 0.3; done
 for _ in $(seq 1 100); do [[ -s "$SHEARBENCH_AUTOSAVE" ]] && break; sleep 0.1; done
@@ -62,7 +55,7 @@ PY
 export SHEARBENCH_AUTOSAVE="$work/autosave_clean.json"
 "$exe" gui --scene "$src/scenes/press_sphere.json" --autosave-interval 1 >"$work/gui2.log" 2>&1 &
 pid=$!
-wid=$(wait_window $pid) || { kill -9 $pid; echo "FAIL: the workbench window never appeared (second run)"; exit 1; }
+wid=$(wait_window $pid) || { kill -9 $pid 2>/dev/null; echo "FAIL: the workbench window never appeared (second run)"; cat "$work/gui2.log"; exit 1; }
 sleep 2
 press_quit "$wid"
 # "At once" for a person; the bound is generous because a sanitizer build on a loaded CI machine draws
