@@ -16,7 +16,7 @@ struct GuiArgs {
   SessionSource open;
   std::string size = "1280x800";
   int profile = 0;
-  std::string headless_out = "shearbench_headless.png";
+  std::string headless_out;   // empty: shearbench_headless.png beside the executable (build/), not in the repository
   std::string session;
   double autosave_interval_s = 30.0;
   std::string residual;
@@ -47,7 +47,10 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<std::string> args = {"xvfb-run", "-a", "-s", "-screen 0 1600x900x24", self};
   if (!g.data_root_flag.empty()) args.insert(args.end(), {"--data", g.data_root_flag});
-  args.insert(args.end(), {"render", "--size", "1600x900", "--out", a.headless_out, "--report"});
+  const std::string out = a.headless_out.empty()
+                              ? (std::filesystem::path(self).parent_path() / "shearbench_headless.png").string()
+                              : a.headless_out;
+  args.insert(args.end(), {"render", "--size", "1600x900", "--out", out, "--report"});
   const std::vector<std::string> source = source_arguments(a.open);
   args.insert(args.end(), source.begin(), source.end());
   if (a.profile > 0) args.insert(args.end(), {"--profile", std::to_string(a.profile)});
@@ -90,7 +93,7 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
   sub.add_option("--size", a.size, "window size")->capture_default_str();
   sub.add_option("--profile", a.profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
   sub.add_option("--residual", a.residual, "show a residual analysis (shearbench residual --json)");
-  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display")->capture_default_str();
+  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display (default: shearbench_headless.png beside the executable, i.e. build/)");
 }
 
 const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display", 5, add_flags, run_gui};

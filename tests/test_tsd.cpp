@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
 #include "core/data/tsd.hpp"
 
 using namespace sb;
@@ -280,4 +281,10 @@ TEST_CASE("tsd: reads twin_sphere35 from the data root", "[tsd]") {
   std::size_t frames = 0;
   for (const auto& s : ds.samples) frames += read_sample(ds, s.id).frames();
   CHECK(frames > 40);
+}
+
+TEST_CASE("a binary header is quoted as printable text in the error", "[tsd]") {
+  // Bytes 0x00 0xff and a newline-free run of 200 'a': the message shows \x00\xff, then cuts after 80 chars.
+  CHECK(sb::printable(std::string("ab\0\xff", 4)) == "ab\\x00\\xff");
+  CHECK(sb::printable(std::string(200, 'a')) == std::string(80, 'a') + "...");
 }

@@ -3,6 +3,7 @@
 // so every loader reports "file:line:col: what" and the CLI prints it without a stack trace.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace sb {
@@ -23,6 +24,10 @@ class InputError : public std::runtime_error {
   int column_ = 0;
   std::string detail_;
 };
+
+// Text from a file quoted in an error message: bytes outside printable ASCII shown as \xNN, and cut after
+// max_chars with "..." (a binary file's "header" must not reach the terminal raw).
+std::string printable(std::string_view text, std::size_t max_chars = 80);
 
 // Collects non-fatal problems (a non-unit quaternion, a mesh that is not a clean manifold) so the
 // caller decides whether to print them; loaders never write to stderr themselves.

@@ -86,7 +86,7 @@ class CsvReader {
     std::string_view h = line_;
     if (h.size() >= 3 && h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);  // UTF-8 BOM
     if (h != header)
-      fail(line_no_, 1, "wrong header '" + std::string(h) + "' (expected '" + std::string(header) + "')");
+      fail(line_no_, 1, "wrong header '" + printable(h) + "' (expected '" + std::string(header) + "')");
   }
 
   // Advances to the next non-empty line and splits it; false at the end of the file.
@@ -123,12 +123,12 @@ class CsvReader {
     double v = 0;
     const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
     if (ec != std::errc() || ptr != f.data() + f.size() || f.empty())
-      fail_at(i, std::string(name) + ": expected a number, got '" + std::string(f) + "'");
+      fail_at(i, std::string(name) + ": expected a number, got '" + printable(f) + "'");
     return v;
   }
   double finite(std::size_t i, const char* name) const {
     const double v = real(i, name);
-    if (!std::isfinite(v)) fail_at(i, std::string(name) + ": value must be finite, got '" + std::string(fields_[i]) + "'");
+    if (!std::isfinite(v)) fail_at(i, std::string(name) + ": value must be finite, got '" + printable(fields_[i]) + "'");
     return v;
   }
   long long index(std::size_t i, const char* name) const {
@@ -136,7 +136,7 @@ class CsvReader {
     long long v = 0;
     const auto [ptr, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
     if (ec != std::errc() || ptr != f.data() + f.size() || f.empty() || v < 0)
-      fail_at(i, std::string(name) + ": expected a non-negative integer, got '" + std::string(f) + "'");
+      fail_at(i, std::string(name) + ": expected a non-negative integer, got '" + printable(f) + "'");
     return v;
   }
 
