@@ -105,12 +105,16 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
                 gaussian_bic(reference.calibration_sse_px2, reference.calibration_count, reference.free_params);
   const bool interval_ok = s.improvement_ci_pct.low > options.min_lower_bound_pct;
   const bool bic_ok = s.delta_bic < 0.0;
-  s.accepted = interval_ok && bic_ok;
+  s.veto = candidate.veto;
+  s.model_form_symptom = candidate.model_form_symptom;
+  s.accepted = interval_ok && bic_ok && s.veto.empty();
   std::ostringstream why;
   why << "improvement " << s.improvement_pct << "% [" << s.improvement_ci_pct.low << ", "
       << s.improvement_ci_pct.high << "], dBIC " << s.delta_bic << ": ";
   if (s.accepted)
     why << "accepted";
+  else if (!s.veto.empty())
+    why << s.veto;
   else if (!interval_ok)
     why << "interval lower bound not above " << options.min_lower_bound_pct << "%";
   else

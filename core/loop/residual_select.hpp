@@ -6,7 +6,8 @@
 // model on held-out validation samples. This module decides, from those scores only, which effects
 // the data support: greedily, one at a time, each accepted only if
 //   (1) the paired bootstrap interval of its validation RMSE improvement lies above a margin, and
-//   (2) its BIC on the calibration data improves on the model it extends.
+//   (2) its BIC on the calibration data improves on the model it extends, and
+//   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict).
 // Selecting nothing is a valid outcome.
 #include <cstdint>
 #include <functional>
@@ -30,6 +31,10 @@ struct FitResult {
   double calibration_count = 0.0;     // residual components in that sum (> 0)
   std::size_t free_params = 0;        // parameters the fit adjusted
   ParamSet params;                    // the fitted table
+  // Non-empty: this fit may not be accepted whatever its scores, and why (e.g. an effect parameter at a
+  // bound of its physical range, or a candidate screened out before its joint refit).
+  std::string veto;
+  bool model_form_symptom = false;    // the veto is a bound: the effect patched the base model's form
 };
 
 using FitAndScore = std::function<FitResult(const std::vector<std::string>& effect_ids)>;
@@ -55,7 +60,9 @@ struct CandidateScore {
   double improvement_pct = 0.0;           // 100 (reference - candidate) / reference, all samples
   Interval improvement_ci_pct;            // paired bootstrap over validation samples
   double delta_bic = 0.0;                 // BIC(candidate) - BIC(reference) on calibration; < 0 is better
-  bool accepted = false;                  // passed both tests (the round keeps the best accepted one)
+  bool accepted = false;                  // passed both tests and had no veto (the round keeps the best accepted one)
+  std::string veto;                       // FitResult::veto of the candidate's fit
+  bool model_form_symptom = false;
   std::string reason;                     // why it passed or failed, for reports
 };
 
