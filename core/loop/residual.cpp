@@ -73,7 +73,45 @@ std::string params_at_bound(const ParamSet& params, const std::string& effect_id
 struct Scores {
   std::vector<double> sse, count;
   MotionMetrics metrics;
+  double held_sse = 0, held_signal = 0, held_count = 0;   // the held-drift fingerprint (FitResult)
 };
+
+// Pose changes below these count as "held still" for the held-drift fingerprint.
+constexpr double kHeldTranslationM = 1e-9;
+constexpr double kHeldRotation = 1e-9;
+
+// The held-drift fingerprint of one sample: over every run of frames in which the indenter is in the gel
+// and its pose does not change, the change of the field since the run's first frame, measured against
+// predicted, on the markers that moved >= kActiveFramePx when the hold began. Adds sum |dmeas - dpred|^2,
+// sum |dmeas|^2 and the count of marker-frames.
+void held_drift(const Sensor& sensor, const FitSample& s, const std::vector<std::vector<Vec2>>& pred, Scores* sc,
+                std::size_t i, std::vector<double>* sse, std::vector<double>* signal, std::vector<double>* count) {
+  (void)sc;
+  std::size_t start = 0;
+  bool in_run = false;
+  for (std::size_t k = 1; k < s.X_EI.size(); ++k) {
+    const bool still = (s.X_EI[k].translation() - s.X_EI[k - 1].translation()).norm() < kHeldTranslationM &&
+                       (s.X_EI[k].linear() - s.X_EI[k - 1].linear()).norm() < kHeldRotation;
+    if (!still) {
+      in_run = false;
+      continue;
+    }
+    if (!in_run) {
+      if (!indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]).penetrating) continue;
+      in_run = true;
+      start = k - 1;
+    }
+    for (std::size_t j = 0; j < s.meas_px[k].size(); ++j) {
+      const Vec2 dm = s.meas_px[k][j] - s.meas_px[start][j];
+      const Vec2 dp = pred[k][j] - pred[start][j];
+      // Only markers the load moves: creep is proportional to the field, the others hold only noise.
+      if (!dm.allFinite() || !(s.meas_px[start][j].norm() >= kActiveFramePx)) continue;
+      (*sse)[i] += (dm - dp).squaredNorm();
+      (*signal)[i] += dm.squaredNorm();
+      (*count)[i] += 1;
+    }
+  }
+}
 
 // Replays a recorded base-model field (per frame: the displacement and the contact flags) so that a fit
 // which moves only effect parameters runs the effects alone: the base model is the costly part, and its
@@ -132,8 +170,10 @@ std::vector<std::shared_ptr<const std::vector<FieldOutput>>> record_base(const s
   return out;
 }
 
-Scores score_samples(const SampleModelFactory& make, const ParamSet& params, const std::vector<FitSample>& samples) {
+Scores score_samples(const SampleModelFactory& make, const ParamSet& params, const std::shared_ptr<const Sensor>& sensor,
+                     const std::vector<FitSample>& samples) {
   Scores sc;
+  std::vector<double> h_sse(samples.size(), 0.0), h_signal(samples.size(), 0.0), h_count(samples.size(), 0.0);
   sc.sse.assign(samples.size(), 0.0);
   sc.count.assign(samples.size(), 0.0);
   std::vector<MetricsAccumulator> acc(samples.size());
@@ -147,8 +187,14 @@ Scores score_samples(const SampleModelFactory& make, const ParamSet& params, con
       sc.count[i] += 1;
     }
     for (std::size_t k = 0; k < pred.size(); ++k) acc[i].add_frame(pred[k], samples[i].meas_px[k]);
+    held_drift(*sensor, samples[i], pred, &sc, static_cast<std::size_t>(i), &h_sse, &h_signal, &h_count);
   });
-  for (std::size_t i = 0; i < samples.size(); ++i) sc.metrics.add(samples[i].motion, acc[i]);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    sc.metrics.add(samples[i].motion, acc[i]);
+    sc.held_sse += h_sse[i];
+    sc.held_signal += h_signal[i];
+    sc.held_count += h_count[i];
+  }
   return sc;
 }
 
@@ -367,12 +413,15 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     ef.effects = ids;
     ef.fit.params = params;
     ef.fit.free_params = free_params;
-    const Scores cal = score_samples(make_cal, params, in.calibration);
+    const Scores cal = score_samples(make_cal, params, in.sensor, in.calibration);
     for (std::size_t i = 0; i < cal.sse.size(); ++i) {
       ef.fit.calibration_sse_px2 += cal.sse[i];
       ef.fit.calibration_count += 2 * cal.count[i];
     }
-    Scores val = score_samples(make_val, params, in.validation);
+    Scores val = score_samples(make_val, params, in.sensor, in.validation);
+    ef.fit.held_sse_px2 = val.held_sse;
+    ef.fit.held_signal_px2 = val.held_signal;
+    ef.fit.held_count = val.held_count;
     ef.fit.validation.sq_err_px2 = val.sse;
     ef.fit.validation.count = val.count;
     ef.validation = std::move(val.metrics);
@@ -409,9 +458,11 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
                 record_base(in.model_id, p, in.sensor, in.validation)};
     return recordings.emplace(key, std::move(r)).first->second;
   };
-  const auto replay_model = [&](const std::vector<std::string>& ids, ParamSet base_params,
+  const auto replay_model = [&](const std::vector<std::string>& ids, const ParamSet& fitted,
                                 const std::vector<std::shared_ptr<const std::vector<FieldOutput>>>& frames)
       -> SampleModelFactory {
+    ParamSet base_params = default_params(in.model_id);   // the base's own table (EffectModel splits by it)
+    copy_shared(fitted, &base_params);
     const auto* recorded = &frames;   // lives in `recordings` (map nodes are stable)
     return [&in, ids, base_params, recorded](const FitSample& s, std::size_t i) -> std::unique_ptr<ShearModel> {
       auto replay = std::make_unique<ReplayModel>(in.model_id, base_params, recorded->at(i));
@@ -459,7 +510,9 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     // let the base parameters lean on the effect, but an effect the data hold shows on the base as fitted.
     const double ref_rmse = validation_rmse(rep.fits.at(warm_key).fit.validation);
     const double alone_pct = 100.0 * (ref_rmse - validation_rmse(ef.fit.validation)) / ref_rmse;
-    if (alone_pct < o.screen_min_pct || joint.size() == free_count) {
+    const double fp = fingerprint_explained_pct(rep.fits.at(warm_key).fit, ef.fit, o.selection);
+    const bool fingerprint = std::isfinite(fp) && fp >= o.selection.min_fingerprint_pct;
+    if ((alone_pct < o.screen_min_pct && !fingerprint) || joint.size() == free_count) {
       if (joint.size() > free_count) {
         char why[160];
         std::snprintf(why, sizeof why, "screened: alone over the fitted base it gains %.2f%% (< %.2f%%), no joint refit",

@@ -37,6 +37,11 @@ nlohmann::ordered_json metrics_json(const EffectFit& f) {
   j["by_motion"] = by;
   j["calibration_rmse_px"] = num(std::sqrt(2 * f.fit.calibration_sse_px2 / f.fit.calibration_count));
   j["free_params"] = f.fit.free_params;
+  if (f.fit.held_count > 0)
+    j["held_drift"] = {{"marker_frames", f.fit.held_count},
+                       {"measured_rms_px", num(std::sqrt(f.fit.held_signal_px2 / f.fit.held_count))},
+                       {"error_rms_px", num(std::sqrt(f.fit.held_sse_px2 / f.fit.held_count))}};
+  if (!f.fit.veto.empty()) j["veto"] = f.fit.veto;
   j["params"] = f.fit.params.to_json();
   if (timings_in_outputs()) j["fit_time_s"] = f.time_s;
   return j;
