@@ -304,7 +304,9 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
     for (const auto& c : row) {
       if (!c.model_form_symptom) continue;
       const EffectFit* f = fit_of(r, c.effect_ids);
-      md += "- **Model-form symptom: " + c.candidate + "** (not selected) — " + c.veto + "; it bought " +
+      const std::string prefix = "model-form symptom: ";
+      const std::string why = c.veto.rfind(prefix, 0) == 0 ? c.veto.substr(prefix.size()) : c.veto;
+      md += "- **Model-form symptom: " + c.candidate + "** (not selected) — " + why + "; it bought " +
             f3(c.improvement_pct) + " % on validation";
       if (f) {
         const auto shifts = base_shifts_json(r, *f);
