@@ -146,3 +146,42 @@ TEST_CASE("selection: nothing selected when nothing helps; BIC rejects an unpaid
   CHECK(!r.rounds[0][0].accepted);
   CHECK(r.final_rmse_px == r.base_rmse_px);
 }
+
+TEST_CASE("selection: a vetoed fit (parameter at a bound) is not accepted whatever its gain",
+          "[effects][residual_select]") {
+  const ValidationErrors base = base_errors();
+  FitResult ref = fit(base, 1000.0, 3);
+  // 10 % better everywhere (RMSE factor sqrt(0.81) = 0.9), calibration SSE halved: passes interval and BIC ...
+  FitResult cand = fit(scaled(base, [](std::size_t) { return 0.81; }), 500.0, 5);
+  const SelectionOptions o;
+  CHECK(score_candidate(ref, cand, o).accepted);
+  // ... until the caller vetoes it.
+  cand.veto = "model-form symptom: x.beta = 2000 at a bound of its physical range";
+  cand.model_form_symptom = true;
+  const CandidateScore s = score_candidate(ref, cand, o);
+  CHECK(!s.accepted);
+  CHECK(s.model_form_symptom);
+  CHECK(s.reason.find("model-form symptom") != std::string::npos);
+}
+
+TEST_CASE("selection: the held-drift fingerprint accepts a small gain, only when the drift is above noise",
+          "[effects][residual_select]") {
+  const ValidationErrors base = base_errors();
+  const SelectionOptions o;   // fingerprint: >= 50 % explained of a drift with RMS >= 0.15 px
+  FitResult ref = fit(base, 1000.0, 3);
+  // A 0.5 % squared-error gain: RMSE improvement 100 (1 - sqrt(0.995)) = 0.25 %, under the 1 % margin.
+  FitResult cand = fit(scaled(base, [](std::size_t) { return 0.995; }), 990.0, 5);
+  CHECK(!score_candidate(ref, cand, o).accepted);
+  // Drift RMS sqrt(0.09) = 0.3 px over 100 marker-frames, all of it unexplained by the reference;
+  // the candidate leaves a quarter: 75 % explained >= 50 %.
+  ref.held_count = cand.held_count = 100;
+  ref.held_signal_px2 = cand.held_signal_px2 = 9.0;
+  ref.held_sse_px2 = 9.0;
+  cand.held_sse_px2 = 2.25;
+  CHECK(fingerprint_explained_pct(ref, cand, o) == Approx(75.0));
+  CHECK(score_candidate(ref, cand, o).accepted);
+  // The same ratio on a drift of RMS sqrt(0.01) = 0.1 px (tracker noise level) is no evidence.
+  ref.held_signal_px2 = cand.held_signal_px2 = 1.0;
+  CHECK(std::isnan(fingerprint_explained_pct(ref, cand, o)));
+  CHECK(!score_candidate(ref, cand, o).accepted);
+}

@@ -400,20 +400,31 @@ nlohmann::json CalibrationResult::report_json() const {
 
 CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
                          const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
+  // One model per sample, cloned from one prototype per indenter (building one can be costly).
+  std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
+  const FitSampleModelFactory per_sample = [&](const FitSample& s, std::size_t) {
+    auto& proto = prototypes[s.indenter.get()];
+    if (!proto) proto = make(s.indenter);
+    return proto->clone();
+  };
+  return run_fit_stages_per_sample(model_id, per_sample, stages, samples, start, o);
+}
+
+CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const FitSampleModelFactory& make,
+                                            const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
+                                            const ParamSet& start, const FitOptions& o) {
   require_calibration_split(samples);
   const auto t_fit = std::chrono::steady_clock::now();
   CalibrationResult result{model_id, start, {}, false, 0};
 
-  // One model per sample, cloned from one prototype per indenter; scored sets fixed by the data.
-  std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
+  // One model per sample; scored sets fixed by the data.
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::vector<int>> active;
-  for (const auto& s : samples) {
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const FitSample& s = samples[i];
     if (s.meas_px.size() != s.X_EI.size() || s.meas_px.empty())
       throw std::invalid_argument("fit: sample '" + s.id + "' has no frames or mismatched poses/markers");
-    auto& proto = prototypes[s.indenter.get()];
-    if (!proto) proto = make(s.indenter);
-    models.push_back(proto->clone());
+    models.push_back(make(s, i));
     active.push_back(active_marker_frames(s.meas_px));
   }
 

@@ -127,6 +127,12 @@ using FitModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_pt
 // any ShearModel, which is how the Ceres part is tested on its own.
 CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
                          const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
+// Makes the model of samples[index] (a model that may depend on the sample, e.g. one replaying a
+// recorded base-model field while only effect parameters are fitted, core/loop/residual.cpp).
+using FitSampleModelFactory = std::function<std::unique_ptr<ShearModel>(const FitSample&, std::size_t index)>;
+CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const FitSampleModelFactory& make,
+                                            const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
+                                            const ParamSet& start, const FitOptions& options);
 
 // Runs the stages of `model_id` from `start` (the table, filtered by options.stages, plus the joint stage). Throws std::invalid_argument for unknown stage names or
 // parameters, and when a sample is not from the calibration split.

@@ -9,8 +9,8 @@ namespace {
 class ViscoelasticCreep final : public Effect {
  public:
   ViscoelasticCreep()
-      : Effect({{"tau_s", "s", 1.0, 1e-3, 1e3, "creep / recovery time constant", true},
-                {"creep_fraction", "", 0.0, -0.9, 5.0,
+      : Effect({{"tau_s", "s", 1.0, 1e-2, 10.0, "creep / recovery time constant", true},
+                {"creep_fraction", "", 0.0, -0.5, 1.0,
                  "relaxed / instantaneous displacement - 1 (0: elastic gel, no creep)"}}) {}
 
   std::string id() const override { return "viscoelastic_creep"; }

@@ -164,6 +164,7 @@ void EffectModel::reset() {
   time_s_ = 0.0;
   previous_depth_m_ = 0.0;
   last_penetration_ = Penetration{};
+  step_index_ = 0;
 }
 
 void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
@@ -171,7 +172,17 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
     throw std::invalid_argument("EffectModel::step: dt = " + std::to_string(dt) + " must be finite and >= 0");
   base_->step(X_EI, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
-  last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI);
+  // The penetration depends on the pose alone and costs more than the base model for a finely sampled
+  // indenter; fits replay the same pose sequence from reset() hundreds of times, so it is remembered per
+  // step and reused when the pose is bit-identical (the result is then identical too).
+  if (step_index_ < penetration_cache_.size() && penetration_cache_[step_index_].first.matrix() == X_EI.matrix()) {
+    last_penetration_ = penetration_cache_[step_index_].second;
+  } else {
+    last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI);
+    if (step_index_ >= penetration_cache_.size()) penetration_cache_.resize(step_index_ + 1);
+    penetration_cache_[step_index_] = {X_EI, last_penetration_};
+  }
+  ++step_index_;
 
   EffectContext ctx;
   ctx.sensor = sensor_.get();
@@ -197,6 +208,8 @@ std::unique_ptr<ShearModel> EffectModel::clone() const {
   copy->time_s_ = time_s_;
   copy->previous_depth_m_ = previous_depth_m_;
   copy->last_penetration_ = last_penetration_;
+  copy->penetration_cache_ = penetration_cache_;
+  copy->step_index_ = step_index_;
   return copy;
 }
 

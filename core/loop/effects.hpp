@@ -7,6 +7,7 @@
 // physics of each effect, its parameters and the attribution rule are in docs/effects.md.
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/geometry/indenter.hpp"
@@ -103,6 +104,8 @@ class EffectModel final : public ShearModel {
   double time_s_ = 0.0;
   double previous_depth_m_ = 0.0;
   Penetration last_penetration_;
+  std::size_t step_index_ = 0;                                     // steps since reset()
+  std::vector<std::pair<Pose, Penetration>> penetration_cache_;   // per step index: pose and its penetration
 };
 
 // The registered effect ids, in display order.

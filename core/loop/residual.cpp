@@ -6,6 +6,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -43,20 +44,141 @@ std::vector<std::string> effect_free_params(const ParamSet& table, const std::st
   return out;
 }
 
+// A fitted parameter closer to a bound than this fraction of its range (log range for log-scale specs)
+// sits at the bound.
+constexpr double kAtBoundFraction = 0.005;
+
+// The free parameters of `effect_id` that sit at a bound of their range ("name = value"), except a bound
+// that is the parameter's own "no effect" default (subsurface depth 0, edge strength 0): reaching that
+// means the effect switched itself off, not that it was pushed past physics.
+std::string params_at_bound(const ParamSet& params, const std::string& effect_id) {
+  std::string out;
+  for (const auto& name : effect_free_params(params, effect_id)) {
+    const ParamSpec& sp = params.specs()[static_cast<std::size_t>(params.index_of(name))];
+    const double v = params.get(name);
+    const bool lg = sp.log_scale && sp.min > 0;
+    const auto x = [&](double u) { return lg ? std::log(u) : u; };
+    const double tol = kAtBoundFraction * (x(sp.max) - x(sp.min));
+    for (double b : {sp.min, sp.max}) {
+      if (std::abs(x(v) - x(b)) > tol || b == sp.default_value) continue;
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "%s%s = %.4g", out.empty() ? "" : ", ", name.c_str(), v);
+      out += buf;
+    }
+  }
+  return out;
+}
+
 // Per-sample squared error and marker-frame count over the scored set, plus the metric accumulators.
 struct Scores {
   std::vector<double> sse, count;
   MotionMetrics metrics;
+  double held_sse = 0, held_signal = 0, held_count = 0;   // the held-drift fingerprint (FitResult)
 };
 
-Scores score_samples(const std::string& model_id, const std::vector<std::string>& effects, const ParamSet& params,
-                     std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples) {
+// Pose changes below these count as "held still" for the held-drift fingerprint.
+constexpr double kHeldTranslationM = 1e-9;
+constexpr double kHeldRotation = 1e-9;
+
+// The held-drift fingerprint of one sample: over every run of frames in which the indenter is in the gel
+// and its pose does not change, the change of the field since the run's first frame, measured against
+// predicted, on the markers that moved >= kActiveFramePx when the hold began. Adds sum |dmeas - dpred|^2,
+// sum |dmeas|^2 and the count of marker-frames.
+void held_drift(const Sensor& sensor, const FitSample& s, const std::vector<std::vector<Vec2>>& pred, Scores* sc,
+                std::size_t i, std::vector<double>* sse, std::vector<double>* signal, std::vector<double>* count) {
+  (void)sc;
+  std::size_t start = 0;
+  bool in_run = false;
+  for (std::size_t k = 1; k < s.X_EI.size(); ++k) {
+    const bool still = (s.X_EI[k].translation() - s.X_EI[k - 1].translation()).norm() < kHeldTranslationM &&
+                       (s.X_EI[k].linear() - s.X_EI[k - 1].linear()).norm() < kHeldRotation;
+    if (!still) {
+      in_run = false;
+      continue;
+    }
+    if (!in_run) {
+      if (!indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]).penetrating) continue;
+      in_run = true;
+      start = k - 1;
+    }
+    for (std::size_t j = 0; j < s.meas_px[k].size(); ++j) {
+      const Vec2 dm = s.meas_px[k][j] - s.meas_px[start][j];
+      const Vec2 dp = pred[k][j] - pred[start][j];
+      // Only markers the load moves: creep is proportional to the field, the others hold only noise.
+      if (!dm.allFinite() || !(s.meas_px[start][j].norm() >= kActiveFramePx)) continue;
+      (*sse)[i] += (dm - dp).squaredNorm();
+      (*signal)[i] += dm.squaredNorm();
+      (*count)[i] += 1;
+    }
+  }
+}
+
+// Replays a recorded base-model field (per frame: the displacement and the contact flags) so that a fit
+// which moves only effect parameters runs the effects alone: the base model is the costly part, and its
+// output does not depend on effect parameters. Valid only for the base parameters it was recorded with,
+// which is why set_params ignores the base part.
+class ReplayModel final : public ShearModel {
+ public:
+  ReplayModel(std::string id, ParamSet params, std::shared_ptr<const std::vector<FieldOutput>> frames)
+      : id_(std::move(id)), params_(std::move(params)), frames_(std::move(frames)) {}
+  std::string id() const override { return id_; }
+  const ParamSet& params() const override { return params_; }
+  void set_params(const ParamSet&) override {}
+  void reset() override { next_ = 0; }
+  void step(const Pose&, double, FieldOutput* out) override {
+    if (next_ >= frames_->size()) throw std::logic_error("ReplayModel: stepped past the recorded frames");
+    const FieldOutput& f = (*frames_)[next_++];
+    out->disp_px = f.disp_px;
+    out->marker_in_contact = f.marker_in_contact;
+  }
+  std::unique_ptr<ShearModel> clone() const override { return std::make_unique<ReplayModel>(*this); }
+
+ private:
+  std::string id_;
+  ParamSet params_;
+  std::shared_ptr<const std::vector<FieldOutput>> frames_;
+  std::size_t next_ = 0;
+};
+
+using SampleModelFactory = std::function<std::unique_ptr<ShearModel>(const FitSample&, std::size_t)>;
+
+// The base model's field for every frame of every sample, at `params`.
+std::vector<std::shared_ptr<const std::vector<FieldOutput>>> record_base(const std::string& model_id,
+                                                                         const ParamSet& params,
+                                                                         std::shared_ptr<const Sensor> sensor,
+                                                                         const std::vector<FitSample>& samples) {
+  std::vector<std::shared_ptr<const std::vector<FieldOutput>>> out(samples.size());
+  tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+    auto model = make_model(model_id, sensor, samples[i].indenter);
+    ParamSet p = model->params();
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const int j = params.index_of(p.specs()[k].name);
+      if (j >= 0) p.set(k, params[static_cast<std::size_t>(j)]);
+    }
+    model->set_params(p);
+    model->reset();
+    auto frames = std::make_shared<std::vector<FieldOutput>>(samples[i].X_EI.size());
+    for (std::size_t k = 0; k < samples[i].X_EI.size(); ++k) {
+      FieldOutput& f = (*frames)[k];
+      model->step(samples[i].X_EI[k], k == 0 ? 0.0 : samples[i].dt_s, &f);
+      f.p_EP.clear();
+      f.anchor_EP.clear();
+      f.point_state.clear();
+    }
+    out[i] = std::move(frames);
+  });
+  return out;
+}
+
+Scores score_samples(const SampleModelFactory& make, const ParamSet& params, const std::shared_ptr<const Sensor>& sensor,
+                     const std::vector<FitSample>& samples) {
   Scores sc;
+  std::vector<double> h_sse(samples.size(), 0.0), h_signal(samples.size(), 0.0), h_count(samples.size(), 0.0);
   sc.sse.assign(samples.size(), 0.0);
   sc.count.assign(samples.size(), 0.0);
   std::vector<MetricsAccumulator> acc(samples.size());
   tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
-    auto model = build_model(model_id, effects, sensor, samples[i].indenter);
+    auto model = make(samples[i], static_cast<std::size_t>(i));
     model->set_params(params);
     const auto pred = simulate_sample(*model, samples[i]);
     const std::size_t m = samples[i].meas_px.front().size();
@@ -65,8 +187,14 @@ Scores score_samples(const std::string& model_id, const std::vector<std::string>
       sc.count[i] += 1;
     }
     for (std::size_t k = 0; k < pred.size(); ++k) acc[i].add_frame(pred[k], samples[i].meas_px[k]);
+    held_drift(*sensor, samples[i], pred, &sc, static_cast<std::size_t>(i), &h_sse, &h_signal, &h_count);
   });
-  for (std::size_t i = 0; i < samples.size(); ++i) sc.metrics.add(samples[i].motion, acc[i]);
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    sc.metrics.add(samples[i].motion, acc[i]);
+    sc.held_sse += h_sse[i];
+    sc.held_signal += h_signal[i];
+    sc.held_count += h_count[i];
+  }
   return sc;
 }
 
@@ -274,18 +402,26 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
   const std::vector<std::string> base_free = o.fit_base ? joint_stage(in.model_id, false).params
                                                         : std::vector<std::string>{};
 
+  // A factory for samples of one split: the full model, or effects over a replayed base field.
+  const auto full_model = [&](const std::vector<std::string>& ids) -> SampleModelFactory {
+    return [&in, ids](const FitSample& s, std::size_t) { return build_model(in.model_id, ids, in.sensor, s.indenter); };
+  };
   const auto finish = [&](const std::vector<std::string>& ids, const ParamSet& params, std::size_t free_params,
-                          std::chrono::steady_clock::time_point start) {
+                          std::chrono::steady_clock::time_point start, const SampleModelFactory& make_cal,
+                          const SampleModelFactory& make_val) {
     EffectFit ef;
     ef.effects = ids;
     ef.fit.params = params;
     ef.fit.free_params = free_params;
-    const Scores cal = score_samples(in.model_id, ids, params, in.sensor, in.calibration);
+    const Scores cal = score_samples(make_cal, params, in.sensor, in.calibration);
     for (std::size_t i = 0; i < cal.sse.size(); ++i) {
       ef.fit.calibration_sse_px2 += cal.sse[i];
       ef.fit.calibration_count += 2 * cal.count[i];
     }
-    Scores val = score_samples(in.model_id, ids, params, in.sensor, in.validation);
+    Scores val = score_samples(make_val, params, in.sensor, in.validation);
+    ef.fit.held_sse_px2 = val.held_sse;
+    ef.fit.held_signal_px2 = val.held_signal;
+    ef.fit.held_count = val.held_count;
     ef.fit.validation.sq_err_px2 = val.sse;
     ef.fit.validation.count = val.count;
     ef.validation = std::move(val.metrics);
@@ -305,8 +441,34 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       check_cancel(br);
       base = br.params;
     }
-    rep.fits[""] = finish({}, base, base_free.size(), ts);
+    rep.fits[""] = finish({}, base, base_free.size(), ts, full_model({}), full_model({}));
   }
+
+  // The base field of a fitted effect set's base parameters, recorded once per set (calibration and
+  // validation samples): effect-only stages and their scores replay it instead of rerunning the base.
+  struct Recording {
+    std::vector<std::shared_ptr<const std::vector<FieldOutput>>> cal, val;
+  };
+  std::map<std::string, Recording> recordings;
+  const auto recording = [&](const std::string& key) -> const Recording& {
+    auto it = recordings.find(key);
+    if (it != recordings.end()) return it->second;
+    const ParamSet& p = rep.fits.at(key).fit.params;
+    Recording r{record_base(in.model_id, p, in.sensor, in.calibration),
+                record_base(in.model_id, p, in.sensor, in.validation)};
+    return recordings.emplace(key, std::move(r)).first->second;
+  };
+  const auto replay_model = [&](const std::vector<std::string>& ids, const ParamSet& fitted,
+                                const std::vector<std::shared_ptr<const std::vector<FieldOutput>>>& frames)
+      -> SampleModelFactory {
+    ParamSet base_params = default_params(in.model_id);   // the base's own table (EffectModel splits by it)
+    copy_shared(fitted, &base_params);
+    const auto* recorded = &frames;   // lives in `recordings` (map nodes are stable)
+    return [&in, ids, base_params, recorded](const FitSample& s, std::size_t i) -> std::unique_ptr<ShearModel> {
+      auto replay = std::make_unique<ReplayModel>(in.model_id, base_params, recorded->at(i));
+      return wrap_with_effects(std::move(replay), ids, in.sensor, s.indenter);
+    };
+  };
 
   const FitAndScore fit_and_score = [&](const std::vector<std::string>& ids) -> FitResult {
     const std::string key = effect_set_key(ids);
@@ -321,6 +483,7 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       copy_shared(it->second.fit.params, &start);
       warm = prefix;
     }
+    const std::string warm_key = effect_set_key(warm);
     std::vector<FitStage> stages;
     std::vector<std::string> joint = base_free;
     for (const auto& id : ids) {
@@ -329,15 +492,51 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       if (std::find(warm.begin(), warm.end(), id) == warm.end())
         stages.push_back({"effect:" + id, free, motions, false, {}});
     }
-    if (joint.size() > stages.back().params.size()) stages.push_back({"joint", joint, motions, false, {}});
-    const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
-      return build_model(in.model_id, ids, in.sensor, ind);
-    };
     o.progress("fit " + in.model_id + "+" + key, static_cast<double>(rep.fits.size()) /
                                                      static_cast<double>(candidates.size() * o.selection.max_effects + 1));
-    const CalibrationResult cr = run_fit_stages(in.model_id + "+" + key, make, stages, in.calibration, start, fo);
-    check_cancel(cr);
-    rep.fits[key] = finish(ids, cr.params, joint.size(), ts);
+    // (1) The new effects alone, over the recorded field of the warm start's base (cheap: no base runs).
+    const Recording& rec = recording(warm_key);
+    const ParamSet& base_params = rep.fits.at(warm_key).fit.params;
+    const auto replay_cal = replay_model(ids, base_params, rec.cal);
+    const auto replay_val = replay_model(ids, base_params, rec.val);
+    const CalibrationResult er =
+        run_fit_stages_per_sample(in.model_id + "+" + key, replay_cal, stages, in.calibration, start, fo);
+    check_cancel(er);
+    std::size_t free_count = 0;
+    for (const auto& st : stages) free_count += st.params.size();
+    EffectFit ef = finish(ids, er.params, free_count + rep.fits.at(warm_key).fit.free_params, ts, replay_cal, replay_val);
+    // (2) Screen: the joint refit (every run reruns the base model) only for an effect that alone, over
+    // the reference's base, already buys part of the acceptance margin on validation. Joint refits may
+    // let the base parameters lean on the effect, but an effect the data hold shows on the base as fitted.
+    const double ref_rmse = validation_rmse(rep.fits.at(warm_key).fit.validation);
+    const double alone_pct = 100.0 * (ref_rmse - validation_rmse(ef.fit.validation)) / ref_rmse;
+    const double fp = fingerprint_explained_pct(rep.fits.at(warm_key).fit, ef.fit, o.selection);
+    const bool fingerprint = std::isfinite(fp) && fp >= o.selection.min_fingerprint_pct;
+    if ((alone_pct < o.screen_min_pct && !fingerprint) || joint.size() == free_count) {
+      if (joint.size() > free_count) {
+        char why[160];
+        std::snprintf(why, sizeof why, "screened: alone over the fitted base it gains %.2f%% (< %.2f%%), no joint refit",
+                      alone_pct, o.screen_min_pct);
+        ef.fit.veto = why;
+      }
+    } else {
+      const std::vector<FitStage> joint_stage_only{{"joint", joint, motions, false, {}}};
+      const CalibrationResult cr =
+          run_fit_stages(in.model_id + "+" + key, [&](std::shared_ptr<const Indenter> ind) {
+            return build_model(in.model_id, ids, in.sensor, ind);
+          }, joint_stage_only, in.calibration, er.params, fo);
+      check_cancel(cr);
+      ef = finish(ids, cr.params, joint.size(), ts, full_model(ids), full_model(ids));
+    }
+    if (ef.fit.veto.empty()) {
+      const std::string bound = params_at_bound(ef.fit.params, ids.back());
+      if (!bound.empty()) {
+        ef.fit.veto = "model-form symptom: " + bound + " at a bound of its physical range";
+        ef.fit.model_form_symptom = true;
+      }
+    }
+    ef.time_s = seconds_since(ts);
+    rep.fits[key] = ef;
     return rep.fits[key].fit;
   };
 

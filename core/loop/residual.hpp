@@ -37,6 +37,9 @@ struct ResidualOptions {
   std::vector<std::string> candidates;   // effect ids to try; empty: the whole catalogue
   SelectionOptions selection;
   int max_iterations = 30;               // Levenberg-Marquardt iterations per stage
+  // A candidate gets its joint refit (base + effects, every run a full model run) only when its effect
+  // alone, over the reference's base field, improves the validation RMSE by at least this (%).
+  double screen_min_pct = 0.5;
   int bins = 6;                          // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;

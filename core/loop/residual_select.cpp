@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
@@ -93,6 +94,14 @@ Interval bootstrap_improvement_pct(const ValidationErrors& reference, const Vali
   return {quantile_sorted(improvements, tail), quantile_sorted(improvements, 1.0 - tail)};
 }
 
+double fingerprint_explained_pct(const FitResult& reference, const FitResult& candidate,
+                                 const SelectionOptions& options) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!(reference.held_count > 0) || !(reference.held_sse_px2 > 0)) return nan;
+  if (std::sqrt(reference.held_signal_px2 / reference.held_count) < options.min_fingerprint_signal_px) return nan;
+  return 100.0 * (1.0 - candidate.held_sse_px2 / reference.held_sse_px2);
+}
+
 CandidateScore score_candidate(const FitResult& reference, const FitResult& candidate,
                                const SelectionOptions& options) {
   CandidateScore s;
@@ -105,12 +114,21 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
                 gaussian_bic(reference.calibration_sse_px2, reference.calibration_count, reference.free_params);
   const bool interval_ok = s.improvement_ci_pct.low > options.min_lower_bound_pct;
   const bool bic_ok = s.delta_bic < 0.0;
-  s.accepted = interval_ok && bic_ok;
+  s.veto = candidate.veto;
+  s.model_form_symptom = candidate.model_form_symptom;
+  s.fingerprint_pct = fingerprint_explained_pct(reference, candidate, options);
+  const bool fingerprint_ok = std::isfinite(s.fingerprint_pct) && s.fingerprint_pct >= options.min_fingerprint_pct &&
+                              s.improvement_pct > 0.0;
+  s.accepted = (interval_ok || fingerprint_ok) && bic_ok && s.veto.empty();
   std::ostringstream why;
   why << "improvement " << s.improvement_pct << "% [" << s.improvement_ci_pct.low << ", "
-      << s.improvement_ci_pct.high << "], dBIC " << s.delta_bic << ": ";
+      << s.improvement_ci_pct.high << "], dBIC " << s.delta_bic;
+  if (std::isfinite(s.fingerprint_pct)) why << ", held drift explained " << s.fingerprint_pct << "%";
+  why << ": ";
   if (s.accepted)
-    why << "accepted";
+    why << (interval_ok ? "accepted" : "accepted on the held-drift fingerprint");
+  else if (!s.veto.empty())
+    why << s.veto;
   else if (!interval_ok)
     why << "interval lower bound not above " << options.min_lower_bound_pct << "%";
   else

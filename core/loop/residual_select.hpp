@@ -6,7 +6,8 @@
 // model on held-out validation samples. This module decides, from those scores only, which effects
 // the data support: greedily, one at a time, each accepted only if
 //   (1) the paired bootstrap interval of its validation RMSE improvement lies above a margin, and
-//   (2) its BIC on the calibration data improves on the model it extends.
+//   (2) its BIC on the calibration data improves on the model it extends, and
+//   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict).
 // Selecting nothing is a valid outcome.
 #include <cstdint>
 #include <functional>
@@ -30,6 +31,15 @@ struct FitResult {
   double calibration_count = 0.0;     // residual components in that sum (> 0)
   std::size_t free_params = 0;        // parameters the fit adjusted
   ParamSet params;                    // the fitted table
+  // Non-empty: this fit may not be accepted whatever its scores, and why (e.g. an effect parameter at a
+  // bound of its physical range, or a candidate screened out before its joint refit).
+  std::string veto;
+  bool model_form_symptom = false;    // the veto is a bound: the effect patched the base model's form
+  // The held-drift fingerprint on validation (docs/effects.md): over frames in which the indenter is held
+  // still in the gel, the change of the field since the hold began, sum |dmeas - dpred|^2, sum |dmeas|^2
+  // and the marker-frames summed. A rate-independent model predicts no change there, so its model-form
+  // error cannot explain a measured drift; an effect that does has evidence of its own.
+  double held_sse_px2 = 0, held_signal_px2 = 0, held_count = 0;
 };
 
 using FitAndScore = std::function<FitResult(const std::vector<std::string>& effect_ids)>;
@@ -40,6 +50,12 @@ struct SelectionOptions {
   double confidence = 0.95;               // two-sided percentile interval
   double min_lower_bound_pct = 1.0;       // accept only if the interval's lower bound exceeds this margin
   std::size_t max_effects = 2;            // greedy rounds
+  // The held-drift fingerprint counts when the measured drift's RMS exceeds this (px; tracker noise is
+  // 0.03-0.1 px per component) ...
+  double min_fingerprint_signal_px = 0.15;
+  // ... and a candidate that explains at least this fraction of its squared error (%) against the model it
+  // extends is accepted on a positive point improvement and a better BIC, without the interval margin.
+  double min_fingerprint_pct = 50.0;
 };
 
 struct Interval {
@@ -55,7 +71,10 @@ struct CandidateScore {
   double improvement_pct = 0.0;           // 100 (reference - candidate) / reference, all samples
   Interval improvement_ci_pct;            // paired bootstrap over validation samples
   double delta_bic = 0.0;                 // BIC(candidate) - BIC(reference) on calibration; < 0 is better
-  bool accepted = false;                  // passed both tests (the round keeps the best accepted one)
+  bool accepted = false;                  // passed both tests and had no veto (the round keeps the best accepted one)
+  double fingerprint_pct = 0.0;           // held-drift error explained (%), NaN when the data hold no drift
+  std::string veto;                       // FitResult::veto of the candidate's fit
+  bool model_form_symptom = false;
   std::string reason;                     // why it passed or failed, for reports
 };
 
@@ -77,6 +96,10 @@ double gaussian_bic(double sse, double n, std::size_t k);
 // when the two do not have the same number of samples.
 Interval bootstrap_improvement_pct(const ValidationErrors& reference, const ValidationErrors& candidate,
                                    int resamples, std::uint64_t seed, double confidence);
+// 100 (1 - held_sse(candidate) / held_sse(reference)): how much of the held drift the candidate explains;
+// NaN when the validation data hold no drift above options.min_fingerprint_signal_px.
+double fingerprint_explained_pct(const FitResult& reference, const FitResult& candidate,
+                                 const SelectionOptions& options);
 // Scores `candidate` against `reference` with the acceptance rule of the options.
 CandidateScore score_candidate(const FitResult& reference, const FitResult& candidate,
                                const SelectionOptions& options);

