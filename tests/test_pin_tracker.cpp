@@ -5,10 +5,12 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
 #include "core/data/importers.hpp"
 #include "core/data/tsd.hpp"
 #include "core/tracking/pin_tracker.hpp"
@@ -141,4 +143,28 @@ TEST_CASE("tactip_shear import of three samples per split reads back as tsd/1", 
   CHECK(kept(s.markers_px.back()) == ds.samples[3].extra.at("pins_tracked").get<int>());
   CHECK(kept(s.markers_px.back()) >= int(std::ceil(0.95 * 327)));
   fs::remove_all(out);
+}
+
+TEST_CASE("a malformed targets.csv row is an InputError naming file, line and column", "[import][tactip]") {
+  const fs::path dir = fs::temp_directory_path() / "sb_test_tactip_bad";
+  fs::remove_all(dir);
+  for (const char* split : {"calibration", "validation"}) {
+    fs::create_directories(dir / split / "images");
+    fs::copy_file(tactip_data("calibration/images/image_0.png"), dir / split / "images" / "image_0.png");
+  }
+  const std::string header =
+      "sensor_image,object_label,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,"
+      "shear_Ry,shear_Rz,object_x,object_y,object_z,object_Rx,object_Ry,object_Rz\n";
+  {
+    std::ofstream(dir / "calibration" / "targets.csv") << header
+                                                       << "image_1.png,surface,0,0,two,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n";
+  }
+  try {
+    import_tactip_shear(dir.string(), (dir / "out").string());
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    // pose_z is the 5th column of line 2.
+    CHECK_THAT(e.what(), Catch::Contains("targets.csv:2:5"));
+  }
+  fs::remove_all(dir);
 }
