@@ -52,7 +52,7 @@ struct TactipImportOptions {
 ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
                                  const TactipImportOptions& options = {});
 
-// The flat surface's pose path in E for one TacTip sample (SI units): depth d, tilt (rx, ry) and twist w in
+// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units): depth d, tilt (rx, ry) and twist w in
 // radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
                                    int slide_steps);
