@@ -12,6 +12,7 @@ struct ImportArgs {
   bool frames = false;
   std::string source, in, out, grid = "auto";
   double mm_per_px = 0.0634;
+  int max_samples = 0;
 };
 
 int run_import(const ImportArgs& a, const GlobalOptions&) {
@@ -22,24 +23,31 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
   else if (a.source == "incipient_slip") report = import_incipient_slip(a.in, a.out, opts, a.mm_per_px, a.frames);
   else if (a.source == "fots") report = import_fots(a.in, a.out);
   else if (a.source == "feats") report = import_feats(a.in, a.out);
-  else throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats)");
+  else if (a.source == "tactip_shear") {
+    TactipImportOptions t;
+    t.max_samples_per_split = a.max_samples;
+    report = import_tactip_shear(a.in, a.out, t);
+  } else
+    throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats, tactip_shear)");
   for (const auto& l : report.lines) std::printf("%s\n", l.c_str());
   for (const auto& d : report.datasets) std::printf("wrote %s\n", d.c_str());
   return 0;
 }
 
 void add_flags(CLI::App& sub, ImportArgs& a) {
-  sub.add_option("--source", a.source, "gsrobotics | incipient_slip | fots | feats")->required();
+  sub.add_option("--source", a.source, "gsrobotics | incipient_slip | fots | feats | tactip_shear")->required();
   sub.add_option("--in", a.in, "raw folder (e.g. <data>/raw/gsrobotics_tracking)")->required();
   sub.add_option("--out", a.out, "output directory (video sources: one dataset per recording inside)")
       ->required();
   sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
   sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();
+  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all)")
+      ->check(CLI::NonNegativeNumber);
   sub.add_flag("--frames", a.frames, "video sources: also store the frames as PNG (the workbench shows them)");
 }
 
 const Subcommand<ImportArgs> kSubcommand{
-    "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats) into tsd/1", 41, add_flags,
+    "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats, tactip_shear) into tsd/1", 41, add_flags,
     run_import};
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/tracking/pin_tracker.hpp"
 #include "core/tracking/tracker.hpp"
 #include "core/data/tsd_out.hpp"
 
@@ -36,6 +37,25 @@ ImportReport import_incipient_slip(const std::string& in_dir, const std::string&
 ImportReport import_fots(const std::string& in_dir, const std::string& out_dir);
 // raw/feats: one dataset, sample "cuboid_contact" with frames [nocontact, contact] and tracked markers.
 ImportReport import_feats(const std::string& in_dir, const std::string& out_dir);
+
+// raw/tactip_shear (SOURCE.md): one dataset, the reference image (images/image_0.png) as the rest, every
+// targets.csv row one sample (calibration/ -> split calibration, validation/ -> validation) whose poses.csv
+// is the collection procedure (above, pressed, slid to the final pose) and whose markers.csv is zero at
+// frame 0 (out of contact = the reference), NaN while not imaged, and the tracked pins at the last frame.
+// Pins tracked by pin_tracker.hpp; each sample's "pins_tracked" = pins kept in its image.
+// max_samples_per_split > 0 keeps only the first rows of each targets.csv (tests).
+struct TactipImportOptions {
+  PinTrackerOptions tracker;
+  int max_samples_per_split = 0;
+  int slide_steps = 10;  // frames of the in-contact slide
+};
+ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
+                                 const TactipImportOptions& options = {});
+
+// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units): depth d, tilt (rx, ry) and twist w in
+// radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
+std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
+                                   int slide_steps);
 
 // Sphere contact from a marker displacement field (pixels): far-field drift = median displacement of all
 // markers, removed first; centre = |d|-weighted centroid of the markers above half the peak |d|; contact

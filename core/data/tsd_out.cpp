@@ -33,6 +33,7 @@ Dataset as_dataset(const TsdDatasetOut& out) {
   ds.gel.size_m = out.gel_size_m;
   ds.gel.thickness_m = out.gel_thickness_m;
   ds.markers_rest_px = out.markers_rest_px;
+  ds.sensor_extra = out.sensor_extra;
   for (const auto& [name, entry] : out.indenters.items()) {
     TsdIndenter ind;
     ind.mesh = entry.value("mesh", "");

@@ -37,6 +37,7 @@ struct TsdDatasetOut {
   Vec2 gel_size_m{0.02525, 0.02075};
   double gel_thickness_m = 0.0045;
   std::vector<Vec2> markers_rest_px;
+  nlohmann::json sensor_extra = nlohmann::json::object();  // further keys of "sensor" (e.g. a TacTip's description)
   nlohmann::json indenters = nlohmann::json::object();
   std::vector<std::pair<std::string, std::string>> mesh_files;  // (path relative to the dataset, OBJ text)
   std::vector<TsdSampleOut> samples;
