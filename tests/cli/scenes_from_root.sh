@@ -8,6 +8,8 @@ set -uo pipefail
 exe=$1; src=$2; work=$3
 rm -rf "$work"; mkdir -p "$work"
 unset SHEARBENCH_DATA
+# GL processes: no leak checking under the sanitizer build (see tests/render/run_render_test.sh).
+export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 cd "$src" || exit 1
 if [[ ! -d ../shared/data ]]; then
   echo "FAIL: $src/../shared/data is missing: the test needs the data beside the repository"; exit 1
