@@ -8,6 +8,7 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/base/data_root.hpp"
 #include "core/loop/effects.hpp"
 #include "core/calibration/evaluate.hpp"
@@ -22,6 +23,7 @@ struct ResidualArgs {
   std::string dataset;
   std::string model;
   std::string params;
+  std::string param_set = kDefaultParamSet;
   std::vector<std::string> effects;
   std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
   int max_iterations = 30;
@@ -34,13 +36,7 @@ struct ResidualArgs {
 // other sample the validation split (recordings published without splits, e.g. the FOTS pair).
 std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std::string& split,
                                   const std::vector<std::string>& calibration_ids, Warnings* warnings) {
-  if (!calibration_ids.empty()) {
-    for (const auto& id : calibration_ids)
-      if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
-        throw InputError("--calibration", "no sample '" + id + "' in " + ds.json_path());
-    for (auto& info : ds.samples)
-      info.split = std::count(calibration_ids.begin(), calibration_ids.end(), info.id) ? "calibration" : "validation";
-  }
+  if (!calibration_ids.empty()) assign_calibration_split(ds, calibration_ids, "--calibration");
   const auto indenters = dataset_indenters(ds, root, split, warnings);
   std::vector<FitSample> out;
   for (const auto& info : ds.samples)
@@ -56,7 +52,10 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   ResidualInputs in;
   in.dataset = ds.name;
   in.model_id = a.model;
-  in.base_params = default_params(a.model);   // unknown ids fail before any work
+  default_params(a.model);   // unknown ids fail before any work
+  // The base fit starts from the set's values (the default set unless told otherwise); with --params the
+  // base is not fitted at all.
+  in.base_params = load_param_set(a.param_set).params(a.model);
   ResidualOptions o;
   o.max_iterations = a.max_iterations;
   o.selection.bootstrap_resamples = a.resamples;
@@ -102,6 +101,7 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   add_dataset_flag(sub, a.dataset);
   sub.add_option("--model", a.model, "base model id")->required();
   add_params_flag(sub, a.params, "fixed base parameters (default: fit them)");
+  add_param_set_flag(sub, a.param_set);
   sub.add_option("--effects", a.effects, "candidate effects (default: the whole catalogue)")->delimiter(',');
   sub.add_option("--calibration", a.calibration_ids,
                  "sample ids that calibrate (the others validate), instead of the dataset's splits")

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "widgets/keys.hpp"
+
 namespace sb::ui {
 
 namespace {
@@ -95,7 +97,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   dl->PushClipRect(p0, p1, true);   // nothing drawn for this field leaves its panel
 
   const bool hovered = interactive && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(p0, p1);
-  if (hovered && ImGui::IsMouseDoubleClicked(ImGuiMouseButton_Left)) result.toggle_enlarge = true;
+  if (hovered && mouse_double_clicked()) result.toggle_enlarge = true;
   if (hovered && ImGui::IsMouseClicked(ImGuiMouseButton_Left)) result.clicked = true;
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   // A marker answers the mouse within about half the default marker pitch (33 image px).

@@ -69,6 +69,7 @@ GlWindow::GlWindow(const WindowOptions& options) {
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
   // After ImGui's callbacks are installed: ours forwards to them and records presses for the shortcuts.
   imgui_key_callback_ = glfwSetKeyCallback(window_, &GlWindow::on_key);
+  imgui_mouse_button_callback_ = glfwSetMouseButtonCallback(window_, &GlWindow::on_mouse_button);
   glfwSetWindowUserPointer(window_, this);
   ImGui_ImplOpenGL3_Init("#version 150");
 }
@@ -90,8 +91,20 @@ void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int
   if (action == GLFW_PRESS || action == GLFW_REPEAT) record_key_press(key, mods, action == GLFW_REPEAT);
 }
 
+void GlWindow::on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
+  auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
+  if (self != nullptr && self->imgui_mouse_button_callback_ != nullptr)
+    self->imgui_mouse_button_callback_(window, button, action, mods);
+  if (button == GLFW_MOUSE_BUTTON_LEFT && action == GLFW_PRESS) {
+    double x = 0, y = 0;
+    glfwGetCursorPos(window, &x, &y);
+    record_left_press(glfwGetTime(), x, y);
+  }
+}
+
 void GlWindow::begin_frame(double wait_s) {
   clear_key_presses();   // presses of a frame that did not ask for them are not replayed later
+  begin_mouse_poll();
   if (wait_s > 0)
     glfwWaitEventsTimeout(wait_s);
   else

@@ -48,9 +48,12 @@ class GlWindow {
 
  private:
   using KeyCallback = void (*)(GLFWwindow*, int, int, int, int);
+  using MouseButtonCallback = void (*)(GLFWwindow*, int, int, int);
   static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
+  static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
   GLFWwindow* window_ = nullptr;
   KeyCallback imgui_key_callback_ = nullptr;   // ImGui's GLFW backend; ours forwards to it
+  MouseButtonCallback imgui_mouse_button_callback_ = nullptr;
 };
 
 // Writes a PNG atomically (temporary file in the same folder, then rename). Throws std::runtime_error.

@@ -3,6 +3,8 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include "core/workbench/double_click.hpp"
+
 namespace sb::ui {
 
 const std::vector<KeyBinding>& key_table() {
@@ -50,7 +52,16 @@ std::vector<KeyPress>& key_presses() {
   return presses;
 }
 
+DoubleClickDetector& double_clicks() {
+  static DoubleClickDetector detector;   // main thread only, as the key presses
+  return detector;
+}
+
 }  // namespace
+
+void begin_mouse_poll() { double_clicks().begin_poll(); }
+void record_left_press(double t_s, double x_px, double y_px) { double_clicks().press(t_s, x_px, y_px); }
+bool mouse_double_clicked() { return double_clicks().double_clicked(); }
 
 void record_key_press(int key, int mods, bool repeat) { key_presses().push_back({key, mods, repeat}); }
 void clear_key_presses() { key_presses().clear(); }

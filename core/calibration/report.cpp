@@ -76,7 +76,8 @@ std::vector<DatasetFidelity> run_fidelity(const FidelityOptions& o) {
   const std::vector<std::string> ids = o.models.empty() ? model_ids() : o.models;
   for (const auto& dir_in : o.dataset_dirs) {
     const auto t0 = std::chrono::steady_clock::now();
-    const Dataset ds = read_dataset(std::filesystem::absolute(dir_in).string());
+    Dataset ds = read_dataset(std::filesystem::absolute(dir_in).string());
+    if (!o.calibration_ids.empty()) assign_calibration_split(ds, o.calibration_ids, "calibration samples");
     DatasetFidelity r;
     r.dataset = ds.name;
     r.dir = dir_in;

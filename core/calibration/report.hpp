@@ -23,6 +23,7 @@ struct FidelityOptions {
   std::vector<std::string> dataset_dirs;
   std::vector<std::string> models;           // empty: all
   FitOptions fit;
+  std::vector<std::string> calibration_ids;   // non-empty: these samples calibrate, the others validate
   std::string data_root;
   std::function<void(const std::string&)> log;
 };

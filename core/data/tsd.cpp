@@ -417,6 +417,14 @@ Dataset parse_dataset_json(const nlohmann::json& j, const std::string& file, con
   return ds;
 }
 
+void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag) {
+  for (const auto& id : calibration_ids)
+    if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
+      throw InputError(flag, "no sample '" + id + "' in " + ds.json_path());
+  for (auto& info : ds.samples)
+    info.split = std::count(calibration_ids.begin(), calibration_ids.end(), info.id) ? "calibration" : "validation";
+}
+
 Dataset read_dataset(const std::string& dir, Warnings* warnings) {
   if (!fs::is_directory(dir)) throw InputError(dir, "dataset folder not found");
   const std::string file = (fs::path(dir) / "dataset.json").string();

@@ -78,6 +78,11 @@ struct SampleData {
   void push_pose(double t, const Pose& X);     // appends a frame's time and pose (markers separately)
 };
 
+// Reassigns the splits of a dataset published without them (e.g. the FOTS press/shear pair): the listed
+// samples become the calibration split, every other sample the validation split. An id the dataset does
+// not have is an InputError naming `flag` (the option that gave it) and the dataset file.
+void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag);
+
 // Parses and validates dataset.json in `dir` (format, fields, motions, splits, indenter references and
 // that each referenced mesh file exists). Samples are not loaded.
 Dataset read_dataset(const std::string& dir, Warnings* warnings = nullptr);
