@@ -4,6 +4,7 @@
 // its validation split. `shearbench --reproducible params --rebuild` writes the same bytes every time.
 #include <cstdio>
 #include <filesystem>
+#include <unistd.h>
 
 #include "app/command.hpp"
 #include "core/base/atomic_write.hpp"
@@ -16,18 +17,35 @@
 namespace sb::app {
 namespace {
 
-// A fitted set: its name, the dataset it is fitted on and what it is for.
+// A fitted set: its name, the dataset it is fitted on and what it is for. A raw recording published
+// without splits names its importer and the samples that calibrate (the others validate).
 struct SetRecipe {
   const char* name;
   const char* dataset;
   const char* description;
+  const char* import = nullptr;
+  std::vector<std::string> calibration_samples = {};
 };
 
-constexpr SetRecipe kRecipes[] = {
-    {"twin_sphere35", "data:twin/twin_sphere35",
-     "the default: fitted on the FE twin of the HydroShear paper's calibration (35 mm sphere on a GelSight Mini)"},
-    {"twin_sphere8", "data:twin/twin_sphere8", "fitted on the FE twin with an 8 mm sphere (smaller contacts)"},
-};
+const std::vector<SetRecipe>& recipes() {
+  static const std::vector<SetRecipe> r = {
+      {"twin_sphere35", "data:twin/twin_sphere35",
+       "the default: fitted on the FE twin of the HydroShear paper's calibration (35 mm sphere on a GelSight Mini)"},
+      {"twin_sphere8", "data:twin/twin_sphere8", "fitted on the FE twin with an 8 mm sphere (smaller contacts)"},
+      {"real_fots_pair", "data:raw/fots_marker_calib",
+       "fitted on a real GelSight press (FOTS's marker calibration pair; sphere pose estimated from the image at "
+       "import, so depth and travel are uncertain: docs/tracking.md), scored on the real shear frame",
+       "fots", {"press"}},
+  };
+  return r;
+}
+
+nlohmann::json recipe_provenance(const SetRecipe& recipe) {
+  nlohmann::json p = {{"description", recipe.description}, {"dataset", recipe.dataset}};
+  if (recipe.import != nullptr) p["import"] = recipe.import;
+  if (!recipe.calibration_samples.empty()) p["calibration_samples"] = recipe.calibration_samples;
+  return p;
+}
 
 struct ParamsArgs {
   bool rebuild = false;
@@ -43,13 +61,21 @@ nlohmann::json validation_json(const EvaluationResult& e, const Dataset& ds) {
 }
 
 NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const GlobalOptions& g) {
+  const std::filesystem::path work = std::filesystem::temp_directory_path() / ("shearbench_params_" + std::to_string(::getpid()));
+  struct RemoveWork {
+    std::filesystem::path dir;
+    ~RemoveWork() { std::error_code ec; std::filesystem::remove_all(dir, ec); }
+  } remove_work{work};
+  nlohmann::json provenance = recipe_provenance(recipe);
+  const ParamSetData data = param_set_data(provenance, root, work.string());
   FidelityOptions o;
-  o.dataset_dirs = {resolve_path(recipe.dataset, root, "")};
+  o.dataset_dirs = {data.dir};
+  o.calibration_ids = data.calibration_ids;
   o.fit.joint = true;   // the best fit `fit` gives with no flags
   o.data_root = root;
   if (!g.quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "params: %s\n", line.c_str()); };
   const DatasetFidelity r = run_fidelity(o).at(0);
-  const Dataset ds = read_dataset(r.dir);
+  const Dataset ds = read_param_set_dataset(data);
   NamedParamSet set;
   set.name = recipe.name;
   nlohmann::json validation = nlohmann::json::object(), published = nlohmann::json::object();
@@ -59,13 +85,15 @@ NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const Gl
     validation[id] = validation_json(r.fitted[i], ds);
     published[id] = validation_json(r.defaults[i], ds);
   }
-  set.provenance = {{"description", recipe.description},
-                    {"dataset", recipe.dataset},
-                    {"split", "fitted on the calibration split, scored on the validation split"},
-                    {"fit", "every model from the published values: its stages, then the joint refinement"},
-                    {"command", std::string("shearbench --reproducible params --rebuild --set ") + recipe.name},
-                    {"validation", validation},
-                    {"validation_published", published}};
+  provenance["split"] = recipe.calibration_samples.empty()
+                            ? "fitted on the calibration split, scored on the validation split"
+                            : "fitted on the calibration samples, scored on the others";
+  provenance["fit"] = std::string("every model from the published values: its stages, then the joint refinement") +
+                      (recipe.calibration_samples.empty() ? "" : " (a stage with no calibration sample of its motion keeps them)");
+  provenance["command"] = std::string("shearbench --reproducible params --rebuild --set ") + recipe.name;
+  provenance["validation"] = validation;
+  provenance["validation_published"] = published;
+  set.provenance = provenance;
   return set;
 }
 
@@ -81,14 +109,14 @@ int run_params(const ParamsArgs& a, const GlobalOptions& g) {
   const std::string dir = a.out_dir.empty() ? param_sets_dir() : a.out_dir;
   std::filesystem::create_directories(dir);
   bool any = false;
-  for (const SetRecipe& recipe : kRecipes) {
+  for (const SetRecipe& recipe : recipes()) {
     if (!a.sets.empty() && std::find(a.sets.begin(), a.sets.end(), recipe.name) == a.sets.end()) continue;
     any = true;
     const std::string path = (std::filesystem::path(dir) / (std::string(recipe.name) + ".json")).string();
     save_param_set(path, fit_set(recipe, root, g));
     if (!g.quiet) std::fprintf(stderr, "params: wrote %s\n", path.c_str());
   }
-  if (!any) throw InputError("--set", "no fitted set of that name (twin_sphere35, twin_sphere8; 'published' is not fitted)");
+  if (!any) throw InputError("--set", "no fitted set of that name (twin_sphere35, twin_sphere8, real_fots_pair; 'published' is not fitted)");
   return 0;
 }
 

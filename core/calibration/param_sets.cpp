@@ -7,7 +7,9 @@
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/data/importers.hpp"
 #include "core/data/json_read.hpp"
+#include "core/base/data_root.hpp"
 #include "core/models/model.hpp"
 
 namespace fs = std::filesystem;
@@ -103,6 +105,31 @@ nlohmann::ordered_json param_set_to_json(const NamedParamSet& set) {
 
 void save_param_set(const std::string& path, const NamedParamSet& set) {
   write_file_atomic(path, param_set_to_json(set).dump(2) + "\n");
+}
+
+ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root, const std::string& work_dir) {
+  const std::string where = "parameter set provenance";
+  if (!provenance.is_object() || !provenance.contains("dataset") || !provenance["dataset"].is_string())
+    throw InputError(where, "no \"dataset\"");
+  ParamSetData d;
+  d.dir = resolve_path(provenance["dataset"].get<std::string>(), data_root, "");
+  if (provenance.contains("import")) {
+    const std::string source = provenance["import"].get<std::string>();
+    if (source != "fots") throw InputError(where + ": /import", "unknown importer '" + source + "' (known: fots)");
+    const std::string out = (fs::path(work_dir) / "imported").string();
+    fs::remove_all(out);
+    import_fots(d.dir, out);
+    d.dir = out;
+  }
+  if (provenance.contains("calibration_samples"))
+    d.calibration_ids = provenance["calibration_samples"].get<std::vector<std::string>>();
+  return d;
+}
+
+Dataset read_param_set_dataset(const ParamSetData& data) {
+  Dataset ds = read_dataset(fs::absolute(data.dir).string());
+  if (!data.calibration_ids.empty()) assign_calibration_split(ds, data.calibration_ids, "calibration_samples");
+  return ds;
 }
 
 }  // namespace sb

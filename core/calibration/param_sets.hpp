@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/base/params.hpp"
+#include "core/data/tsd.hpp"
 
 namespace sb {
 
@@ -36,6 +37,17 @@ std::vector<std::string> param_set_names();
 NamedParamSet load_param_set(const std::string& name_or_file);
 NamedParamSet published_param_set();
 nlohmann::ordered_json param_set_to_json(const NamedParamSet& set);
+
+// Where a fitted set's data is, as its provenance records it: "dataset" (a data: path), and for a raw
+// recording published without splits "import" (the importer, e.g. "fots", run into `work_dir` first) and
+// "calibration_samples" (the samples that calibrate; the others validate).
+struct ParamSetData {
+  std::string dir;                              // a tsd/1 dataset folder
+  std::vector<std::string> calibration_ids;     // empty: the dataset's own splits
+};
+ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root, const std::string& work_dir);
+// That dataset read, with its splits as the set's fit used them.
+Dataset read_param_set_dataset(const ParamSetData& data);
 void save_param_set(const std::string& path, const NamedParamSet& set);
 
 }  // namespace sb
