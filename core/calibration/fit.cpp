@@ -310,6 +310,13 @@ const std::vector<FitStage>& fit_stages(const std::string& id) {
         {"shear-shape", {"lambda_s"}, {"shear"}, true, {}},
         {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
         {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
+      // HydroShear with the bonded-layer kernel: the paper's stages, the shear kernel's near-field term
+      // with its shape on slides and twists (docs/effects.md, "Traction through a bonded layer").
+      {"hydroshear-layer",
+       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
+        {"shear-shape", {"lambda_s", "beta_s", "lambda_s2"}, {"shear", "twist"}, true, {}},
+        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
+        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
       // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
       // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
       {"fots",

@@ -31,8 +31,8 @@ const double kDefaultPxPerMetre = Camera{}.px_per_metre();  // 1 / 0.0634 mm = 1
 
 }  // namespace
 
-std::vector<ParamSpec> hydroshear_param_specs() {
-  return {
+std::vector<ParamSpec> hydroshear_param_specs(bool layer) {
+  std::vector<ParamSpec> specs = {
       {"lambda_d", "m^-2", 20000, 1e2, 1e7, "dilation Gaussian rate on squared distance (authors' RL config)", true},
       {"lambda_s", "m^-2", 10800, 1e2, 1e7, "shear Gaussian rate on squared distance (authors' RL config)", true},
       {"mu", "", 0.5, 0, 5, "friction-cone ratio |f_t| <= mu f_n"},
@@ -50,6 +50,17 @@ std::vector<ParamSpec> hydroshear_param_specs() {
       {"normal", "", 0, 0, 1, "normal of the n/t split: 0 = elastomer +z (authors' code), 1 = indenter normal (paper)"},
       {"flat_pad_fast", "", 1, 0, 1, "1: exact analytic phi_E for a flat pad; 0: always query sensor.gel_sdf"},
   };
+  if (layer) {
+    // The shear kernel only: the dilation's kernel acts between markers, a pitch (2 mm) apart at least, where
+    // a near-field term narrower than the far one adds nothing (fitted, it went to its bound). Ranges: the near-field width 1/sqrt(2 lambda2) between 0.07 mm (finer than the marker pitch can
+    // resolve) and 2.2 mm (half the gel's 4.5 mm thickness); beta from no near field to 30x the far one.
+    const std::vector<ParamSpec> near = {
+        {"beta_s", "", 1, 0, 30, "layer kernel: weight of the shear's near-field Gaussian (0 = authors' kernel)"},
+        {"lambda_s2", "m^-2", 1e6, 1e5, 1e8, "layer kernel: rate of the shear's near-field Gaussian", true},
+    };
+    specs.insert(specs.end(), near.begin(), near.end());
+  }
+  return specs;
 }
 
 HydroShearParams HydroShearParams::from(const ParamSet& p) {
@@ -69,6 +80,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   k.weight_paper = param_flag(p, "weight");
   k.normal_indenter = param_flag(p, "normal");
   k.flat_pad_fast = param_flag(p, "flat_pad_fast");
+  if (p.index_of("beta_s") >= 0) k.beta_s = p.get("beta_s"), k.lambda_s2 = p.get("lambda_s2");
   return k;
 }
 
@@ -135,7 +147,8 @@ HydroShearBatch::~HydroShearBatch() = default;
 HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
-      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), dil_x_(o.dil_x_), dil_y_(o.dil_y_),
+      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_),
+      dil_x_(o.dil_x_), dil_y_(o.dil_y_),
       marker_z_max_(o.marker_z_max_), perm_(o.perm_), pos_of_(o.pos_of_), p_I_(o.p_I_), n_I_(o.n_I_), pIx_(o.pIx_), pIy_(o.pIy_),
       pIz_(o.pIz_),
       clusters_(o.clusters_), groups_(o.groups_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
@@ -220,6 +233,10 @@ void HydroShearBatch::set_params(const ParamSet& params) {
   if (grid_.is_grid) {
     gauss_x_ = GaussianAxis(grid_.xs, k_.lambda_s);
     gauss_y_ = GaussianAxis(grid_.ys, k_.lambda_s);
+    if (k_.beta_s > 0) {
+      gauss_x2_ = GaussianAxis(grid_.xs, k_.lambda_s2);
+      gauss_y2_ = GaussianAxis(grid_.ys, k_.lambda_s2);
+    }
   }
 }
 
@@ -502,16 +519,22 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
 //   S_x[r][c] = sum_i (vx_i Y_i[r]) (E_i X_i[c])  (and S_y with vy),
 // formed with the points as the long, vectorised dimension (kernels::shear_matrices, add_products_nt).
 void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
-  // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
-  // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
-  constexpr double kMaxTotalExponent = 650;
   const int nm = markers();
   sc.shear_x.assign(nm, 0.0);
   sc.shear_y.assign(nm, 0.0);
+  if (sc.field->size() == 0) return;
+  add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_}, sc);
+  if (k_.beta_s > 0) add_shear_term({k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_}, sc);
+}
+
+// Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums.
+void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
+  // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
+  // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
+  constexpr double kMaxTotalExponent = 650;
   const PointColumns& F = *sc.field;
   const int n = F.size();
-  if (n == 0) return;
-  const bool factored = grid_.is_grid && gauss_x_.uniform() && gauss_y_.uniform();
+  const bool factored = grid_.is_grid && term.gx->uniform() && term.gy->uniform();
   const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
   // Padding points (n..mp): zero weight, exponents 0 (finite after exp), not fast.
   for (auto* v : {&sc.wvx, &sc.wvy}) v->resize(mp);
@@ -525,22 +548,24 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
                                    sc.field_phi, sc.fnx, sc.fny, sc.fnz};
   kernels::ShearConstants k{};
-  k.E = k_.E, k.K = k_.K, k.lambda_s = k_.lambda_s, k.z0 = grid_.z0;
+  k.E = k_.E, k.K = k_.K, k.lambda_s = term.lambda, k.z0 = grid_.z0;
   k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
   k.max_total_exponent = factored ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
   if (factored) {
-    k.x0 = gauss_x_.front(), k.xn = gauss_x_.back(), k.hx = gauss_x_.pitch();
-    k.y0 = gauss_y_.front(), k.yn = gauss_y_.back(), k.hy = gauss_y_.pitch();
+    k.x0 = term.gx->front(), k.xn = term.gx->back(), k.hx = term.gx->pitch();
+    k.y0 = term.gy->front(), k.yn = term.gy->back(), k.hy = term.gy->pitch();
   }
   double* lead = sc.args.data();
   kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
+  if (term.weight != 1.0)
+    for (int i = 0; i < n; ++i) sc.wvx[i] *= term.weight, sc.wvy[i] *= term.weight;
   for (int i = 0; i < n; ++i)
-    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0)) shear_point_slow(sc, i, sc.wvx[i], sc.wvy[i]);
-  if (factored) shear_sum_fast(sc, mp);
+    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0)) shear_point_slow(term, sc, i, sc.wvx[i], sc.wvy[i]);
+  if (factored) shear_sum_fast(term, sc, mp);
 }
 
 // The fast points' share of the shear sum (see shear_sum).
-void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
+void HydroShearBatch::shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const {
   const int rows = grid_.rows, cols = grid_.cols;
   exp_in_place(sc.args.data(), 3 * mp);
   const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
@@ -549,7 +574,7 @@ void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
   sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
   const double* e = sc.args.data();
   kernels::shear_matrices(e, e + mp, e + 2 * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows, cols,
-                          gauss_x_.q(), gauss_y_.q(), sc.Xt.data(), sc.Wt.data());
+                          term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data());
   kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
   const int nm = rows * cols;
   for (int j = 0; j < nm; ++j) {
@@ -560,18 +585,18 @@ void HydroShearBatch::shear_sum_fast(Scratch& sc, int mp) const {
 
 // One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
 // grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
-void HydroShearBatch::shear_point_slow(Scratch& sc, int i, double vx, double vy) const {
+void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const {
   const PointColumns& F = *sc.field;
   const Vec3 a(sc.fx[i] + F.ux[i], sc.fy[i] + F.uy[i], sc.fz[i] + F.uz[i]);
-  const double ls = k_.lambda_s;
+  const double ls = term.lambda;
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
   if (grid_.is_grid) {
     const int rows = grid_.rows, cols = grid_.cols;
     sc.ex.resize(cols);
     sc.ey.resize(rows);
-    gauss_x_.eval(a.x(), sc.ex.data());
-    gauss_y_.eval(a.y(), sc.ey.data());
+    term.gx->eval(a.x(), sc.ex.data());
+    term.gy->eval(a.y(), sc.ey.data());
     const double ez = std::exp(-ls * (grid_.z0 - a.z()) * (grid_.z0 - a.z()));
     for (int r = 0; r < rows; ++r)
       for (int c = 0; c < cols; ++c) {

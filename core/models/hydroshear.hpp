@@ -24,10 +24,15 @@
 
 namespace sb {
 
-std::vector<ParamSpec> hydroshear_param_specs();
+// `layer`: also the near-field term of the bonded-layer hypothesis (model "hydroshear-layer",
+// docs/effects.md "Traction through a bonded layer"): the shear kernel gains a narrow second Gaussian,
+//   exp(-lambda_s |r|^2)  ->  exp(-lambda_s |r|^2) + beta_s exp(-lambda_s2 |r|^2),
+// beta_s = 0 being the authors' kernel.
+std::vector<ParamSpec> hydroshear_param_specs(bool layer = false);
 
 struct HydroShearParams {
   double lambda_d, lambda_s, mu, kappa_d, kappa_s, K, E, g_aug;
+  double beta_s = 0, lambda_s2 = 0;   // the layer kernel's near-field term (0: the authors' kernel)
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -111,9 +116,15 @@ class HydroShearBatch {
   void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
   void augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
   void normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const;
+  // One Gaussian term of the shear kernel: weight * exp(-lambda |m - a|^2), with its grid axes.
+  struct ShearTerm {
+    double weight, lambda;
+    const GaussianAxis *gx, *gy;
+  };
   void shear_sum(const Pose& X_EI, Scratch& sc) const;
-  void shear_sum_fast(Scratch& sc, int mp) const;
-  void shear_point_slow(Scratch& sc, int i, double vx, double vy) const;
+  void add_shear_term(const ShearTerm& term, Scratch& sc) const;
+  void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
+  void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const;
   void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   // Inline: called for every candidate point when the gel is not a flat pad.
   double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
@@ -126,6 +137,7 @@ class HydroShearBatch {
   FlatPad pad_;
   MarkerGridLayout grid_;
   GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
+  GaussianAxis gauss_x2_, gauss_y2_;       // the layer kernel's near-field term (k_.beta_s > 0)
   // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
   // .y), rows padded with zeros to kernels::dilation_stride(nm).
   std::vector<double> dil_x_, dil_y_;

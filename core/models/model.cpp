@@ -42,23 +42,25 @@ class SingleSlotModel final : public ShearModel {
 }  // namespace
 
 const std::vector<std::string>& model_ids() {
-  static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized"};
+  static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
+                                               "hydroshear-layer"};
   return ids;
 }
 
 ParamSet default_params(const std::string& id) {
   if (id == "hydroshear") return ParamSet(hydroshear_param_specs());
+  if (id == "hydroshear-layer") return ParamSet(hydroshear_param_specs(true));
   if (id == "fots") return ParamSet(fots_param_specs());
   if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
   if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
   if (id == "tacsl-normalized") return ParamSet(tacsl_param_specs(true));
-  throw std::invalid_argument("unknown model id '" + id + "' (known: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized)");
+  throw std::invalid_argument("unknown model id '" + id + "' (known: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized, hydroshear-layer)");
 }
 
 std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
                                        std::shared_ptr<const Indenter> indenter) {
   const ParamSet p = default_params(id);
-  if (id == "hydroshear")
+  if (id == "hydroshear" || id == "hydroshear-layer")
     return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p));
   if (id == "fots" || id == "fots-reimpl") {
     const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;
