@@ -214,7 +214,8 @@ void Frontend::switch_model(int slot, const std::string& model_id) {
   auto model = make_model(model_id, state.sensor(), state.indenter());
   model->set_params(session_.param_set.params(model_id));   // the variant starts from the set too
   state.request_model(static_cast<std::size_t>(slot), std::move(model));
-  // The session remembers the variant (what `gui --fots/--tacsl` would open).
+  // The session remembers the variant (what `gui --hydroshear/--fots/--tacsl` would open).
+  if (model_id.rfind("hydroshear", 0) == 0) session_options_.open.hydroshear_id = model_id;
   if (model_id.rfind("fots", 0) == 0) session_options_.open.fots_id = model_id;
   if (model_id.rfind("tacsl", 0) == 0) session_options_.open.tacsl_id = model_id;
   workbench_.set_message("switched to " + ui::display_name(model_id));

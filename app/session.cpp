@@ -53,7 +53,7 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
                                                      const NamedParamSet& param_set,
                                                      std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
-  for (const std::string& id : {std::string("hydroshear"), o.open.fots_id, o.open.tacsl_id}) {
+  for (const std::string& id : {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id}) {
     auto m = make_model(id, scene.sensor, indenter);
     m->set_params(param_set.params(id));
     if (auto it = scene.params.find(id); it != scene.params.end()) {
@@ -179,13 +179,14 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--sample", open.sample_id, "sample id of the dataset (default: the first)");
   sub.add_option("--indenter-mesh", open.indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
   sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
+  sub.add_option("--hydroshear", open.hydroshear_id, "hydroshear | hydroshear-layer")->capture_default_str();
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
   add_param_set_flag(sub, open.param_set);
 }
 
 std::vector<std::string> source_arguments(const SessionSource& open) {
-  std::vector<std::string> args = {"--fots", open.fots_id, "--tacsl", open.tacsl_id, "--param-set", open.param_set};
+  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots", open.fots_id, "--tacsl", open.tacsl_id, "--param-set", open.param_set};
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) args.insert(args.end(), {flag, value});
   };

@@ -10,6 +10,7 @@ namespace sb::ui {
 
 std::string display_name(const std::string& id) {
   if (id == "hydroshear") return "HydroShear";
+  if (id == "hydroshear-layer") return "HydroShear (layer)";
   if (id == "fots") return "FOTS";
   if (id == "fots-reimpl") return "FOTS (reimpl)";
   if (id == "tacsl") return "TacSL";

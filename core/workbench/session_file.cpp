@@ -39,6 +39,7 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
   j["format"] = "shearbench-session";
   j["version"] = SessionFile::kFormatVersion;
   j["open"] = {{"scene", s.open.scene_path},       {"dataset", s.open.dataset_dir},         {"sample", s.open.sample_id},
+               {"hydroshear", s.open.hydroshear_id},
                {"fots", s.open.fots_id},           {"tacsl", s.open.tacsl_id},              {"indenter_mesh", s.open.indenter_mesh},
                {"indenter_scale", s.open.indenter_scale}, {"param_set", s.open.param_set}};
   j["params"] = s.params;
@@ -66,11 +67,12 @@ SessionFile session_from_json(const json& j, const std::string& file) {
     jsonin::fail(file, "/residual", "a version 1 session has no residual section");
   SessionFile s;
   const json& open = jsonin::member(j, "open", file, "");
-  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "fots", "tacsl", "indenter_mesh", "indenter_scale", "param_set"},
+  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "indenter_mesh", "indenter_scale", "param_set"},
                               file, "/open");
   s.open.scene_path = optional_string(open, "scene", file, "/open", "");
   s.open.dataset_dir = optional_string(open, "dataset", file, "/open", "");
   s.open.sample_id = optional_string(open, "sample", file, "/open", "");
+  s.open.hydroshear_id = optional_string(open, "hydroshear", file, "/open", s.open.hydroshear_id);
   s.open.fots_id = optional_string(open, "fots", file, "/open", s.open.fots_id);
   s.open.tacsl_id = optional_string(open, "tacsl", file, "/open", s.open.tacsl_id);
   s.open.indenter_mesh = optional_string(open, "indenter_mesh", file, "/open", "");
