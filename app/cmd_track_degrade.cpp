@@ -2,6 +2,7 @@
 // degradation (blur, noise, brightness drift, JPEG, dropped frames, a sliding occluder), and the degraded
 // tracks are scored against the clean one: lost marker-frames, position error on markers tracked in both,
 // and jumps (a marker placed off its clean track by more than half a pitch, or on another marker's dot).
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -48,7 +49,12 @@ std::string table_row(const DegradeScore& s) {
 }
 
 nlohmann::json score_json(const DegradeScore& s) {
-  return {{"degradation", s.label},   {"frames_seen", s.frames_seen}, {"marker_frames", s.marker_frames},
+  auto xy = [](const Vec2& p) { return std::isfinite(p.x()) ? nlohmann::json{p.x(), p.y()} : nlohmann::json(nullptr); };
+  nlohmann::json events = nlohmann::json::array();
+  for (const auto& e : s.jump_events)
+    events.push_back({{"frame", e.source_frame}, {"marker", e.marker}, {"clean_uv", xy(e.clean_uv)},
+                      {"degraded_uv", xy(e.degraded_uv)}, {"onto_marker", e.onto_marker}});
+  return {{"jump_events", events},{"degradation", s.label},   {"frames_seen", s.frames_seen}, {"marker_frames", s.marker_frames},
           {"lost", s.lost},           {"lost_fraction", s.lost_fraction()}, {"compared", s.compared},
           {"rmse_px", s.rmse_px},     {"p95_px", s.p95_px},             {"max_px", s.max_px},
           {"jumps", s.jumps},         {"onto_neighbour", s.onto_neighbour}, {"unverified", s.unverified},

@@ -48,9 +48,15 @@ cv::Mat occlude(const cv::Mat& frame, double area_fraction, int index, int frame
   cv::Mat out = frame.clone();
   // The frame's mean colour: an opaque patch that hides the dots without a strong dark edge of its own
   // (a dark patch would be a giant "dot", which the detector already rejects by area).
-  constexpr int kShift = 4;  // sub-pixel centre and radius
-  cv::circle(out, cv::Point(int(std::lround(d.u * (1 << kShift))), int(std::lround(d.v * (1 << kShift)))),
-             int(std::lround(d.radius * (1 << kShift))), cv::mean(frame), cv::FILLED, cv::LINE_8, kShift);
+  const cv::Scalar fill = cv::mean(frame);
+  cv::Mat mask = cv::Mat::zeros(frame.size(), CV_8U);
+  // Pixel centres strictly inside the disc: the covered area is pi r^2 up to the raster.
+  const int y0 = std::max(0, int(std::floor(d.v - d.radius))), y1 = std::min(frame.rows - 1, int(std::ceil(d.v + d.radius)));
+  const int x0 = std::max(0, int(std::floor(d.u - d.radius))), x1 = std::min(frame.cols - 1, int(std::ceil(d.u + d.radius)));
+  for (int y = y0; y <= y1; ++y)
+    for (int x = x0; x <= x1; ++x)
+      if ((x - d.u) * (x - d.u) + (y - d.v) * (y - d.v) < d.radius * d.radius) mask.at<uchar>(y, x) = 255;
+  out.setTo(fill, mask);
   return out;
 }
 

@@ -39,6 +39,8 @@ void DegradeScore::merge(const DegradeScore& o) {
   unverified += o.unverified;
   unpaired_markers += o.unpaired_markers;
   errors_px.insert(errors_px.end(), o.errors_px.begin(), o.errors_px.end());
+  for (const auto& e : o.jump_events)
+    if (jump_events.size() < kMaxJumpEvents) jump_events.push_back(e);
 }
 
 void DegradeScore::finish() {
@@ -81,17 +83,21 @@ DegradeScore compare_to_clean(const TrackResult& clean, const TrackResult& degra
       for (int m = 0; m < clean.markers(); ++m)
         if (finite(clean_uv[m]) && (clean_uv[m] - uv).norm() < od) od = (clean_uv[m] - uv).norm(), other = m;
       const bool onto = other >= 0 && other != i;
-      if (!clean_ok) {
-        s.unverified += onto ? 0 : 1;
-        s.jumps += onto ? 1 : 0;
+      auto record_jump = [&] {
+        ++s.jumps;
         s.onto_neighbour += onto ? 1 : 0;
+        if (s.jump_events.size() < DegradeScore::kMaxJumpEvents)
+          s.jump_events.push_back({f, i, clean_uv[i], uv, onto ? other : -1});
+      };
+      if (!clean_ok) {
+        if (onto) record_jump();
+        else ++s.unverified;
         continue;
       }
       const double e = (uv - clean_uv[i]).norm();
       ++s.compared;
       s.errors_px.push_back(e);
-      if (onto || e > jump_px) ++s.jumps;
-      if (onto) ++s.onto_neighbour;
+      if (onto || e > jump_px) record_jump();
     }
   }
   s.finish();
