@@ -49,6 +49,15 @@ constexpr int kFinalMinNeighbours = 3;
 // contradict each other this way the smaller one is lost (see drop_contradicted_groups).
 constexpr double kAdjacentPitch = 1.2;
 constexpr double kSlipPitch = 0.6;
+// A first-pass match within this (pitches) of its prediction, agreeing with its neighbours, seeds the
+// second pass; the second pass grows from the seeds at most kGrowthPasses rings.
+constexpr double kSeedPitch = 0.2;
+constexpr int kGrowthPasses = 8;
+// Fewer confident matches than this in a frame: the prediction failed everywhere; grow from all matches
+// that agree with their neighbours instead (the tracker's behaviour before the growth pass).
+constexpr int kMinSeeds = 3;
+// Lost markers are predicted from tracked neighbours up to this many rings away (then from rest).
+constexpr int kPredictionRings = 4;
 // Rest frames: a detection within this (pitches) of a frame-0 marker is the same marker.
 constexpr double kRestMatchPitch = 0.3;
 // Rows at rest are split where consecutive sorted v differ by more than this (pitches).
@@ -394,13 +403,13 @@ void MarkerTracker::initialise_rest() {
   }
 }
 
-std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp) const {
+std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp, std::size_t min_count) const {
   std::vector<Vec2> out(disp.size(), kLost);
   for (std::size_t i = 0; i < disp.size(); ++i) {
     std::vector<double> us, vs;
     for (int j : neighbours_[i])
       if (finite(disp[j])) us.push_back(disp[j].x()), vs.push_back(disp[j].y());
-    if (us.size() >= 2) out[i] = Vec2(median(us), median(vs));
+    if (us.size() >= min_count) out[i] = Vec2(median(us), median(vs));
   }
   return out;
 }
@@ -416,9 +425,17 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
   std::vector<Vec2> pred(n, kLost);
   for (int i = 0; i < n; ++i)
     if (finite(previous[i])) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
-  const std::vector<Vec2> from_neighbours = neighbour_median(pred);
+  // Inward, ring by ring: a marker lost among lost markers (under an occluder, inside a block that was
+  // dropped) takes its prediction from the nearest tracked ones rather than from its rest position.
+  for (int ring = 0; ring < kPredictionRings; ++ring) {
+    const std::vector<Vec2> from_neighbours = neighbour_median(pred);
+    bool filled = false;
+    for (int i = 0; i < n; ++i)
+      if (!finite(pred[i]) && finite(from_neighbours[i])) pred[i] = from_neighbours[i], filled = true;
+    if (!filled) break;
+  }
   for (int i = 0; i < n; ++i)
-    if (!finite(pred[i])) pred[i] = finite(from_neighbours[i]) ? from_neighbours[i] : Vec2::Zero();
+    if (!finite(pred[i])) pred[i] = Vec2::Zero();
 
   auto to_uv = [&](const std::vector<Vec2>& d) {
     std::vector<Vec2> uv(n);
@@ -433,15 +450,36 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
   };
   std::vector<Vec2> m = matched_disp(assign(to_uv(pred), det, gate));
 
-  // Prediction 2 (smooth-field prior): keep matches that agree with their neighbours, re-predict the
-  // others from the neighbours' median displacement, and match again.
+  // Prediction 2 (smooth-field prior), grown from the confident matches: a match is confident when it lies
+  // close to its prediction and agrees with its neighbours. Markers around confident ones are re-predicted
+  // from their median displacement and matched again, ring by ring, so a region whose prediction failed
+  // (a step larger than the gate after dropped frames) is reached from where it did not, instead of
+  // keeping the nearest dot, which may be a neighbour's.
   const std::vector<Vec2> field = neighbour_median(m);
-  std::vector<Vec2> pred2(n);
+  std::vector<Vec2> agreeing(n, kLost), accepted(n, kLost);
+  int seeds = 0;
   for (int i = 0; i < n; ++i) {
-    const bool agrees = finite(m[i]) && (!finite(field[i]) || (m[i] - field[i]).norm() < kFieldDisagreementPitch * pitch);
-    pred2[i] = agrees ? m[i] : (finite(field[i]) ? field[i] : pred[i]);
+    if (!finite(m[i]) || (finite(field[i]) && (m[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch)) continue;
+    agreeing[i] = m[i];
+    if ((m[i] - pred[i]).norm() < kSeedPitch * pitch) accepted[i] = m[i], ++seeds;
   }
-  disp_out = matched_disp(assign(to_uv(pred2), det, gate));
+  // No confident match anywhere (the whole gel moved unpredictably): the agreeing matches seed instead.
+  if (seeds < kMinSeeds) accepted = agreeing;
+  std::vector<Vec2> pred2(n);
+  for (int pass = 0; pass < kGrowthPasses; ++pass) {
+    const std::vector<Vec2> around = neighbour_median(accepted, 1);
+    for (int i = 0; i < n; ++i) pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
+    const std::vector<Vec2> again = matched_disp(assign(to_uv(pred2), det, gate));
+    bool grown = false;
+    for (int i = 0; i < n; ++i) {
+      if (finite(accepted[i]) && !finite(again[i])) accepted[i] = kLost;  // its dot went to a better claim
+      if (finite(accepted[i]) || !finite(around[i]) || !finite(again[i])) continue;
+      if ((again[i] - around[i]).norm() < kFieldDisagreementPitch * pitch) accepted[i] = again[i], grown = true;
+    }
+    if (!grown) break;
+  }
+  // Markers never reached from a confident match stay lost for this frame.
+  disp_out = accepted;
 
   // Last: a match still far from its neighbours' field is more likely a neighbour's dot than strain.
   const std::vector<Vec2> final_field = neighbour_median(disp_out);

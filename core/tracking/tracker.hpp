@@ -82,7 +82,8 @@ class MarkerTracker {
  private:
   void initialise_rest();
   void track(const std::vector<MarkerDetection>& detections, std::vector<Vec2>& disp_out);
-  std::vector<Vec2> neighbour_median(const std::vector<Vec2>& disp) const;
+  // Per marker: the median displacement of its finite rest-neighbours (NaN with fewer than min_count).
+  std::vector<Vec2> neighbour_median(const std::vector<Vec2>& disp, std::size_t min_count = 2) const;
 
   TrackerOptions options_;
   std::vector<std::vector<MarkerDetection>> pending_;  // detections of the rest frames
