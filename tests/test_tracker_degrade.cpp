@@ -4,8 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 #include <random>
 
@@ -71,16 +69,6 @@ TEST_CASE("dropped frames during a fast drag: markers are lost, never moved onto
       wrong += e > kMaxErrorPx ? 1 : 0;
     }
   }
-  if (std::getenv("SB_DEBUG"))
-    for (int t = 0; t < kFrames; ++t) {
-      std::printf("t=%d:", t);
-      for (int c = 0; c < 9; ++c) {
-        const Vec2 p = rest[3 * 9 + c];
-        const Vec2 d = r.disp_px[t][nearest(r, p)];
-        std::printf(" %6.1f/%5.1f", d.x(), truth(p, t).x());
-      }
-      std::printf("\n");
-    }
   CHECK(wrong == 0);
   CHECK(worst < kMaxErrorPx);
   CHECK(lost_after_settling == 0);
