@@ -467,14 +467,19 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
   if (seeds < kMinSeeds) accepted = agreeing;
   std::vector<Vec2> pred2(n);
   for (int pass = 0; pass < kGrowthPasses; ++pass) {
-    const std::vector<Vec2> around = neighbour_median(accepted, 1);
+    // Predicted from two or more accepted neighbours where there are; from a single one (sparse seeds,
+    // e.g. only the corners moved little) only with the tighter seed tolerance.
+    const std::vector<Vec2> around2 = neighbour_median(accepted, 2), around1 = neighbour_median(accepted, 1);
+    std::vector<Vec2> around(n);
+    for (int i = 0; i < n; ++i) around[i] = finite(around2[i]) ? around2[i] : around1[i];
     for (int i = 0; i < n; ++i) pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
     const std::vector<Vec2> again = matched_disp(assign(to_uv(pred2), det, gate));
     bool grown = false;
     for (int i = 0; i < n; ++i) {
       if (finite(accepted[i]) && !finite(again[i])) accepted[i] = kLost;  // its dot went to a better claim
       if (finite(accepted[i]) || !finite(around[i]) || !finite(again[i])) continue;
-      if ((again[i] - around[i]).norm() < kFieldDisagreementPitch * pitch) accepted[i] = again[i], grown = true;
+      const double tolerance = (finite(around2[i]) ? kFieldDisagreementPitch : kSeedPitch) * pitch;
+      if ((again[i] - around[i]).norm() < tolerance) accepted[i] = again[i], grown = true;
     }
     if (!grown) break;
   }
