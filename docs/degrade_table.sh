@@ -4,7 +4,7 @@
 # sliding occluder), scored against its own clean track. Run from the repository root:
 #   bash docs/degrade_table.sh [build/shearbench] [out_dir]
 # Writes out_dir/{gsrobotics,incipient_slip}.{md,json} (pooled table, then one table per clip).
-# About 2 + 8 minutes on one core of this machine (all frames of every clip; no subsampling).
+# About 1 + 5 minutes on this machine (all frames of every clip; no subsampling).
 set -euo pipefail
 exe=${1:-build/shearbench}
 out=${2:-degrade_study}
