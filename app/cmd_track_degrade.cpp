@@ -42,6 +42,11 @@ std::string table_header() {
 
 std::string table_row(const DegradeScore& s) {
   char row[320];
+  if (s.label == "clean") {  // the reference itself: its own lost fraction, nothing to compare
+    std::snprintf(row, sizeof row, "| clean (the reference) | %ld | %ld | %.2f %% | | | | | | |\n", s.frames_seen,
+                  s.marker_frames, 100.0 * s.lost_fraction());
+    return row;
+  }
   std::snprintf(row, sizeof row, "| %s | %ld | %ld | %.2f %% | %.3f | %.3f | %.3f | %ld | %ld | %d |\n", s.label.c_str(),
                 s.frames_seen, s.marker_frames, 100.0 * s.lost_fraction(), s.rmse_px, s.p95_px, s.max_px, s.jumps,
                 s.onto_neighbour, s.unpaired_markers);
