@@ -414,14 +414,20 @@ std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp,
   return out;
 }
 
-void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<Vec2>& disp_out) {
+std::vector<Vec2> MarkerTracker::match(const std::vector<Vec2>& predicted, const std::vector<MarkerDetection>& det) const {
   const int n = result_.markers();
-  const int t = result_.frames();
-  const double pitch = result_.pitch_px;
-  const double gate = options_.gate_fraction * pitch;
-  const std::vector<Vec2> previous = t > 0 ? result_.disp_px.back() : std::vector<Vec2>(n, Vec2::Zero());
+  std::vector<Vec2> uv(n);
+  for (int i = 0; i < n; ++i) uv[i] = result_.rest_px[i] + predicted[i];
+  const std::vector<int> a = assign(uv, det, options_.gate_fraction * result_.pitch_px);
+  std::vector<Vec2> d(n, kLost);
+  for (int i = 0; i < n; ++i)
+    if (a[i] >= 0) d[i] = det[a[i]].uv - result_.rest_px[i];
+  return d;
+}
 
-  // Prediction 1: own motion for markers seen in the last frame, neighbours' motion for the others.
+std::vector<Vec2> MarkerTracker::predict(const std::vector<Vec2>& previous) const {
+  const int n = result_.markers();
+  // Own motion for markers seen in the last frame, neighbours' motion for the others.
   std::vector<Vec2> pred(n, kLost);
   for (int i = 0; i < n; ++i)
     if (finite(previous[i])) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
@@ -436,44 +442,39 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
   }
   for (int i = 0; i < n; ++i)
     if (!finite(pred[i])) pred[i] = Vec2::Zero();
+  return pred;
+}
 
-  auto to_uv = [&](const std::vector<Vec2>& d) {
-    std::vector<Vec2> uv(n);
-    for (int i = 0; i < n; ++i) uv[i] = result_.rest_px[i] + d[i];
-    return uv;
-  };
-  auto matched_disp = [&](const std::vector<int>& a) {
-    std::vector<Vec2> d(n, kLost);
-    for (int i = 0; i < n; ++i)
-      if (a[i] >= 0) d[i] = det[a[i]].uv - result_.rest_px[i];
-    return d;
-  };
-  std::vector<Vec2> m = matched_disp(assign(to_uv(pred), det, gate));
-
-  // Prediction 2 (smooth-field prior), grown from the confident matches: a match is confident when it lies
-  // close to its prediction and agrees with its neighbours. Markers around confident ones are re-predicted
-  // from their median displacement and matched again, ring by ring, so a region whose prediction failed
-  // (a step larger than the gate after dropped frames) is reached from where it did not, instead of
-  // keeping the nearest dot, which may be a neighbour's.
-  const std::vector<Vec2> field = neighbour_median(m);
+// Prediction 2 (smooth-field prior), grown from the confident matches: a match is confident when it lies
+// close to its prediction and agrees with its neighbours. Markers around confident ones are re-predicted
+// from their median displacement and matched again, ring by ring, so a region whose prediction failed
+// (a step larger than the gate after dropped frames) is reached from where it did not, instead of
+// keeping the nearest dot, which may be a neighbour's. Markers never reached stay lost for the frame.
+std::vector<Vec2> MarkerTracker::grow(const std::vector<Vec2>& first, const std::vector<Vec2>& pred,
+                                      const std::vector<MarkerDetection>& det) const {
+  const int n = result_.markers();
+  const double pitch = result_.pitch_px;
+  const std::vector<Vec2> field = neighbour_median(first);
   std::vector<Vec2> agreeing(n, kLost), accepted(n, kLost);
   int seeds = 0;
   for (int i = 0; i < n; ++i) {
-    if (!finite(m[i]) || (finite(field[i]) && (m[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch)) continue;
-    agreeing[i] = m[i];
-    if ((m[i] - pred[i]).norm() < kSeedPitch * pitch) accepted[i] = m[i], ++seeds;
+    if (!finite(first[i]) || (finite(field[i]) && (first[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch))
+      continue;
+    agreeing[i] = first[i];
+    if ((first[i] - pred[i]).norm() < kSeedPitch * pitch) accepted[i] = first[i], ++seeds;
   }
   // No confident match anywhere (the whole gel moved unpredictably): the agreeing matches seed instead.
   if (seeds < kMinSeeds) accepted = agreeing;
-  std::vector<Vec2> pred2(n);
   for (int pass = 0; pass < kGrowthPasses; ++pass) {
     // Predicted from two or more accepted neighbours where there are; from a single one (sparse seeds,
     // e.g. only the corners moved little) only with the tighter seed tolerance.
     const std::vector<Vec2> around2 = neighbour_median(accepted, 2), around1 = neighbour_median(accepted, 1);
-    std::vector<Vec2> around(n);
-    for (int i = 0; i < n; ++i) around[i] = finite(around2[i]) ? around2[i] : around1[i];
-    for (int i = 0; i < n; ++i) pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
-    const std::vector<Vec2> again = matched_disp(assign(to_uv(pred2), det, gate));
+    std::vector<Vec2> around(n), pred2(n);
+    for (int i = 0; i < n; ++i) {
+      around[i] = finite(around2[i]) ? around2[i] : around1[i];
+      pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
+    }
+    const std::vector<Vec2> again = match(pred2, det);
     bool grown = false;
     for (int i = 0; i < n; ++i) {
       if (finite(accepted[i]) && !finite(again[i])) accepted[i] = kLost;  // its dot went to a better claim
@@ -483,19 +484,30 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
     }
     if (!grown) break;
   }
-  // Markers never reached from a confident match stay lost for this frame.
-  disp_out = accepted;
+  return accepted;
+}
 
-  // Last: a match still far from its neighbours' field is more likely a neighbour's dot than strain.
-  const std::vector<Vec2> final_field = neighbour_median(disp_out);
-  for (int i = 0; i < n; ++i) {
-    if (!finite(disp_out[i]) || !finite(final_field[i])) continue;
+// Last: a match still far from its neighbours' field is more likely a neighbour's dot than strain; a group
+// that slipped as a whole is caught where it borders the markers that did not.
+void MarkerTracker::drop_contradicted(std::vector<Vec2>& disp) const {
+  const std::vector<Vec2> field = neighbour_median(disp);
+  for (int i = 0; i < result_.markers(); ++i) {
+    if (!finite(disp[i]) || !finite(field[i])) continue;
     int tracked = 0;
-    for (int j : neighbours_[i]) tracked += finite(disp_out[j]) ? 1 : 0;
-    if (tracked >= kFinalMinNeighbours && (disp_out[i] - final_field[i]).norm() > kFinalDisagreementPitch * pitch)
-      disp_out[i] = kLost;
+    for (int j : neighbours_[i]) tracked += finite(disp[j]) ? 1 : 0;
+    if (tracked >= kFinalMinNeighbours && (disp[i] - field[i]).norm() > kFinalDisagreementPitch * result_.pitch_px)
+      disp[i] = kLost;
   }
-  drop_contradicted_groups(adjacent_, pitch, disp_out);
+  drop_contradicted_groups(adjacent_, result_.pitch_px, disp);
+}
+
+void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<Vec2>& disp_out) {
+  const int n = result_.markers();
+  const int t = result_.frames();
+  const std::vector<Vec2> previous = t > 0 ? result_.disp_px.back() : std::vector<Vec2>(n, Vec2::Zero());
+  const std::vector<Vec2> pred = predict(previous);
+  disp_out = grow(match(pred, det), pred, det);
+  drop_contradicted(disp_out);
 
   for (int i = 0; i < n; ++i) {
     const bool seen_now = finite(disp_out[i]);

@@ -82,6 +82,12 @@ class MarkerTracker {
  private:
   void initialise_rest();
   void track(const std::vector<MarkerDetection>& detections, std::vector<Vec2>& disp_out);
+  std::vector<Vec2> predict(const std::vector<Vec2>& previous) const;
+  // Displacements of the detections assigned to markers predicted at `predicted` (NaN: none).
+  std::vector<Vec2> match(const std::vector<Vec2>& predicted, const std::vector<MarkerDetection>& det) const;
+  std::vector<Vec2> grow(const std::vector<Vec2>& first, const std::vector<Vec2>& pred,
+                         const std::vector<MarkerDetection>& det) const;
+  void drop_contradicted(std::vector<Vec2>& disp) const;
   // Per marker: the median displacement of its finite rest-neighbours (NaN with fewer than min_count).
   std::vector<Vec2> neighbour_median(const std::vector<Vec2>& disp, std::size_t min_count = 2) const;
 
