@@ -6,6 +6,7 @@
 #include "core/base/error.hpp"
 #include "core/tracking/degrade.hpp"
 #include "core/tracking/degrade_study.hpp"
+#include "marker_render.hpp"
 
 using namespace sb;
 
@@ -174,4 +175,39 @@ TEST_CASE("the score against the clean track counts lost markers and jumps onto 
   CHECK(d.marker_frames == 4);
   CHECK(d.jumps == 0);
   CHECK(d.max_px == 0);
+}
+
+TEST_CASE("a study on a synthetic clip: dropped frames score exactly, an occluder costs only hidden markers",
+          "[degrade][tracker]") {
+  // 7 x 9 dots drifting right by 1 px per frame after the rest window, 20 frames. Dropped frames (drop:0.5)
+  // leave the kept frames' pixels as they were, so every marker tracked in both is at exactly its clean
+  // position (error 0) and nothing jumps; the frames seen are 3 + (17 - round(8.5) = 8) = 11. The occluder
+  // (occlusion:0.1, r = 27.6 px, crossing in 20 frames) hides some markers in some frames: lost > 0, still
+  // no jump, and the markers kept are within kRimErrorPx (a dot cut by the disc's rim).
+  constexpr double kRimErrorPx = 5.0;
+  std::mt19937 rng(2);
+  std::vector<cv::Mat> frames;
+  for (int t = 0; t < 20; ++t) {
+    std::vector<Vec2> c;
+    for (const auto& p : sb::test::grid_7x9()) c.push_back(p + Vec2(std::max(0, t - 2), 0));
+    frames.push_back(sb::test::render(c, rng));
+  }
+  const DegradeStudy study = run_degrade_study(
+      frames, {parse_degradation("drop:0.5", "t"), parse_degradation("occlusion:0.1", "t")}, TrackerOptions{});
+  REQUIRE(study.clean.markers() == 63);
+  CHECK(study.clean.lost_fraction() == 0.0);
+  REQUIRE(study.scores.size() == 2);
+  const DegradeScore& drop = study.scores[0];
+  CHECK(drop.label == "drop:0.5");
+  CHECK(drop.frames_seen == 11);
+  CHECK(drop.marker_frames == 63 * 11);
+  CHECK(drop.lost == 0);
+  CHECK(drop.jumps == 0);
+  CHECK(drop.max_px == 0.0);
+  const DegradeScore& occ = study.scores[1];
+  CHECK(occ.frames_seen == 20);
+  CHECK(occ.lost > 0);
+  CHECK(occ.jumps == 0);
+  CHECK(occ.max_px < kRimErrorPx);
+  CHECK(occ.compared + occ.lost == occ.marker_frames);
 }
