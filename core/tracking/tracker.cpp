@@ -31,6 +31,33 @@ constexpr float kFillMinWeight = 0.05f;
 constexpr double kNeighbourRadiusPitch = 1.6;
 // A match farther than this (pitches) from its neighbours' median displacement is re-predicted.
 constexpr double kFieldDisagreementPitch = 0.35;
+// A match must be unambiguous: its distance from the prediction at most this fraction of the distance to
+// the next detection. On a lattice, a prediction off by e along a row has its own dot at e and the
+// neighbour's at pitch - e: the ratio 0.5 accepts e < pitch / 3 and leaves the marker lost beyond, where
+// the prediction no longer tells the two dots apart (dropped frames, a sudden fast motion).
+constexpr double kAmbiguityRatio = 0.5;
+// After the second match, a marker farther than this (pitches) from its neighbours' median displacement
+// is lost rather than kept: a neighbour's dot is a pitch away, real strain between neighbours stays well
+// under this (the 30 px ramp test puts neighbours up to 0.6 pitch out of step over 1.41 pitches).
+constexpr double kFinalDisagreementPitch = 0.75;
+// ... and only when at least this many neighbours were tracked (fewer: no reliable field to compare with).
+constexpr int kFinalMinNeighbours = 3;
+// Lattice slips: markers adjacent at rest (closer than kAdjacentPitch: the 4-neighbours of a square grid,
+// the 6 of a hexagonal one) whose displacements differ by more than kSlipPitch cannot both be right: the
+// gel would be stretched or compressed by more than 60 % between them, while a block of markers that took
+// their neighbours' dots differs from the markers around it by about one pitch. Of two groups that
+// contradict each other this way the smaller one is lost (see drop_contradicted_groups).
+constexpr double kAdjacentPitch = 1.2;
+constexpr double kSlipPitch = 0.6;
+// A first-pass match within this (pitches) of its prediction, agreeing with its neighbours, seeds the
+// second pass; the second pass grows from the seeds at most kGrowthPasses rings.
+constexpr double kSeedPitch = 0.2;
+constexpr int kGrowthPasses = 8;
+// Fewer confident matches than this in a frame: the prediction failed everywhere; grow from all matches
+// that agree with their neighbours instead (the tracker's behaviour before the growth pass).
+constexpr int kMinSeeds = 3;
+// Lost markers are predicted from tracked neighbours up to this many rings away (then from rest).
+constexpr int kPredictionRings = 4;
 // Rest frames: a detection within this (pitches) of a frame-0 marker is the same marker.
 constexpr double kRestMatchPitch = 0.3;
 // Rows at rest are split where consecutive sorted v differ by more than this (pitches).
@@ -232,8 +259,9 @@ double nearest_neighbour_pitch(const std::vector<Vec2>& pts) {
   return median(nn);
 }
 
-// Greedy one-to-one assignment: all marker/detection pairs inside the gate, shortest first; a marker or
-// a detection is used once. Returns the detection index per marker (-1 none).
+// Greedy one-to-one assignment: all unambiguous marker/detection pairs inside the gate, shortest first; a
+// marker or a detection is used once. A pair is unambiguous when the detection is the marker's nearest and
+// the second nearest is farther by 1 / kAmbiguityRatio. Returns the detection index per marker (-1 none).
 std::vector<int> assign(const std::vector<Vec2>& predicted_uv, const std::vector<MarkerDetection>& det, double gate) {
   struct Pair {
     double d2;
@@ -241,12 +269,17 @@ std::vector<int> assign(const std::vector<Vec2>& predicted_uv, const std::vector
   };
   std::vector<Pair> pairs;
   const double gate2 = gate * gate;
+  constexpr double kRatio2 = kAmbiguityRatio * kAmbiguityRatio;
   for (int i = 0; i < static_cast<int>(predicted_uv.size()); ++i) {
     if (!finite(predicted_uv[i])) continue;
+    double best = std::numeric_limits<double>::infinity(), second = best;
+    int best_j = -1;
     for (int j = 0; j < static_cast<int>(det.size()); ++j) {
       const double d2 = (predicted_uv[i] - det[j].uv).squaredNorm();
-      if (d2 < gate2) pairs.push_back({d2, i, j});
+      if (d2 < best) second = best, best = d2, best_j = j;
+      else if (d2 < second) second = d2;
     }
+    if (best_j >= 0 && best < gate2 && best <= kRatio2 * second) pairs.push_back({best, i, best_j});
   }
   std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d2 < b.d2; });
   std::vector<int> of_marker(predicted_uv.size(), -1);
@@ -257,6 +290,44 @@ std::vector<int> assign(const std::vector<Vec2>& predicted_uv, const std::vector
     used[p.detection] = 1;
   }
   return of_marker;
+}
+
+// Groups of tracked markers connected through adjacent pairs whose displacements agree (within kSlipPitch);
+// largest group first, a group that contradicts (an adjacent pair that disagrees) a kept larger group is
+// set lost. A single marker on a neighbour's dot is a group of one contradicted by all around it; a block
+// that slipped by a pitch (dropped frames, a sudden motion) is contradicted along its boundary by the
+// markers that did not. Groups isolated by lost markers contradict nothing and are kept.
+void drop_contradicted_groups(const std::vector<std::vector<int>>& adjacent, double pitch, std::vector<Vec2>& disp) {
+  const int n = static_cast<int>(disp.size());
+  const double slip = kSlipPitch * pitch;
+  auto agree = [&](int i, int j) { return (disp[i] - disp[j]).norm() <= slip; };
+  std::vector<int> group(n, -1);
+  std::vector<std::vector<int>> members;
+  for (int s = 0; s < n; ++s) {
+    if (group[s] >= 0 || !finite(disp[s])) continue;
+    const int g = static_cast<int>(members.size());
+    members.push_back({s});
+    group[s] = g;
+    for (std::size_t k = 0; k < members[g].size(); ++k) {
+      const int i = members[g][k];
+      for (int j : adjacent[i])
+        if (group[j] < 0 && finite(disp[j]) && agree(i, j)) group[j] = g, members[g].push_back(j);
+    }
+  }
+  std::vector<int> order(members.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return members[a].size() > members[b].size(); });
+  std::vector<char> kept(members.size(), 0);
+  for (int g : order) {
+    bool contradicted = false;
+    for (int i : members[g])
+      for (int j : adjacent[i])
+        contradicted = contradicted || (group[j] >= 0 && group[j] != g && kept[group[j]] &&
+                                        members[group[j]].size() > members[g].size() && !agree(i, j));
+    kept[g] = !contradicted;
+    if (contradicted)
+      for (int i : members[g]) disp[i] = kLost;
+  }
 }
 
 }  // namespace
@@ -313,10 +384,13 @@ void MarkerTracker::initialise_rest() {
 
   const int n = result_.markers();
   neighbours_.assign(n, {});
+  adjacent_.assign(n, {});
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      if (i != j && (result_.rest_px[i] - result_.rest_px[j]).norm() < kNeighbourRadiusPitch * pitch)
-        neighbours_[i].push_back(j);
+    for (int j = 0; j < n; ++j) {
+      const double d = (result_.rest_px[i] - result_.rest_px[j]).norm();
+      if (i != j && d < kNeighbourRadiusPitch * pitch) neighbours_[i].push_back(j);
+      if (i != j && d < kAdjacentPitch * pitch) adjacent_[i].push_back(j);
+    }
   velocity_.assign(n, Vec2::Zero());
   last_seen_.assign(n, -1);
 
@@ -329,54 +403,111 @@ void MarkerTracker::initialise_rest() {
   }
 }
 
-std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp) const {
+std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp, std::size_t min_count) const {
   std::vector<Vec2> out(disp.size(), kLost);
   for (std::size_t i = 0; i < disp.size(); ++i) {
     std::vector<double> us, vs;
     for (int j : neighbours_[i])
       if (finite(disp[j])) us.push_back(disp[j].x()), vs.push_back(disp[j].y());
-    if (us.size() >= 2) out[i] = Vec2(median(us), median(vs));
+    if (us.size() >= min_count) out[i] = Vec2(median(us), median(vs));
   }
   return out;
+}
+
+std::vector<Vec2> MarkerTracker::match(const std::vector<Vec2>& predicted, const std::vector<MarkerDetection>& det) const {
+  const int n = result_.markers();
+  std::vector<Vec2> uv(n);
+  for (int i = 0; i < n; ++i) uv[i] = result_.rest_px[i] + predicted[i];
+  const std::vector<int> a = assign(uv, det, options_.gate_fraction * result_.pitch_px);
+  std::vector<Vec2> d(n, kLost);
+  for (int i = 0; i < n; ++i)
+    if (a[i] >= 0) d[i] = det[a[i]].uv - result_.rest_px[i];
+  return d;
+}
+
+std::vector<Vec2> MarkerTracker::predict(const std::vector<Vec2>& previous) const {
+  const int n = result_.markers();
+  // Own motion for markers seen in the last frame, neighbours' motion for the others.
+  std::vector<Vec2> pred(n, kLost);
+  for (int i = 0; i < n; ++i)
+    if (finite(previous[i])) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
+  // Inward, ring by ring: a marker lost among lost markers (under an occluder, inside a block that was
+  // dropped) takes its prediction from the nearest tracked ones rather than from its rest position.
+  for (int ring = 0; ring < kPredictionRings; ++ring) {
+    const std::vector<Vec2> from_neighbours = neighbour_median(pred);
+    bool filled = false;
+    for (int i = 0; i < n; ++i)
+      if (!finite(pred[i]) && finite(from_neighbours[i])) pred[i] = from_neighbours[i], filled = true;
+    if (!filled) break;
+  }
+  for (int i = 0; i < n; ++i)
+    if (!finite(pred[i])) pred[i] = Vec2::Zero();
+  return pred;
+}
+
+// Prediction 2 (smooth-field prior), grown from the confident matches: a match is confident when it lies
+// close to its prediction and agrees with its neighbours. Markers around confident ones are re-predicted
+// from their median displacement and matched again, ring by ring, so a region whose prediction failed
+// (a step larger than the gate after dropped frames) is reached from where it did not, instead of
+// keeping the nearest dot, which may be a neighbour's. Markers never reached stay lost for the frame.
+std::vector<Vec2> MarkerTracker::grow(const std::vector<Vec2>& first, const std::vector<Vec2>& pred,
+                                      const std::vector<MarkerDetection>& det) const {
+  const int n = result_.markers();
+  const double pitch = result_.pitch_px;
+  const std::vector<Vec2> field = neighbour_median(first);
+  std::vector<Vec2> agreeing(n, kLost), accepted(n, kLost);
+  int seeds = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!finite(first[i]) || (finite(field[i]) && (first[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch))
+      continue;
+    agreeing[i] = first[i];
+    if ((first[i] - pred[i]).norm() < kSeedPitch * pitch) accepted[i] = first[i], ++seeds;
+  }
+  // No confident match anywhere (the whole gel moved unpredictably): the agreeing matches seed instead.
+  if (seeds < kMinSeeds) accepted = agreeing;
+  for (int pass = 0; pass < kGrowthPasses; ++pass) {
+    // Predicted from two or more accepted neighbours where there are; from a single one (sparse seeds,
+    // e.g. only the corners moved little) only with the tighter seed tolerance.
+    const std::vector<Vec2> around2 = neighbour_median(accepted, 2), around1 = neighbour_median(accepted, 1);
+    std::vector<Vec2> around(n), pred2(n);
+    for (int i = 0; i < n; ++i) {
+      around[i] = finite(around2[i]) ? around2[i] : around1[i];
+      pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
+    }
+    const std::vector<Vec2> again = match(pred2, det);
+    bool grown = false;
+    for (int i = 0; i < n; ++i) {
+      if (finite(accepted[i]) && !finite(again[i])) accepted[i] = kLost;  // its dot went to a better claim
+      if (finite(accepted[i]) || !finite(around[i]) || !finite(again[i])) continue;
+      const double tolerance = (finite(around2[i]) ? kFieldDisagreementPitch : kSeedPitch) * pitch;
+      if ((again[i] - around[i]).norm() < tolerance) accepted[i] = again[i], grown = true;
+    }
+    if (!grown) break;
+  }
+  return accepted;
+}
+
+// Last: a match still far from its neighbours' field is more likely a neighbour's dot than strain; a group
+// that slipped as a whole is caught where it borders the markers that did not.
+void MarkerTracker::drop_contradicted(std::vector<Vec2>& disp) const {
+  const std::vector<Vec2> field = neighbour_median(disp);
+  for (int i = 0; i < result_.markers(); ++i) {
+    if (!finite(disp[i]) || !finite(field[i])) continue;
+    int tracked = 0;
+    for (int j : neighbours_[i]) tracked += finite(disp[j]) ? 1 : 0;
+    if (tracked >= kFinalMinNeighbours && (disp[i] - field[i]).norm() > kFinalDisagreementPitch * result_.pitch_px)
+      disp[i] = kLost;
+  }
+  drop_contradicted_groups(adjacent_, result_.pitch_px, disp);
 }
 
 void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<Vec2>& disp_out) {
   const int n = result_.markers();
   const int t = result_.frames();
-  const double pitch = result_.pitch_px;
-  const double gate = options_.gate_fraction * pitch;
   const std::vector<Vec2> previous = t > 0 ? result_.disp_px.back() : std::vector<Vec2>(n, Vec2::Zero());
-
-  // Prediction 1: own motion for markers seen in the last frame, neighbours' motion for the others.
-  std::vector<Vec2> pred(n, kLost);
-  for (int i = 0; i < n; ++i)
-    if (finite(previous[i])) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
-  const std::vector<Vec2> from_neighbours = neighbour_median(pred);
-  for (int i = 0; i < n; ++i)
-    if (!finite(pred[i])) pred[i] = finite(from_neighbours[i]) ? from_neighbours[i] : Vec2::Zero();
-
-  auto to_uv = [&](const std::vector<Vec2>& d) {
-    std::vector<Vec2> uv(n);
-    for (int i = 0; i < n; ++i) uv[i] = result_.rest_px[i] + d[i];
-    return uv;
-  };
-  auto matched_disp = [&](const std::vector<int>& a) {
-    std::vector<Vec2> d(n, kLost);
-    for (int i = 0; i < n; ++i)
-      if (a[i] >= 0) d[i] = det[a[i]].uv - result_.rest_px[i];
-    return d;
-  };
-  std::vector<Vec2> m = matched_disp(assign(to_uv(pred), det, gate));
-
-  // Prediction 2 (smooth-field prior): keep matches that agree with their neighbours, re-predict the
-  // others from the neighbours' median displacement, and match again.
-  const std::vector<Vec2> field = neighbour_median(m);
-  std::vector<Vec2> pred2(n);
-  for (int i = 0; i < n; ++i) {
-    const bool agrees = finite(m[i]) && (!finite(field[i]) || (m[i] - field[i]).norm() < kFieldDisagreementPitch * pitch);
-    pred2[i] = agrees ? m[i] : (finite(field[i]) ? field[i] : pred[i]);
-  }
-  disp_out = matched_disp(assign(to_uv(pred2), det, gate));
+  const std::vector<Vec2> pred = predict(previous);
+  disp_out = grow(match(pred, det), pred, det);
+  drop_contradicted(disp_out);
 
   for (int i = 0; i < n; ++i) {
     const bool seen_now = finite(disp_out[i]);

@@ -9,9 +9,13 @@
 //
 // Correspondence (per frame): each marker's displacement is predicted from its own last displacement and
 // velocity (lost markers: from their neighbours' displacements); detections are assigned one-to-one by a
-// greedy sort of all marker/detection pairs inside a gate. A smooth-field pass then re-predicts every
-// marker whose match disagrees with the median of its rest-neighbours and matches again. A marker with no
-// detection inside the gate is lost (NaN) for that frame and may be re-acquired later.
+// greedy sort of all marker/detection pairs inside a gate, taking a detection only when it is clearly the
+// nearest (ratio test). A smooth-field pass then re-predicts every marker whose match disagrees with the
+// median of its rest-neighbours and matches again. Last, matches that contradict the field are dropped: a
+// marker far from its neighbours' median, and any group of markers whose displacements jump by more than
+// half a pitch against a larger group next to it (a block that slipped onto its neighbours' dots). A marker
+// with no unambiguous detection inside the gate is lost (NaN) for that frame and may be re-acquired later:
+// under degraded video the tracker loses markers rather than give them a neighbour's dot.
 #include <opencv2/core.hpp>
 #include <string>
 #include <vector>
@@ -78,13 +82,21 @@ class MarkerTracker {
  private:
   void initialise_rest();
   void track(const std::vector<MarkerDetection>& detections, std::vector<Vec2>& disp_out);
-  std::vector<Vec2> neighbour_median(const std::vector<Vec2>& disp) const;
+  std::vector<Vec2> predict(const std::vector<Vec2>& previous) const;
+  // Displacements of the detections assigned to markers predicted at `predicted` (NaN: none).
+  std::vector<Vec2> match(const std::vector<Vec2>& predicted, const std::vector<MarkerDetection>& det) const;
+  std::vector<Vec2> grow(const std::vector<Vec2>& first, const std::vector<Vec2>& pred,
+                         const std::vector<MarkerDetection>& det) const;
+  void drop_contradicted(std::vector<Vec2>& disp) const;
+  // Per marker: the median displacement of its finite rest-neighbours (NaN with fewer than min_count).
+  std::vector<Vec2> neighbour_median(const std::vector<Vec2>& disp, std::size_t min_count = 2) const;
 
   TrackerOptions options_;
   std::vector<std::vector<MarkerDetection>> pending_;  // detections of the rest frames
   TrackResult result_;
   bool initialised_ = false;
-  std::vector<std::vector<int>> neighbours_;  // rest-neighbours of each marker
+  std::vector<std::vector<int>> neighbours_;  // rest-neighbours of each marker (smooth-field prior)
+  std::vector<std::vector<int>> adjacent_;    // nearest rest-neighbours (lattice-slip check)
   std::vector<Vec2> velocity_;
   std::vector<int> last_seen_;  // frame index a marker was last matched, -1 never
 };
