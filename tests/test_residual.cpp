@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include "core/loop/effects.hpp"
 #include "core/loop/residual.hpp"
@@ -225,10 +226,84 @@ TEST_CASE("residual structure: a rank-one residual is one principal component, b
     const Vec2 v = st.pc1_px[j];
     CHECK(std::abs(v.x() * u(j).y() - v.y() * u(j).x()) < kTol);   // parallel to u_j
   }
+  long in_contact = -1;
   for (const auto& t : st.covariates) {
     long n = 0;
     for (long c : t.count) n += c;
     INFO(t.name);
-    CHECK(n == st.marker_frames);
+    if (!t.contact_frame) CHECK(n == st.marker_frames);
+    if (t.name == "contact frame: phase") in_contact = n;
   }
+  // The contact-frame tables hold the marker-frames in contact: the three sides of the edge table together,
+  // and the load table, hold as many as the phase table.
+  long sides = 0, load = 0;
+  for (const auto& t : st.covariates)
+    for (long c : t.count) {
+      if (t.name.rfind("contact frame: distance", 0) == 0) sides += c;
+      if (t.name.rfind("contact frame: normal load", 0) == 0) load += c;
+    }
+  CHECK(in_contact > 0);
+  CHECK(in_contact <= st.marker_frames);
+  CHECK(sides == in_contact);
+  CHECK(load == in_contact);
+}
+
+// The contact-frame tables read a residual in the contact's own frame. Two residuals are added to the
+// base prediction of a press that slides 0.8 mm along +x:
+//  - a radial field 0.2 px r_hat (r_hat from the contact centre, as indenter_penetration places it, to
+//    the marker): its radial component is 0.2 px in every bin of every contact-frame table;
+//  - a uniform field (0.3, 0) px: its component along the travel (+x once the sphere has moved) is 0.3 px
+//    on the leading and trailing sides and 0 where it has not travelled yet; its radial component
+//    0.3 (r_hat . x) is >= 0 ahead of the centre (leading) and <= 0 behind it (trailing).
+TEST_CASE("residual structure: the contact frame's radial and along-travel components", "[residual]") {
+  constexpr double kTol = 1e-9;
+  const auto& sensor = *setup().sensor;
+  auto s = press("cf", "shear", "calibration", Vec2(0.5e-3, 0.3e-3), 1.2e-3, Vec2(0.8e-3, 0), 0);
+  auto model = sb::make_model(kBase, setup().sensor, s.indenter);
+  const auto base = sb::simulate_sample(*model, s);
+  const auto table = [](const sb::ResidualStructure& st, const std::string& name) -> const sb::CovariateTable& {
+    for (const auto& t : st.covariates)
+      if (t.name == name) return t;
+    FAIL("no covariate table " << name);
+    return st.covariates.front();
+  };
+  const std::string leading = "contact frame: distance outside the contact edge, leading side";
+  const std::string trailing = "contact frame: distance outside the contact edge, trailing side";
+  const std::string no_travel = "contact frame: distance outside the contact edge, no travel side";
+
+  s.meas_px = base;
+  for (std::size_t k = 0; k < s.X_EI.size(); ++k) {
+    const sb::Penetration pen = sb::indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]);
+    for (std::size_t j = 0; j < sensor.p_EM.size(); ++j)
+      s.meas_px[k][j] += 0.2 * (sensor.p_EM[j].head<2>() - pen.centre_E).normalized();
+  }
+  const auto radial = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  for (const auto& t : radial.covariates) {
+    if (!t.contact_frame) continue;
+    for (std::size_t b = 0; b < t.labels.size(); ++b) {
+      if (t.count[b] == 0) continue;
+      INFO(t.name << " bin " << t.labels[b]);
+      CHECK(t.mean_radial_px[b] == Approx(0.2).margin(kTol));
+    }
+  }
+
+  s.meas_px = base;
+  for (auto& frame : s.meas_px)
+    for (auto& d : frame) d += Vec2(0.3, 0.0);
+  const auto uniform = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  long n_lead = 0, n_trail = 0;
+  for (const auto& [name, along, sign] : {std::tuple{leading, 0.3, 1}, std::tuple{trailing, 0.3, -1},
+                                          std::tuple{no_travel, 0.0, 0}}) {
+    const auto& t = table(uniform, name);
+    for (std::size_t b = 0; b < t.labels.size(); ++b) {
+      if (t.count[b] == 0) continue;
+      INFO(name << " bin " << t.labels[b]);
+      CHECK(t.mean_along_px[b] == Approx(along).margin(kTol));
+      if (sign > 0) CHECK(t.mean_radial_px[b] >= -kTol);
+      if (sign < 0) CHECK(t.mean_radial_px[b] <= kTol);
+      (sign > 0 ? n_lead : n_trail) += sign != 0 ? t.count[b] : 0;
+    }
+  }
+  CHECK(n_lead > 0);
+  CHECK(n_trail > 0);
 }

@@ -104,11 +104,12 @@ void GlWindow::on_mouse_button(GLFWwindow* window, int button, int action, int m
 
 void GlWindow::begin_frame(double wait_s) {
   clear_key_presses();   // presses of a frame that did not ask for them are not replayed later
-  begin_mouse_poll();
+  begin_mouse_poll(last_poll_s_ > 0 ? glfwGetTime() - last_poll_s_ : 0.0);
   if (wait_s > 0)
     glfwWaitEventsTimeout(wait_s);
   else
     glfwPollEvents();
+  last_poll_s_ = glfwGetTime();
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();

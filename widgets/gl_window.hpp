@@ -54,6 +54,7 @@ class GlWindow {
   GLFWwindow* window_ = nullptr;
   KeyCallback imgui_key_callback_ = nullptr;   // ImGui's GLFW backend; ours forwards to it
   MouseButtonCallback imgui_mouse_button_callback_ = nullptr;
+  double last_poll_s_ = 0;   // when the last event poll returned (glfwGetTime); the double-click detector's clock
 };
 
 // Writes a PNG atomically (temporary file in the same folder, then rename). Throws std::runtime_error.

@@ -59,7 +59,7 @@ DoubleClickDetector& double_clicks() {
 
 }  // namespace
 
-void begin_mouse_poll() { double_clicks().begin_poll(); }
+void begin_mouse_poll(double busy_s) { double_clicks().begin_poll(busy_s); }
 void record_left_press(double t_s, double x_px, double y_px) { double_clicks().press(t_s, x_px, y_px); }
 bool mouse_double_clicked() { return double_clicks().double_clicked(); }
 

@@ -31,9 +31,10 @@ std::vector<Action> pressed_actions();
 void record_key_press(int key, int mods, bool repeat);
 void clear_key_presses();
 // Double-clicks of the left button, from the window's mouse events (core/workbench/double_click.hpp: a
-// slow frame does not break them). begin_mouse_poll before each event poll, record_left_press from the
+// slow frame does not break them). begin_mouse_poll(busy_s) before each event poll (busy_s: the frame's
+// work since the last poll, without the wait for events), record_left_press from the
 // GLFW mouse-button callback; mouse_double_clicked says whether this frame's poll completed one.
-void begin_mouse_poll();
+void begin_mouse_poll(double busy_s);
 void record_left_press(double t_s, double x_px, double y_px);
 bool mouse_double_clicked();
 void draw_help_overlay(bool* open);

@@ -66,6 +66,8 @@ Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter,
   }
   result.penetrating = result.depth_m > 0.0;
   result.centre_E = result.penetrating ? Vec2(weighted_xy / weight_sum) : Vec2(lowest_E.head<2>());
+  for (std::size_t i = 0; i < p_E.size(); ++i)
+    if (phi[i] < 0.0) result.radius_m = std::max(result.radius_m, (p_E[i].head<2>() - result.centre_E).norm());
   return result;
 }
 

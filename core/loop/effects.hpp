@@ -23,6 +23,8 @@ struct Penetration {
   bool penetrating = false;        // depth_m > 0
   Vec2 centre_E{0.0, 0.0};         // xy in E: penetration-weighted centre of the touching points;
                                    // the xy of the lowest point when not touching
+  double radius_m = 0.0;           // largest xy distance of a touching point from centre_E (the contact edge
+                                   // of a round contact; 0 when not touching)
 };
 
 // Evaluates the gel SDF phi_E at the indenter's surface samples and mesh vertices placed by X_EI

@@ -217,6 +217,12 @@ struct Point {          // one scored marker-frame and its covariates
   double err_px;
   double t_contact_s, radial_px, d_centre_mm, d_edge_mm, depth_mm, travel_mm;
   int loading;          // 0 loading, 1 held, 2 unloading, 3 no contact
+  // In the contact's own frame (in contact only): the marker's distance outside the contact edge (mm,
+  // < 0 inside), the residual along the outward direction and along the travel (px), the side
+  // (+1 leading: ahead of the centre along the travel, -1 trailing, 0 no travel yet) and the phase.
+  double contact_edge_mm = 0, radial_res_px = 0, along_res_px = 0;
+  int side = 0;
+  int phase = 4;        // 0 loading, 1 hold, 2 slide, 3 unloading, 4 no contact
 };
 
 CovariateTable numeric_table(const std::string& name, const std::string& unit, const std::vector<Point>& pts,
@@ -263,13 +269,89 @@ CovariateTable loading_table(const std::vector<Point>& pts) {
   return t;
 }
 
-// Per-frame contact description of one sample: depth, contact centre, loading state, time since first
-// contact and tangential travel since first contact.
+// A contact-frame table: RMS and mean radial / along-travel residual per bin of the points in contact
+// that `bin_of` places (-1: not in this table).
+CovariateTable contact_table(const std::string& name, const std::string& unit, std::vector<std::string> labels,
+                             const std::vector<Point>& pts, const std::function<int(const Point&)>& bin_of) {
+  const int n_bins = static_cast<int>(labels.size());
+  CovariateTable t{name, unit, std::move(labels), {}, {}, {}};
+  t.contact_frame = true;
+  std::vector<double> sq(n_bins, 0.0), radial(n_bins, 0.0), along(n_bins, 0.0);
+  std::vector<long> n(n_bins, 0);
+  for (const auto& p : pts) {
+    const int b = p.phase == 4 ? -1 : bin_of(p);
+    if (b < 0) continue;
+    sq[b] += p.err_px * p.err_px, radial[b] += p.radial_res_px, along[b] += p.along_res_px;
+    ++n[b];
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (int b = 0; b < n_bins; ++b) {
+    t.centre.push_back(b);
+    t.rms_px.push_back(n[b] ? std::sqrt(sq[b] / n[b]) : nan);
+    t.mean_radial_px.push_back(n[b] ? radial[b] / n[b] : nan);
+    t.mean_along_px.push_back(n[b] ? along[b] / n[b] : nan);
+    t.count.push_back(n[b]);
+  }
+  return t;
+}
+
+// Distance outside the contact edge (mm), on one side of the contact along the travel: fixed bins so
+// that reports of different datasets line up.
+CovariateTable contact_edge_table(const std::vector<Point>& pts, int side) {
+  static const std::vector<double> kEdgesMm = {-4, -2, -1, 0, 1, 2, 4, 8};
+  std::vector<std::string> labels = {"< -4"};
+  for (std::size_t b = 0; b + 1 < kEdgesMm.size(); ++b) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g to %g", kEdgesMm[b], kEdgesMm[b + 1]);
+    labels.push_back(buf);
+  }
+  labels.push_back("> 8");
+  const char* which = side > 0 ? "leading" : side < 0 ? "trailing" : "no travel";
+  return contact_table(std::string("contact frame: distance outside the contact edge, ") + which + " side", "mm",
+                       labels, pts, [side](const Point& p) {
+                         if (p.side != side) return -1;
+                         const auto it = std::upper_bound(kEdgesMm.begin(), kEdgesMm.end(), p.contact_edge_mm);
+                         return static_cast<int>(it - kEdgesMm.begin());
+                       });
+}
+
+CovariateTable contact_phase_table(const std::vector<Point>& pts) {
+  return contact_table("contact frame: phase", "", {"loading", "hold", "slide", "unloading"}, pts,
+                       [](const Point& p) { return p.phase; });
+}
+
+// Normal load as penetration depth, in contact only, with the mean radial part (dilation error vs load).
+CovariateTable contact_load_table(const std::vector<Point>& pts) {
+  static const std::vector<double> kEdgesMm = {0.25, 0.5, 0.75, 1.0, 1.5};
+  std::vector<std::string> labels = {"< 0.25"};
+  for (std::size_t b = 0; b + 1 < kEdgesMm.size(); ++b) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g to %g", kEdgesMm[b], kEdgesMm[b + 1]);
+    labels.push_back(buf);
+  }
+  labels.push_back("> 1.5");
+  return contact_table("contact frame: normal load (penetration depth)", "mm", labels, pts, [](const Point& p) {
+    return static_cast<int>(std::upper_bound(kEdgesMm.begin(), kEdgesMm.end(), p.depth_mm) - kEdgesMm.begin());
+  });
+}
+
+// Per-frame contact description of one sample: depth, contact centre and radius, loading state, phase,
+// time since first contact and tangential travel since first contact (length and unit direction).
 struct FrameContact {
-  std::vector<double> depth_m, t_contact_s, travel_m;
-  std::vector<Vec2> centre_E;
-  std::vector<int> loading;
+  std::vector<double> depth_m, radius_m, t_contact_s, travel_m;
+  std::vector<Vec2> centre_E, travel_dir_E;
+  std::vector<int> loading, phase;
 };
+
+// Pose changes between frames below these count as "held": no slide.
+constexpr double kSlideEpsM = 1e-6;
+constexpr double kSlideEpsRad = 1e-5;
+
+bool pose_moved(const Pose& a, const Pose& b) {
+  const double dt = (b.translation() - a.translation()).head<2>().norm();
+  const double angle = Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+  return dt > kSlideEpsM || angle > kSlideEpsRad;
+}
 
 FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
   FrameContact c;
@@ -278,6 +360,7 @@ FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
   for (std::size_t k = 0; k < F; ++k) {
     const Penetration p = indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]);
     c.depth_m.push_back(p.depth_m);
+    c.radius_m.push_back(p.radius_m);
     c.centre_E.push_back(p.centre_E);
     if (first < 0 && p.penetrating) first = static_cast<int>(k);
     const double prev = k ? c.depth_m[k - 1] : 0.0;
@@ -285,11 +368,15 @@ FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
                         : p.depth_m > prev + kHeldDepthEpsM ? 0
                         : p.depth_m < prev - kHeldDepthEpsM ? 2
                                                              : 1);
+    const int load = c.loading.back();
+    c.phase.push_back(load == 3 ? 4 : load == 0 ? 0 : load == 2 ? 3 : k && pose_moved(s.X_EI[k - 1], s.X_EI[k]) ? 2 : 1);
   }
   for (std::size_t k = 0; k < F; ++k) {
     const bool after = first >= 0 && static_cast<int>(k) >= first;
     c.t_contact_s.push_back(after ? (k - first) * s.dt_s : 0.0);
-    c.travel_m.push_back(after ? (s.X_EI[k].translation() - s.X_EI[first].translation()).head<2>().norm() : 0.0);
+    const Vec2 travel = after ? Vec2((s.X_EI[k].translation() - s.X_EI[first].translation()).head<2>()) : Vec2::Zero();
+    c.travel_m.push_back(travel.norm());
+    c.travel_dir_E.push_back(travel.norm() > kSlideEpsM ? Vec2(travel.normalized()) : Vec2::Zero());
   }
   return c;
 }
@@ -329,9 +416,18 @@ ResidualStructure analyse_residual(const std::string& model_id, const std::vecto
       const Vec2 p = sensor->p_EM[j].head<2>();
       const Vec2 half = 0.5 * sensor->gel.size_m;
       const double edge = std::max(0.0, std::min(half.x() - std::abs(p.x()), half.y() - std::abs(p.y())));
-      pts[i].push_back({e.norm(), fc.t_contact_s[k], (rest - sensor->camera.principal_px).norm(),
-                        1e3 * (p - fc.centre_E[k]).norm(), 1e3 * edge, 1e3 * fc.depth_m[k], 1e3 * fc.travel_m[k],
-                        fc.loading[k]});
+      Point pt{e.norm(), fc.t_contact_s[k], (rest - sensor->camera.principal_px).norm(),
+               1e3 * (p - fc.centre_E[k]).norm(), 1e3 * edge, 1e3 * fc.depth_m[k], 1e3 * fc.travel_m[k],
+               fc.loading[k]};
+      // The image axes are the E axes scaled (Camera::px_from_E), so E directions apply to px residuals.
+      const Vec2 out_E = p - fc.centre_E[k];
+      const Vec2 dir_E = fc.travel_dir_E[k];
+      pt.phase = fc.phase[k];
+      pt.contact_edge_mm = 1e3 * (out_E.norm() - fc.radius_m[k]);
+      pt.radial_res_px = out_E.norm() > 0 ? e.dot(out_E.normalized()) : 0.0;
+      pt.along_res_px = e.dot(dir_E);
+      pt.side = dir_E.isZero() ? 0 : out_E.dot(dir_E) >= 0 ? 1 : -1;
+      pts[i].push_back(pt);
     }
   });
   std::vector<Point> all;
@@ -352,6 +448,9 @@ ResidualStructure analyse_residual(const std::string& model_id, const std::vecto
   out.covariates.push_back(numeric_table("distance from gel edge", "mm", all, &Point::d_edge_mm, bins));
   out.covariates.push_back(numeric_table("penetration depth", "mm", all, &Point::depth_mm, bins));
   out.covariates.push_back(numeric_table("tangential travel", "mm", all, &Point::travel_mm, bins));
+  for (int side : {1, -1, 0}) out.covariates.push_back(contact_edge_table(all, side));
+  out.covariates.push_back(contact_phase_table(all));
+  out.covariates.push_back(contact_load_table(all));
 
   out.mean_field_px.assign(M, Vec2::Zero());
   out.pc1_px.assign(M, Vec2::Zero());

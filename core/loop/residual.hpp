@@ -53,6 +53,11 @@ struct CovariateTable {
   std::vector<double> centre;            // bin centre (numeric covariates; index for categorical)
   std::vector<double> rms_px;            // NaN for an empty bin
   std::vector<long> count;               // marker-frames in the bin
+  // Contact-frame tables only (in contact, a subset of the marker-frames): the mean residual component
+  // along the direction from the contact centre to the marker (+: outward) and along the indenter's
+  // tangential travel since first contact (+: the way it moved). Empty for the other tables.
+  bool contact_frame = false;
+  std::vector<double> mean_radial_px, mean_along_px;
 };
 
 struct ResidualStructure {

@@ -51,8 +51,14 @@ nlohmann::ordered_json structure_json(const ResidualStructure& s) {
   nlohmann::ordered_json cov = nlohmann::ordered_json::array();
   for (const auto& t : s.covariates) {
     nlohmann::ordered_json bins = nlohmann::ordered_json::array();
-    for (std::size_t b = 0; b < t.labels.size(); ++b)
-      bins.push_back({{"bin", t.labels[b]}, {"rms_px", num(t.rms_px[b])}, {"count", t.count[b]}});
+    for (std::size_t b = 0; b < t.labels.size(); ++b) {
+      nlohmann::ordered_json bin = {{"bin", t.labels[b]}, {"rms_px", num(t.rms_px[b])}, {"count", t.count[b]}};
+      if (t.contact_frame) {
+        bin["mean_radial_px"] = num(t.mean_radial_px[b]);
+        bin["mean_along_travel_px"] = num(t.mean_along_px[b]);
+      }
+      bins.push_back(bin);
+    }
     cov.push_back({{"covariate", t.name}, {"unit", t.unit}, {"bins", bins}});
   }
   nlohmann::ordered_json mean = nlohmann::ordered_json::array(), pc1 = nlohmann::ordered_json::array();
@@ -160,6 +166,27 @@ std::string slug(const std::string& s) {
 
 // Tables: three decimals, a dash where a value is missing.
 std::string f3(double v) { return format_number(v, "%.3f", "–"); }
+
+// The contact-frame tables: where (relative to the contact edge, ahead of or behind the travel), when
+// (phase) and under which load the model is wrong, and in which direction.
+std::string contact_frame_markdown(const ResidualStructure& s) {
+  std::string md = "### In the contact's own frame\n\nResidual (measured − model) of the marker-frames in contact; "
+                   "radial = along the direction from the contact centre to the marker (+ outward), along = along "
+                   "the indenter's travel since first contact (+ the way it moved). Mean components show a bias, "
+                   "RMS the size.\n\n";
+  for (const auto& t : s.covariates) {
+    if (!t.contact_frame) continue;
+    md += "**" + t.name + (t.unit.empty() ? "" : " (" + t.unit + ")") +
+          "**\n\n| bin | n | RMS px | mean radial px | mean along px |\n|---|---:|---:|---:|---:|\n";
+    for (std::size_t b = 0; b < t.labels.size(); ++b)
+      if (t.count[b] > 0)
+        md += "| " + t.labels[b] + " | " + std::to_string(t.count[b]) + " | " + f3(t.rms_px[b]) + " | " +
+              f3(t.mean_radial_px[b]) + " | " + f3(t.mean_along_px[b]) + " |\n";
+    md += "\n";
+  }
+  return md;
+}
+
 
 }  // namespace
 
@@ -272,7 +299,9 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
   double mean_norm = 0;
   for (const auto& v : sb.mean_field_px) mean_norm = std::max(mean_norm, v.norm());
   md += "Largest mean-residual arrow: " + f3(mean_norm) + " px.\n\n";
+  md += contact_frame_markdown(sb);
   for (const auto& t : sb.covariates) {
+    if (t.contact_frame) continue;
     md += "**" + t.name + (t.unit.empty() ? "" : " (" + t.unit + ")") + "** — RMS px per bin: ";
     for (std::size_t b = 0; b < t.labels.size(); ++b)
       md += (b ? " · " : "") + t.labels[b] + ": " + f3(t.rms_px[b]) + " (n " + std::to_string(t.count[b]) + ")";
