@@ -75,6 +75,28 @@ TEST_CASE("residual summary: metrics, selection, candidates ranked by improvemen
   CHECK(std::isnan(s.candidates[2].improvement_pct));
 }
 
+TEST_CASE("residual summary: the contact-frame tables, none in older reports", "[residual_view]") {
+  CHECK(load_residual_summary(write_temp("no_cf", residual_json())).contact_frame.empty());
+  nlohmann::json j = residual_json();
+  j["residual_before"]["covariates"] = nlohmann::json::parse(R"([
+    {"covariate": "loading state", "unit": "", "bins": [{"bin": "loading", "rms_px": 1.0, "count": 3}]},
+    {"covariate": "contact frame: phase", "unit": "", "bins": [
+      {"bin": "loading", "rms_px": 1.5, "count": 10, "mean_radial_px": 0.25, "mean_along_travel_px": 0.0},
+      {"bin": "slide", "rms_px": null, "count": 0, "mean_radial_px": null, "mean_along_travel_px": null}]}])");
+  const ResidualSummary s = load_residual_summary(write_temp("cf", j));
+  REQUIRE(s.contact_frame.size() == 1);   // the plain covariate table is not a contact-frame one
+  const ContactFrameTableView& t = s.contact_frame[0];
+  CHECK(t.name == "contact frame: phase");
+  CHECK(t.bins == std::vector<std::string>{"loading", "slide"});
+  CHECK(t.count == std::vector<long>{10, 0});
+  CHECK(t.rms_px[0] == 1.5);
+  CHECK(t.mean_radial_px[0] == 0.25);
+  CHECK(t.mean_along_px[0] == 0.0);
+  CHECK(std::isnan(t.rms_px[1]));
+  j["residual_before"]["covariates"][1]["bins"][0]["count"] = "ten";
+  CHECK_THAT(load_error(j), Catch::Contains("/residual_before/covariates/1/bins/0/count"));
+}
+
 TEST_CASE("residual summary: bad files are InputErrors naming the file and the entry", "[residual_view]") {
   CHECK_THROWS_AS(load_residual_summary("/nonexistent/residual.json"), InputError);
   auto j = residual_json();

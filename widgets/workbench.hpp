@@ -133,6 +133,7 @@ class Workbench {
   void draw_fit_panel();
   void draw_param_set_row(WorkbenchRequest& req);
   void draw_residual_panel(WorkbenchRequest& req);
+  void draw_contact_frame_tables(const ResidualSummary& r);
   void draw_variant_switches(WorkbenchRequest& req);
   void draw_export_row(WorkbenchRequest& req);
   void report_export();
@@ -188,6 +189,7 @@ class Workbench {
   std::optional<ResidualSummary> residual_;
   char residual_path_[512] = "residual.json";
   bool show_residual_fields_ = false;
+  int contact_table_ = 0;   // the contact-frame table shown in the Residual section
   bool show_corrected_ = true;
   FieldSeriesJob corrected_job_;
   bool corrected_started_ = false;

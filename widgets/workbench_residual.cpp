@@ -77,6 +77,45 @@ const std::vector<Vec2>* Workbench::corrected_at_step() {
   return &series[k];
 }
 
+// Where (against the contact edge, ahead of or behind the travel), when (phase) and under which load the
+// base model is wrong, and in which direction: the analysis's contact-frame tables, one at a time.
+void Workbench::draw_contact_frame_tables(const ResidualSummary& r) {
+  if (r.contact_frame.empty() ||
+      !ImGui::TreeNodeEx("where and when it is wrong (contact frame)", ImGuiTreeNodeFlags_DefaultOpen))
+    return;
+  contact_table_ = std::clamp(contact_table_, 0, static_cast<int>(r.contact_frame.size()) - 1);
+  const auto short_name = [](const std::string& n) { return n.rfind("contact frame: ", 0) == 0 ? n.substr(15) : n; };
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::BeginCombo("##contact_table", short_name(r.contact_frame[contact_table_].name).c_str())) {
+    for (int i = 0; i < static_cast<int>(r.contact_frame.size()); ++i)
+      if (ImGui::Selectable(short_name(r.contact_frame[i].name).c_str(), i == contact_table_)) contact_table_ = i;
+    ImGui::EndCombo();
+  }
+  const ContactFrameTableView& t = r.contact_frame[contact_table_];
+  constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
+  if (ImGui::BeginTable("##contact_frame", 4, kFlags)) {
+    ImGui::TableSetupColumn(t.unit.empty() ? "bin" : ("bin " + t.unit).c_str(), ImGuiTableColumnFlags_WidthStretch, 1.6f);
+    for (const char* c : {"RMS", "radial", "along"}) ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableHeadersRow();
+    for (std::size_t b = 0; b < t.bins.size(); ++b) {
+      if (t.count[b] == 0) continue;
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(t.bins[b].c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%ld marker-frames", t.count[b]);
+      ImGui::TableNextColumn();
+      ImGui::Text("%.2f", t.rms_px[b]);
+      for (double v : {t.mean_radial_px[b], t.mean_along_px[b]}) {
+        ImGui::TableNextColumn();
+        ImGui::Text("%+.2f", v);   // signed: a bias has a direction
+      }
+    }
+    ImGui::EndTable();
+  }
+  ImGui::TextDisabled("px, measured - model; radial + outward, along + with the travel");
+  ImGui::TreePop();
+}
+
 void Workbench::draw_residual_panel(WorkbenchRequest& req) {
   ImGui::SetNextItemWidth(-60);
   ImGui::InputText("##residual", residual_path_, sizeof residual_path_);
@@ -113,6 +152,7 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
     }
     ImGui::EndTable();
   }
+  draw_contact_frame_tables(r);
   ImGui::Checkbox("residual fields (measured - model)", &show_residual_fields_);
   if (ImGui::SmallButton("Apply the fitted base parameters")) {
     if (!apply_residual_base_params())

@@ -52,6 +52,37 @@ ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string&
 
 }  // namespace
 
+namespace {
+
+// The contact-frame tables of "residual_before" (reports written before they existed have none).
+std::vector<ContactFrameTableView> read_contact_frame(const nlohmann::json& j, const std::string& path) {
+  std::vector<ContactFrameTableView> out;
+  const auto* before = jsonin::find(j, "residual_before");
+  const auto* cov = before ? jsonin::find(*before, "covariates") : nullptr;
+  if (cov == nullptr || !cov->is_array()) return out;
+  for (std::size_t i = 0; i < cov->size(); ++i) {
+    const std::string ptr = jsonin::child("/residual_before/covariates", i);
+    const nlohmann::json& t = (*cov)[i];
+    const nlohmann::json& bins = jsonin::member(t, "bins", path, ptr);
+    if (!bins.is_array() || bins.empty() || !bins[0].contains("mean_radial_px")) continue;
+    ContactFrameTableView v;
+    v.name = jsonin::string(jsonin::member(t, "covariate", path, ptr), path, ptr + "/covariate");
+    v.unit = jsonin::string(jsonin::member(t, "unit", path, ptr), path, ptr + "/unit");
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+      const std::string bp = jsonin::child(ptr + "/bins", b);
+      v.bins.push_back(jsonin::string(jsonin::member(bins[b], "bin", path, bp), path, bp + "/bin"));
+      v.count.push_back(static_cast<long>(jsonin::finite_number(jsonin::member(bins[b], "count", path, bp), path, bp + "/count")));
+      v.rms_px.push_back(number_or_nan(bins[b], "rms_px", path, bp));
+      v.mean_radial_px.push_back(number_or_nan(bins[b], "mean_radial_px", path, bp));
+      v.mean_along_px.push_back(number_or_nan(bins[b], "mean_along_travel_px", path, bp));
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
+
+}  // namespace
+
 ResidualSummary load_residual_summary(const std::string& path) {
   const nlohmann::json j = jsonin::load_file(path);
   jsonin::require_object(j, path, "");
@@ -100,6 +131,7 @@ ResidualSummary load_residual_summary(const std::string& path) {
   } catch (const std::exception& e) {
     jsonin::fail(path, "/after/params", e.what());
   }
+  s.contact_frame = read_contact_frame(j, path);
   return s;
 }
 

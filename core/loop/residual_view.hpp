@@ -23,6 +23,14 @@ struct ResidualCandidateView {
   std::string reason;   // why it was (not) selected
 };
 
+// One contact-frame table of the base model's residual (residual.hpp, CovariateTable::contact_frame).
+struct ContactFrameTableView {
+  std::string name, unit;
+  std::vector<std::string> bins;
+  std::vector<long> count;
+  std::vector<double> rms_px, mean_radial_px, mean_along_px;
+};
+
 struct ResidualSummary {
   std::string file;            // the JSON it came from
   std::string dataset;
@@ -33,6 +41,7 @@ struct ResidualSummary {
   std::vector<std::string> selected;               // effect ids, in the order they wrap the base
   nlohmann::json before_params;                    // the base model fitted alone (or as given)
   nlohmann::json after_params;                     // the corrected model's whole parameter table
+  std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
 };
 
 // Reads the residual JSON. Throws InputError naming the file and the JSON pointer of a missing or bad
