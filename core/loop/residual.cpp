@@ -227,7 +227,8 @@ struct Point {          // one scored marker-frame and its covariates
 
 CovariateTable numeric_table(const std::string& name, const std::string& unit, const std::vector<Point>& pts,
                              double Point::*field, int bins) {
-  CovariateTable t{name, unit, {}, {}, {}, {}};
+  CovariateTable t;
+  t.name = name, t.unit = unit;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const auto& p : pts) {
     lo = std::min(lo, p.*field);
@@ -255,7 +256,10 @@ CovariateTable numeric_table(const std::string& name, const std::string& unit, c
 }
 
 CovariateTable loading_table(const std::vector<Point>& pts) {
-  CovariateTable t{"loading state", "", {"loading", "held", "unloading", "no contact"}, {0, 1, 2, 3}, {}, {}};
+  CovariateTable t;
+  t.name = "loading state";
+  t.labels = {"loading", "held", "unloading", "no contact"};
+  t.centre = {0, 1, 2, 3};
   std::vector<double> sum(4, 0.0);
   std::vector<long> n(4, 0);
   for (const auto& p : pts) {
@@ -274,7 +278,8 @@ CovariateTable loading_table(const std::vector<Point>& pts) {
 CovariateTable contact_table(const std::string& name, const std::string& unit, std::vector<std::string> labels,
                              const std::vector<Point>& pts, const std::function<int(const Point&)>& bin_of) {
   const int n_bins = static_cast<int>(labels.size());
-  CovariateTable t{name, unit, std::move(labels), {}, {}, {}};
+  CovariateTable t;
+  t.name = name, t.unit = unit, t.labels = std::move(labels);
   t.contact_frame = true;
   std::vector<double> sq(n_bins, 0.0), radial(n_bins, 0.0), along(n_bins, 0.0);
   std::vector<long> n(n_bins, 0);
