@@ -11,6 +11,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/base/format.hpp"
 #include "core/loop/effects.hpp"
 #include "core/data/tsd.hpp"
 
@@ -300,24 +301,27 @@ CovariateTable contact_table(const std::string& name, const std::string& unit, s
   return t;
 }
 
+// Labels of the bins that fixed edges make: "< e0", "e0 to e1", ..., "> en".
+std::vector<std::string> edge_labels(const std::vector<double>& edges) {
+  std::vector<std::string> labels = {"< " + format_number(edges.front(), "%g")};
+  for (std::size_t b = 0; b + 1 < edges.size(); ++b)
+    labels.push_back(format_number(edges[b], "%g") + " to " + format_number(edges[b + 1], "%g"));
+  labels.push_back("> " + format_number(edges.back(), "%g"));
+  return labels;
+}
+
+int edge_bin(const std::vector<double>& edges, double v) {
+  return static_cast<int>(std::upper_bound(edges.begin(), edges.end(), v) - edges.begin());
+}
+
 // Distance outside the contact edge (mm), on one side of the contact along the travel: fixed bins so
 // that reports of different datasets line up.
 CovariateTable contact_edge_table(const std::vector<Point>& pts, int side) {
   static const std::vector<double> kEdgesMm = {-4, -2, -1, 0, 1, 2, 4, 8};
-  std::vector<std::string> labels = {"< -4"};
-  for (std::size_t b = 0; b + 1 < kEdgesMm.size(); ++b) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g to %g", kEdgesMm[b], kEdgesMm[b + 1]);
-    labels.push_back(buf);
-  }
-  labels.push_back("> 8");
   const char* which = side > 0 ? "leading" : side < 0 ? "trailing" : "no travel";
   return contact_table(std::string("contact frame: distance outside the contact edge, ") + which + " side", "mm",
-                       labels, pts, [side](const Point& p) {
-                         if (p.side != side) return -1;
-                         const auto it = std::upper_bound(kEdgesMm.begin(), kEdgesMm.end(), p.contact_edge_mm);
-                         return static_cast<int>(it - kEdgesMm.begin());
-                       });
+                       edge_labels(kEdgesMm), pts,
+                       [side](const Point& p) { return p.side == side ? edge_bin(kEdgesMm, p.contact_edge_mm) : -1; });
 }
 
 CovariateTable contact_phase_table(const std::vector<Point>& pts) {
@@ -328,16 +332,8 @@ CovariateTable contact_phase_table(const std::vector<Point>& pts) {
 // Normal load as penetration depth, in contact only, with the mean radial part (dilation error vs load).
 CovariateTable contact_load_table(const std::vector<Point>& pts) {
   static const std::vector<double> kEdgesMm = {0.25, 0.5, 0.75, 1.0, 1.5};
-  std::vector<std::string> labels = {"< 0.25"};
-  for (std::size_t b = 0; b + 1 < kEdgesMm.size(); ++b) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%g to %g", kEdgesMm[b], kEdgesMm[b + 1]);
-    labels.push_back(buf);
-  }
-  labels.push_back("> 1.5");
-  return contact_table("contact frame: normal load (penetration depth)", "mm", labels, pts, [](const Point& p) {
-    return static_cast<int>(std::upper_bound(kEdgesMm.begin(), kEdgesMm.end(), p.depth_mm) - kEdgesMm.begin());
-  });
+  return contact_table("contact frame: normal load (penetration depth)", "mm", edge_labels(kEdgesMm), pts,
+                       [](const Point& p) { return edge_bin(kEdgesMm, p.depth_mm); });
 }
 
 // Per-frame contact description of one sample: depth, contact centre and radius, loading state, phase,
