@@ -110,7 +110,8 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       save_session_file(*req.save_session, current_session_file());
       work_.saved(work_fingerprint());
       std::error_code ec;
-      std::filesystem::remove(autosave_path_, ec);   // saved: the autosave is stale
+      // Saved: the autosave is stale, unless the user just saved over the autosave file itself.
+      if (!std::filesystem::equivalent(*req.save_session, autosave_path_, ec)) std::filesystem::remove(autosave_path_, ec);
       workbench_.set_session_path(*req.save_session);
       workbench_.set_message("saved session " + *req.save_session);
     }
