@@ -150,6 +150,7 @@ bool Frontend::frame() {
   window_.present();
   // Frame time excludes the idle wait: it is what drawing costs.
   frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
+  stats_.add(frame_ms_);
   if (options_.keep_work) keep_work_tick();
   if (!quit_ && !window_.should_close()) return true;
   return allow_close();

@@ -6,6 +6,7 @@
 #include "app/session.hpp"
 #include "core/workbench/session_file.hpp"
 #include "core/workbench/unsaved_work.hpp"
+#include "widgets/frame_stats.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
 
@@ -57,6 +58,8 @@ class Frontend {
   void switch_model(int slot, const std::string& model_id);
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
+  // `gui --stats FILE`: a JSON line of frame times, memory and GL objects every interval_s (widgets/frame_stats).
+  void enable_stats(const std::string& path, double interval_s) { stats_ = ui::FrameStats(path, interval_s); }
   // When an autosave from an unclean exit exists, asks whether to restore it.
   void offer_autosave();
 
@@ -76,6 +79,7 @@ class Frontend {
   ui::GlWindow window_;
   ui::Workbench workbench_;
   double frame_ms_ = 0;
+  ui::FrameStats stats_;
   bool quit_ = false;
   bool screenshot_pending_ = false;
   // No lost work (keep_work).
