@@ -114,7 +114,15 @@ void FrameStats::write_line(double now_s) {
     out_ << (first ? "" : ", ") << '"' << kind << "\": " << n;
     first = false;
   }
-  out_ << "}}\n" << std::flush;
+  // Every frame time of the window (unsorted order is not kept: sorted), so a reader can pool windows into
+  // exact percentiles over any span (the soak's minutes).
+  out_ << "}, \"frame_ms\": [";
+  for (std::size_t i = 0; i < ms_.size(); ++i) {
+    char v[32];
+    std::snprintf(v, sizeof v, "%s%.2f", i ? ", " : "", ms_[i]);
+    out_ << v;
+  }
+  out_ << "]}\n" << std::flush;
   ms_.clear();
   window_start_s_ = now_s;
 }
