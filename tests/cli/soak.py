@@ -549,6 +549,12 @@ class Soak:
                 f = self.rng.choices(funcs, weights)[0]
                 if f in (self.act_kill, self.act_reopen, self.act_open) and self.now() < self.a.restarts_after * 60:
                     f = self.act_save   # one long process life first: memory growth needs minutes in one process
+                if self.a.ensure_restarts:   # a short run still kills, reopens and opens once each
+                    for frac, g, c in ((0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
+                                       (0.7, self.act_open, "scene_opens")):
+                        if self.now() > frac * end and self.counts[c] == 0 and (c != "scene_opens" or self.counts["dataset_opens"] == 0):
+                            f = g
+                            break
                 pid = self.proc.pid
                 f()
                 self.counts["actions"] += 1
@@ -596,6 +602,11 @@ class Soak:
                 crit.append(f"memory growth {s['rss_growth_after_min5_pct']} % > 5 %")
             if s.get("p95_ratio_max", 0) > 1.5:
                 crit.append(f"p95 frame time {s['p95_ratio_max']}x its first minute > 1.5x")
+        if self.a.max_rss_mb and s.get("rss_max_mb", 0) > self.a.max_rss_mb:
+            crit.append(f"resident memory {s['rss_max_mb']} MB > --max-rss-mb {self.a.max_rss_mb}")
+        if self.a.max_gl_growth is not None and s.get("gl_growth_max", 0) > self.a.max_gl_growth:
+            crit.append(f"live GL objects grew by {s['gl_growth_max']} within one process life ({s['gl_growth_kind']}) "
+                        f"> --max-gl-growth {self.a.max_gl_growth}")
         s["failed_criteria"] = crit
         s["ok"] = not crit and not self.failures
         with open(os.path.join(self.work, "soak_summary.json"), "w") as f:
@@ -625,6 +636,14 @@ def growth_summary(rows):
     if worst:
         out["rss_growth_after_min5_pct"] = worst[0]
         out["rss_growth_life"] = {"pid": worst[1], "from_minute": worst[2], "minutes": worst[3]}
+    # Live GL objects of each kind: the largest rise from a life's first minute to any later one.
+    gmax, gkind = 0, ""
+    for rs in lives.values():
+        for k in [k for k in rs[0] if k.startswith("gl_")]:
+            vals = [r[k] for r in rs if isinstance(r.get(k), int)]
+            if len(vals) >= 2 and max(vals[1:]) - vals[0] > gmax:
+                gmax, gkind = max(vals[1:]) - vals[0], k[3:]
+    out["gl_growth_max"], out["gl_growth_kind"] = gmax, gkind
     out["process_lives"] = len(lives)
     out["longest_life_min"] = max(len(v) for v in lives.values())
     p95 = [r["frame_ms_p95"] for r in rows if not math.isnan(r["frame_ms_p95"])]
@@ -654,6 +673,11 @@ def main():
     p.add_argument("--kill-weight", type=float, default=1.0, help="relative weight of SIGKILL among the actions")
     p.add_argument("--restarts-after", type=float, default=0,
                    help="minutes of one process life before kills, reopens and opens join the walk")
+    p.add_argument("--ensure-restarts", action="store_true",
+                   help="kill, reopen and open at least once each (by 30, 50, 70 %% of the run): for short runs")
+    p.add_argument("--max-rss-mb", type=float, default=0, help="fail when resident memory exceeds this (0: no bound)")
+    p.add_argument("--max-gl-growth", type=int, default=None,
+                   help="fail when live GL objects of one kind grow by more than this within one process life")
     p.add_argument("--window-wait", type=float, default=120)
     a = p.parse_args()
     for tool in ("xdotool",):
