@@ -413,11 +413,17 @@ class Soak:
         if not self.layout_ok:
             return self.act_camera()
         out = os.path.join(self.work, "fields_export")
-        before = os.path.getmtime(out) if os.path.exists(out) else 0
+
+        def newest():   # a re-export replaces the models' folders inside; the top folder's mtime stays
+            try:
+                return max([os.path.getmtime(out)] + [os.path.getmtime(os.path.join(out, f)) for f in os.listdir(out)])
+            except OSError:
+                return 0
+        before = newest()
         self.click(*POS_EXPORT, settle=0.5)
         t = time.monotonic()
         while time.monotonic() - t < 60:
-            if os.path.exists(out) and os.path.getmtime(out) > before:
+            if newest() > before:
                 self.counts["exports"] += 1
                 return
             time.sleep(0.3)
