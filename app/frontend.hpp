@@ -45,6 +45,8 @@ class Frontend {
   void reopen(const SessionOptions& session);
   // Session files (core/workbench/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
+  // current_session_file() once the physics has applied every queued edit (bounded wait): what saves write.
+  SessionFile session_file_for_saving();
   void open_session_file(const std::string& path);
   // Every model's field along the current path as <dir>/<model id>/ (tsd/1), on the workbench's export
   // worker (core/workbench/field_export). start_export returns at once; InputError when a target folder exists

@@ -135,7 +135,7 @@ class Soak:
         self.counts = {k: 0 for k in ("actions", "saves", "save_checks", "edits_checked", "edits_lost", "reopens",
                                       "scene_opens", "dataset_opens", "residual_loads", "kills", "kill_checks",
                                       "restores_from_autosave", "restores_from_save", "screenshots", "exports",
-                                      "variant_switches", "param_edits", "nudges", "drags", "drags_moved",
+                                      "variant_switches", "param_edits", "quick_saves", "nudges", "drags", "drags_moved",
                                       "scrubs", "play_toggles", "camera", "crashes")}
         self.model = Model()
         self.saved = None            # the last saved document
@@ -430,6 +430,32 @@ class Soak:
         if self.check_alive():
             self.say("note: no new fields_export within 60 s (export of a long path still running?)")
 
+    def act_quick_save(self):
+        """A nudge and Ctrl+S typed at once (one xdotool call: often one frame): the save must hold the nudge."""
+        if self.fresh:
+            self.key("End")
+            time.sleep(1.5)
+            self.fresh = False
+        k = self.rng.choice(list(KEY_NUDGE))
+        before = os.path.getmtime(self.session) if os.path.exists(self.session) else 0
+        self.xdo("key", "--window", self.wid, k, "ctrl+s")
+        if isinstance(self.model.tail, list):
+            for i in range(3):
+                self.model.tail[i] += KEY_NUDGE[k][i]
+        self.counts["nudges"] += 1
+        self.counts["quick_saves"] += 1
+        self.edited()
+        if not self.wait_file_newer(self.session, before):
+            if self.check_alive():
+                self.fail("a nudge + Ctrl+S wrote no session file within 20 s")
+            return
+        self.counts["saves"] += 1
+        d = json.load(open(self.session))
+        self.compare(d, "save")
+        self.saved = d
+        self.edits_since_save = 0
+        self.record_model()
+
     def act_save(self):
         self.save()
 
@@ -541,7 +567,7 @@ class Soak:
         self.say(f"soak: seed {self.a.seed}, {self.a.minutes} min, work {self.work}")
         actions = [(self.act_nudge, 20), (self.act_drag, 8), (self.act_scrub, 10), (self.act_play, 6),
                    (self.act_camera, 6), (self.act_variant, 5), (self.act_param, 5), (self.act_screenshot, 3),
-                   (self.act_export, 2), (self.act_save, 8), (self.act_reopen, 1.2), (self.act_open, 1.2),
+                   (self.act_export, 2), (self.act_save, 8), (self.act_quick_save, 3), (self.act_reopen, 1.2), (self.act_open, 1.2),
                    (self.act_kill, self.a.kill_weight)]
         funcs, weights = zip(*actions)
         first = self.rng.choice(self.scenes)
@@ -556,7 +582,7 @@ class Soak:
                 if f in (self.act_kill, self.act_reopen, self.act_open) and self.now() < self.a.restarts_after * 60:
                     f = self.act_save   # one long process life first: memory growth needs minutes in one process
                 if self.a.ensure_restarts:   # a short run still kills, reopens and opens once each
-                    for frac, g, c in ((0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
+                    for frac, g, c in ((0.15, self.act_quick_save, "quick_saves"), (0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
                                        (0.7, self.act_open, "scene_opens")):
                         if self.now() > frac * end and self.counts[c] == 0 and (c != "scene_opens" or self.counts["dataset_opens"] == 0):
                             f = g
