@@ -139,6 +139,7 @@ class Soak:
                                       "scrubs", "play_toggles", "camera", "crashes")}
         self.model = Model()
         self.saved = None            # the last saved document
+        self.saved_t = 0.0           # when it was saved
         self.history = []            # (t, Model) after every action that changed the model
         self.edits_since_save = 0
         self.fresh = True            # no nudge/drag yet in this process (its nudges start from the shown step)
@@ -274,7 +275,7 @@ class Soak:
             self.model = Model(d)
         else:
             self.compare(d, "save")
-        self.saved = d
+        self.saved, self.saved_t = d, self.now()
         self.edits_since_save = 0
         self.record_model()
         return d
@@ -452,7 +453,7 @@ class Soak:
         self.counts["saves"] += 1
         d = json.load(open(self.session))
         self.compare(d, "save")
-        self.saved = d
+        self.saved, self.saved_t = d, self.now()
         self.edits_since_save = 0
         self.record_model()
 
@@ -520,7 +521,8 @@ class Soak:
         else:
             # No autosave: fine only when nothing unsaved is older than the promise window.
             self.counts["kill_checks"] += 1
-            if self.saved is not None and before and before[-1].differences(self.saved):
+            # (A save after `promise` holds every earlier edit: it was checked against the model when made.)
+            if self.saved is not None and self.saved_t < promise and before and before[-1].differences(self.saved):
                 self.counts["edits_lost"] += 1
                 self.fail(f"kill at {kill_t:.1f}s: no autosave, but edits from before {promise:.1f}s were unsaved: "
                           + "; ".join(before[-1].differences(self.saved)[:6]))
