@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 def main(src, out):
     rows = list(csv.DictReader(open(src)))
-    m = [int(r["minute"]) for r in rows]
+    m = [float(r["t_s"]) / 60 for r in rows]   # when the minute's row closed (rows close after an action)
     rss = [float(r["rss_mb"]) for r in rows]
     p50 = [float(r["frame_ms_p50"]) for r in rows]
     p95 = [float(r["frame_ms_p95"]) for r in rows]
@@ -27,14 +27,14 @@ def main(src, out):
     b.plot(m, p50, "o-", ms=3, color="tab:gray", label="p50")
     b.axhline(1.5 * p95[0], color="tab:red", ls=":", lw=1, label="1.5x first-minute p95")
     b.set_ylabel("frame time (ms)")
-    b.set_xlabel("minute of the soak")
+    b.set_xlabel("minutes into the soak")
     b.set_ylim(0, max(max(p95), 1.5 * p95[0]) * 1.15)
     b.grid(alpha=0.3)
     first = True
     for i in range(1, len(rows)):
         if rows[i]["pid"] != rows[i - 1]["pid"]:
             for ax in (a, b):
-                ax.axvline(m[i] - 0.5, color="k", alpha=0.15, lw=1, label="new process" if first and ax is b else None)
+                ax.axvline((m[i] + m[i - 1]) / 2, color="k", alpha=0.15, lw=1, label="new process" if first and ax is b else None)
             first = False
     b.legend(loc="upper left", fontsize=8)
     a.set_title("shearbench gui soak: memory and frame time per minute (grey lines: a new process)")

@@ -557,6 +557,7 @@ class Soak:
         row = {"minute": minute, "t_s": round(self.now(), 1), "process_minute": round((self.now() - life_start) / 60, 2),
                "frames": len(ms), "frame_ms_p50": round(pct(0.5), 2), "frame_ms_p95": round(pct(0.95), 2),
                "rss_mb": round(last.get("rss_kb", float("nan")) / 1024, 1), "fds": last.get("fds", ""),
+               "loadavg_1min": float(open("/proc/loadavg").read().split()[0]),   # a shared machine's frame-time noise
                **{f"gl_{k}": v for k, v in last.get("gl", {}).items()}, "pid": self.proc.pid if self.proc else "",
                **{k: self.counts[k] for k in ("saves", "kills", "reopens", "edits_checked", "edits_lost")}}
         self.minute_rows.append(row)
