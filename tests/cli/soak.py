@@ -270,6 +270,7 @@ class Soak:
                 self.fail("Ctrl+S wrote no session file within 20 s")
             return None
         self.counts["saves"] += 1
+        self.log.write(f"[{self.now():7.1f}s] saved\n")
         d = json.load(open(self.session))
         if adopt or self.model.open == {}:
             self.model = Model(d)
@@ -591,6 +592,7 @@ class Soak:
                             f = g
                             break
                 pid = self.proc.pid
+                self.log.write(f"[{self.now():7.1f}s] {f.__name__[4:]}\n")   # every action, for a failure's context
                 f()
                 self.counts["actions"] += 1
                 if not self.check_alive():
