@@ -20,6 +20,8 @@ struct GuiArgs {
   std::string session;
   double autosave_interval_s = 30.0;
   std::string residual;
+  std::string stats;
+  double stats_interval_s = 10.0;
 };
 
 bool on_path(const std::string& program) {
@@ -77,6 +79,7 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
               << percentiles_line(front.profile_drag(a.profile)) << "\n";
     return 0;
   }
+  if (!a.stats.empty()) front.enable_stats(a.stats, a.stats_interval_s);
   front.session().state->start_thread();
   if (!a.session.empty()) front.open_session_file(a.session);
   else front.offer_autosave();
@@ -93,6 +96,9 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
   sub.add_option("--size", a.size, "window size")->capture_default_str();
   sub.add_option("--profile", a.profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
   sub.add_option("--residual", a.residual, "show a residual analysis (shearbench residual --json)");
+  sub.add_option("--stats", a.stats, "append a JSON line of frame-time percentiles, resident memory and live GL objects "
+                                     "every --stats-interval seconds to this file (tests/cli/soak.py reads it)");
+  sub.add_option("--stats-interval", a.stats_interval_s, "seconds per --stats line")->capture_default_str()->check(CLI::PositiveNumber);
   sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display (default: shearbench_headless.png beside the executable, i.e. build/)");
 }
 

@@ -6,6 +6,7 @@
 #include "app/session.hpp"
 #include "core/workbench/session_file.hpp"
 #include "core/workbench/unsaved_work.hpp"
+#include "widgets/frame_stats.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
 
@@ -44,6 +45,8 @@ class Frontend {
   void reopen(const SessionOptions& session);
   // Session files (core/workbench/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
+  // current_session_file() once the physics has applied every queued edit (bounded wait): what saves write.
+  SessionFile session_file_for_saving();
   void open_session_file(const std::string& path);
   // Every model's field along the current path as <dir>/<model id>/ (tsd/1), on the workbench's export
   // worker (core/workbench/field_export). start_export returns at once; InputError when a target folder exists
@@ -57,6 +60,8 @@ class Frontend {
   void switch_model(int slot, const std::string& model_id);
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
+  // `gui --stats FILE`: a JSON line of frame times, memory and GL objects every interval_s (widgets/frame_stats).
+  void enable_stats(const std::string& path, double interval_s) { stats_ = ui::FrameStats(path, interval_s); }
   // When an autosave from an unclean exit exists, asks whether to restore it.
   void offer_autosave();
 
@@ -76,6 +81,7 @@ class Frontend {
   ui::GlWindow window_;
   ui::Workbench workbench_;
   double frame_ms_ = 0;
+  ui::FrameStats stats_;
   bool quit_ = false;
   bool screenshot_pending_ = false;
   // No lost work (keep_work).
