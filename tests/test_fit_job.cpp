@@ -43,6 +43,19 @@ TEST_CASE("a fit on the worker thread finishes with a result no worse than its s
   CHECK(s.result->params.size() == sb::default_params("tacsl").size());
 }
 
+TEST_CASE("the fit panel's dataset field takes a data: path", "[fit_job]") {
+  // What a user types in the panel (and the CLI takes): data:twin/twin_sphere8 names the data root's folder.
+  sb::FitJobRequest r = tacsl_request();
+  r.dataset_dir = "data:twin/twin_sphere8";
+  r.max_iterations = 1;
+  sb::FitJob job;
+  job.start(r);
+  job.wait();
+  const sb::FitJobStatus s = job.status();
+  INFO(s.error);
+  CHECK(s.phase == sb::FitJobStatus::Phase::Done);
+}
+
 TEST_CASE("a cancelled fit says so and a bad dataset fails with its path", "[fit_job]") {
   sb::FitJob job;
   job.start(tacsl_request());

@@ -3,6 +3,8 @@
 #include <GLFW/glfw3.h>
 #include <imgui.h>
 
+#include <algorithm>
+
 #include "core/workbench/double_click.hpp"
 
 namespace sb::ui {
@@ -65,6 +67,15 @@ bool mouse_double_clicked() { return double_clicks().double_clicked(); }
 
 void record_key_press(int key, int mods, bool repeat) { key_presses().push_back({key, mods, repeat}); }
 void clear_key_presses() { key_presses().clear(); }
+
+bool take_enter_press() {
+  auto& presses = key_presses();
+  const auto is_enter = [](const KeyPress& p) { return p.key == GLFW_KEY_ENTER || p.key == GLFW_KEY_KP_ENTER; };
+  const auto it = std::find_if(presses.begin(), presses.end(), is_enter);
+  if (it == presses.end()) return false;
+  presses.erase(it);
+  return true;
+}
 
 // From the recorded presses, not ImGui::IsKeyPressed: ImGui 1.86 keeps only whether a key is down at
 // NewFrame, so a tap whose press and release fall in one event poll (a slow frame, a quick tap, a

@@ -30,6 +30,8 @@ const std::vector<KeyBinding>& key_table();
 std::vector<Action> pressed_actions();
 void record_key_press(int key, int mods, bool repeat);
 void clear_key_presses();
+// Whether Enter (either one) was pressed since the last frame, taking that press: a dialog's default answer.
+bool take_enter_press();
 // Double-clicks of the left button, from the window's mouse events (core/workbench/double_click.hpp: a
 // slow frame does not break them). begin_mouse_poll(busy_s) before each event poll (busy_s: the frame's
 // work since the last poll, without the wait for events), record_left_press from the

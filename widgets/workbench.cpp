@@ -430,7 +430,7 @@ void Workbench::draw_fit_panel() {
   if (fit_dataset_[0] == '\0' && !replay_.dataset_dir.empty())
     std::snprintf(fit_dataset_, sizeof fit_dataset_, "%s", replay_.dataset_dir.c_str());
   ImGui::SetNextItemWidth(-70);
-  ImGui::InputText("dataset##fit", fit_dataset_, sizeof fit_dataset_);
+  ImGui::InputTextWithHint("dataset##fit", "e.g. data:twin/twin_sphere35", fit_dataset_, sizeof fit_dataset_);
   if (snap_.models.empty()) return;
   fit_model_ = std::clamp(fit_model_, 0, static_cast<int>(snap_.models.size()) - 1);
   ImGui::SetNextItemWidth(-70);
@@ -439,10 +439,11 @@ void Workbench::draw_fit_panel() {
       if (ImGui::Selectable(display_name(snap_.models[m].id).c_str(), m == fit_model_)) fit_model_ = m;
     ImGui::EndCombo();
   }
-  ImGui::Checkbox("joint refinement (off: the paper's stages only)", &fit_joint_);
-  ImGui::SameLine();
+  ImGui::Checkbox("joint refinement", &fit_joint_);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("on (the default): the paper's stages, then every parameter jointly\noff: the paper's stages only");
   ImGui::SetNextItemWidth(-70);
-  ImGui::SliderInt("iter##fit", &fit_iterations_, 1, 100);
+  ImGui::SliderInt("iterations##fit", &fit_iterations_, 1, 100);
 
   const FitJobStatus st = fit_job_.status();
   if (st.running()) {
@@ -468,7 +469,11 @@ void Workbench::draw_fit_panel() {
   if (!st.losses.empty())
     ImGui::PlotLines("##fitloss", st.losses.data(), static_cast<int>(st.losses.size()), 0, "loss (Ceres cost)", 0.0f,
                      FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 40));
-  if (st.phase == FitJobStatus::Phase::Failed) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", st.error.c_str());
+  if (st.phase == FitJobStatus::Phase::Failed) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
+    ImGui::TextWrapped("%s", st.error.c_str());
+    ImGui::PopStyleColor();
+  }
   if (!st.result || fit_result_handled_) return;
   const bool cancelled = st.phase == FitJobStatus::Phase::Cancelled;
   ImGui::Text("%s: calibration RMSE %.3f -> %.3f px", cancelled ? "cancelled (completed stages)" : "done",
@@ -519,14 +524,17 @@ void Workbench::draw_question(WorkbenchRequest& req) {
   if (ImGui::BeginPopupModal("##question", nullptr, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoTitleBar)) {
     ImGui::TextUnformatted(question_text_.c_str());
     ImGui::Separator();
+    // Enter answers with the first button, the one that keeps the user's work (Restore; Save and close).
+    const bool enter = take_enter_press();
     for (std::size_t i = 0; i < question_buttons_.size(); ++i) {
       if (i > 0) ImGui::SameLine();
-      if (ImGui::Button(question_buttons_[i].c_str(), ImVec2(110, 0))) {
+      if (ImGui::Button(question_buttons_[i].c_str(), ImVec2(110, 0)) || (i == 0 && enter)) {
         req.answer = std::make_pair(question_id_, static_cast<int>(i));
         question_id_.clear();
         ImGui::CloseCurrentPopup();
       }
     }
+    if (!question_buttons_.empty()) ImGui::TextDisabled("Enter: %s", question_buttons_[0].c_str());
     ImGui::EndPopup();
   }
 }

@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "core/base/data_root.hpp"
 #include "core/calibration/fit_data.hpp"
 #include "core/data/tsd.hpp"
 
@@ -18,7 +19,9 @@ void FitJob::start(FitJobRequest request) {
 void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job& job) {
   try {
     Warnings warnings;
-    const Dataset ds = read_dataset(std::filesystem::absolute(req.dataset_dir).string(), &warnings);
+    // The panel's field takes what the CLI takes: "data:twin/..." or a folder (relative: the working directory).
+    const std::string dir = resolve_path(req.dataset_dir, req.data_root, "");
+    const Dataset ds = read_dataset(std::filesystem::absolute(dir).string(), &warnings);
     const FitData data = load_calibration_data(ds, req.data_root, &warnings);
     job.update([](FitJobStatus& s) { s.phase = FitJobStatus::Phase::Fitting; });
     FitOptions o;

@@ -5,7 +5,8 @@ Drives the real `shearbench gui` only through its input path (xdotool keys, clic
 reproducible random walk (--seed) over what a user does: nudge and drag the indenter, scrub, play and pause,
 move the camera, switch the FOTS / TacSL variants, type a parameter, take screenshots, export fields, save
 (Ctrl+S), quit and reopen the session, open other scenes and datasets (a restart with --scene / --dataset,
-sometimes with --residual), and SIGKILL the workbench at random moments to restart it from its autosave.
+sometimes with --residual), run fits in the Fit section and cancel them, and SIGKILL the workbench at random
+moments to restart it from its autosave (every other restart through the Restore dialog, answered with Enter).
 
 What it checks:
   * after every save, the saved session holds what the user had: the script keeps its own model of the
@@ -14,6 +15,8 @@ What it checks:
   * after every SIGKILL, the autosave holds every edit made up to --autosave-interval + --margin seconds
     before the kill (it must equal the script's model at some moment of that window), or, when there is no
     autosave, nothing older than that window was unsaved;
+  * after a restart through the Restore dialog, the next save holds what the autosave held;
+  * a fit started and cancelled changes nothing the user had (its result is not applied);
   * no crash (the workbench never exits on its own), screenshots and exports appear.
 What it records (from `gui --stats`, lines every --stats-interval s): per minute the frame-time p50/p95,
 resident memory, open fds and live GL objects -> <work>/soak_minutes.csv; totals -> <work>/soak_summary.json.
@@ -48,6 +51,13 @@ COMBO_ITEM_DY = (24, 45)          # the popup's two entries below the combo
 POS_EXPORT = (240, 429)
 POS_HS_MU = (115, 698)            # HydroShear mu slider (Ctrl+click: type a value)
 POS_INDENTER = (800, 210)         # the indenter in the iso view at the scene's start
+# The Fit section, reached by collapsing Parameters (its header at y 454; Fit's header then at 479).
+POS_PARAMETERS_HEADER = (60, 454)
+POS_FIT_HEADER = (60, 479)
+POS_FIT_DATASET = (120, 504)
+POS_FIT_RUN = (80, 604)           # "Run fit"; while it runs, the progress bar with Cancel beside it
+POS_FIT_CANCEL = (275, 604)
+FIT_DATASETS = ("data:twin/twin_sphere8", "data:twin/twin_sphere35")
 FOTS_IDS, TACSL_IDS = ("fots", "fots-reimpl"), ("tacsl", "tacsl-normalized")
 
 
@@ -137,7 +147,8 @@ class Soak:
                                       "scene_opens", "dataset_opens", "residual_loads", "kills", "kill_checks",
                                       "restores_from_autosave", "restores_from_save", "screenshots", "exports",
                                       "variant_switches", "param_edits", "quick_saves", "nudges", "drags", "drags_moved",
-                                      "scrubs", "play_toggles", "camera", "crashes")}
+                                      "scrubs", "play_toggles", "camera", "crashes", "fits_started", "fits_cancelled",
+                                      "restores_from_dialog")}
         self.model = Model()
         self.saved = None            # the last saved document
         self.saved_t = 0.0           # when it was saved
@@ -393,6 +404,25 @@ class Soak:
         self.counts["param_edits"] += 1
         self.edited()
 
+    def act_fit(self):
+        """Open the Fit section, start a fit on a twin set, cancel it after a moment, and put the layout back."""
+        if not self.layout_ok:
+            return self.act_scrub()
+        self.click(*POS_PARAMETERS_HEADER, settle=0.6)   # collapse Parameters: Fit moves up under it
+        self.click(*POS_FIT_HEADER, settle=0.6)
+        self.click(*POS_FIT_DATASET, settle=0.3)
+        self.chord("ctrl", "a")
+        self.xdo("type", "--window", self.wid, "--delay", "40", self.rng.choice(FIT_DATASETS))
+        self.key("Return")
+        time.sleep(0.3)
+        self.click(*POS_FIT_RUN, settle=self.rng.uniform(0.5, 4.0))
+        self.counts["fits_started"] += 1
+        self.click(*POS_FIT_CANCEL, settle=1.0)   # on the progress bar's Cancel (a finished fit leaves it unapplied)
+        self.counts["fits_cancelled"] += 1
+        self.click(*POS_FIT_HEADER, settle=0.4)      # collapse Fit, open Parameters again
+        self.click(*POS_PARAMETERS_HEADER, settle=0.6)
+        # Nothing the user had changes: the next save is compared with the unchanged model.
+
     def act_screenshot(self):
         d = os.path.join(self.work, "screenshots")
         n = len(os.listdir(d)) if os.path.isdir(d) else 0
@@ -516,10 +546,16 @@ class Soak:
                 best = min(window, key=lambda m: len(m.differences(d)))
                 self.fail(f"kill at {kill_t:.1f}s: the autosave lacks edits made before {promise:.1f}s: "
                           + "; ".join(best.differences(d)[:6]))
-            shutil.copyfile(self.autosave, self.session)
             self.model = Model(d)
             self.counts["restores_from_autosave"] += 1
-            self.start(["--session", self.session], "restart after SIGKILL, from the autosave")
+            if self.counts["kills"] % 2 == 1:   # as a user would: start plainly, answer Restore (Enter)
+                self.start([], "restart after SIGKILL: the Restore dialog, answered with Enter")
+                self.key("Return")
+                time.sleep(1.5)
+                self.counts["restores_from_dialog"] += 1
+            else:
+                shutil.copyfile(self.autosave, self.session)
+                self.start(["--session", self.session], "restart after SIGKILL, from the autosave")
         else:
             # No autosave: fine only when nothing unsaved is older than the promise window.
             self.counts["kill_checks"] += 1
@@ -572,7 +608,7 @@ class Soak:
         self.say(f"soak: seed {self.a.seed}, {self.a.minutes} min, work {self.work}")
         actions = [(self.act_nudge, 20), (self.act_drag, 8), (self.act_scrub, 10), (self.act_play, 6),
                    (self.act_camera, 6), (self.act_variant, 5), (self.act_param, 5), (self.act_screenshot, 3),
-                   (self.act_export, 2), (self.act_save, 8), (self.act_quick_save, 3), (self.act_reopen, 1.2), (self.act_open, 1.2),
+                   (self.act_export, 2), (self.act_fit, 1.5), (self.act_save, 8), (self.act_quick_save, 3), (self.act_reopen, 1.2), (self.act_open, 1.2),
                    (self.act_kill, self.a.kill_weight)]
         funcs, weights = zip(*actions)
         first = self.rng.choice(self.scenes)
@@ -584,10 +620,13 @@ class Soak:
         try:
             while self.now() < end:
                 f = self.rng.choices(funcs, weights)[0]
+                if f == self.act_fit and self.now() < 60:
+                    f = self.act_save   # the first minute is the frame-time reference: no fit in it
                 if f in (self.act_kill, self.act_reopen, self.act_open) and self.now() < self.a.restarts_after * 60:
                     f = self.act_save   # one long process life first: memory growth needs minutes in one process
                 if self.a.ensure_restarts:   # a short run still kills, reopens and opens once each
-                    for frac, g, c in ((0.15, self.act_quick_save, "quick_saves"), (0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
+                    for frac, g, c in ((0.15, self.act_quick_save, "quick_saves"), (0.2, self.act_fit, "fits_started"),
+                                       (0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
                                        (0.7, self.act_open, "scene_opens")):
                         if self.now() > frac * end and self.counts[c] == 0 and (c != "scene_opens" or self.counts["dataset_opens"] == 0):
                             f = g
