@@ -1,6 +1,5 @@
 // Procedural indenter meshes against their closed-form measures, and Poisson-disk surface sampling.
 #include <catch2/catch.hpp>
-#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -186,23 +185,16 @@ TEST_CASE("Poisson-disk sampling is deterministic for a seed", "[indenter]") {
   for (const auto& n : box.n_IS) CHECK(n.cwiseAbs().maxCoeff() == Approx(1.0).epsilon(kExactTol));
 }
 
-TEST_CASE("sampling the cow at 6 cm, 0.75 mm spacing is fast", "[indenter][data]") {
+TEST_CASE("sampling the cow at 6 cm, 0.75 mm spacing covers its area evenly", "[indenter][data]") {
   const std::string path = (fs::path(data_root()) / "meshes/cow.obj").string();
   if (!fs::exists(path)) FAIL("test data missing: " << path << " (set SHEARBENCH_DATA)");
   // SOURCE.md: about 10.4 units long; 0.06 / 10.4 m per unit makes it 6 cm.
   MeshLoadOptions opt;
   opt.scale = 0.06 / 10.4;
   const TriMesh cow = load_mesh(path, opt);
-  const auto t0 = std::chrono::steady_clock::now();
+  // Its speed is a benchmark (bench/bench_sampling.cpp, BM_PoissonDiskCow), not a timed test.
   const SurfaceSamples s = poisson_disk_samples(cow, 0.75e-3);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-#if defined(__SANITIZE_ADDRESS__)
-  constexpr double kBudgetSeconds = 10.0;  // instrumented build
-#else
-  constexpr double kBudgetSeconds = 1.0;
-#endif
-  INFO(s.p_IS.size() << " points in " << seconds << " s");
-  CHECK(seconds < kBudgetSeconds);
+  INFO(s.p_IS.size() << " points");
   CHECK(sum(s.area_m2) == Approx(cow.area()).epsilon(0.02));
   // Saturated packing, as on the sphere: 0.60-0.95 points per spacing^2 of area.
   const double per_spacing_sq = s.p_IS.size() * 0.75e-3 * 0.75e-3 / cow.area();
