@@ -57,7 +57,10 @@ POS_FIT_HEADER = (60, 479)
 POS_FIT_DATASET = (120, 504)
 POS_FIT_RUN = (80, 604)           # "Run fit"; while it runs, the progress bar with Cancel beside it
 POS_FIT_CANCEL = (275, 604)
-FIT_DATASETS = ("data:twin/twin_sphere8", "data:twin/twin_sphere35")
+# Typed into the Fit section's dataset field. Letters that are shortcuts (E and Q twist, H help, P screenshot)
+# are avoided: if a slow frame kept the field from taking the click, the typing would edit the session.
+FIT_DATASETS = ("data:twin/twin_torus",)
+FIT_SETTLE_S = 1.5                # a header click's layout change needs a frame; frames slow down while fits run
 FOTS_IDS, TACSL_IDS = ("fots", "fots-reimpl"), ("tacsl", "tacsl-normalized")
 
 
@@ -408,19 +411,19 @@ class Soak:
         """Open the Fit section, start a fit on a twin set, cancel it after a moment, and put the layout back."""
         if not self.layout_ok:
             return self.act_scrub()
-        self.click(*POS_PARAMETERS_HEADER, settle=0.6)   # collapse Parameters: Fit moves up under it
-        self.click(*POS_FIT_HEADER, settle=0.6)
-        self.click(*POS_FIT_DATASET, settle=0.3)
+        self.click(*POS_PARAMETERS_HEADER, settle=FIT_SETTLE_S)   # collapse Parameters: Fit moves up under it
+        self.click(*POS_FIT_HEADER, settle=FIT_SETTLE_S)
+        self.click(*POS_FIT_DATASET, settle=0.5)
         self.chord("ctrl", "a")
         self.xdo("type", "--window", self.wid, "--delay", "40", self.rng.choice(FIT_DATASETS))
         self.key("Return")
         time.sleep(0.3)
         self.click(*POS_FIT_RUN, settle=self.rng.uniform(0.5, 4.0))
         self.counts["fits_started"] += 1
-        self.click(*POS_FIT_CANCEL, settle=1.0)   # on the progress bar's Cancel (a finished fit leaves it unapplied)
+        self.click(*POS_FIT_CANCEL, settle=FIT_SETTLE_S)   # the progress bar's Cancel (a finished fit stays unapplied)
         self.counts["fits_cancelled"] += 1
-        self.click(*POS_FIT_HEADER, settle=0.4)      # collapse Fit, open Parameters again
-        self.click(*POS_PARAMETERS_HEADER, settle=0.6)
+        self.click(*POS_FIT_HEADER, settle=FIT_SETTLE_S)      # collapse Fit, open Parameters again
+        self.click(*POS_PARAMETERS_HEADER, settle=FIT_SETTLE_S)
         # Nothing the user had changes: the next save is compared with the unchanged model.
 
     def act_screenshot(self):
