@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "core/base/data_root.hpp"
+#include "core/base/free_memory.hpp"
 #include "core/calibration/fit_data.hpp"
 #include "core/data/tsd.hpp"
 
@@ -51,6 +52,7 @@ void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job&
       s.error = e.what();
     });
   }
+  return_free_memory_to_os();   // the dataset and the fit's buffers are gone by here
 }
 
 }  // namespace sb

@@ -1,0 +1,15 @@
+#include "core/base/free_memory.hpp"
+
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
+namespace sb {
+
+void return_free_memory_to_os() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
+
+}  // namespace sb
