@@ -88,7 +88,7 @@ void GlWindow::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
   auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
   if (self != nullptr && self->imgui_key_callback_ != nullptr) self->imgui_key_callback_(window, key, scancode, action, mods);
-  if (action == GLFW_PRESS || action == GLFW_REPEAT) record_key_press(key, mods, action == GLFW_REPEAT);
+  record_key_event(key, action, mods);
 }
 
 void GlWindow::on_mouse_button(GLFWwindow* window, int button, int action, int mods) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 
 #include "core/workbench/double_click.hpp"
+#include "core/workbench/held_modifiers.hpp"
 
 namespace sb::ui {
 
@@ -54,6 +55,24 @@ std::vector<KeyPress>& key_presses() {
   return presses;
 }
 
+static_assert(HeldModifiers::kShift == GLFW_MOD_SHIFT && HeldModifiers::kCtrl == GLFW_MOD_CONTROL);
+
+HeldModifiers& held_modifiers() {
+  static HeldModifiers held;   // main thread only, as the key presses
+  return held;
+}
+
+// The modifier key a GLFW key code is, if any.
+bool modifier_key(int key, HeldModifiers::Key* which) {
+  switch (key) {
+    case GLFW_KEY_LEFT_SHIFT: *which = HeldModifiers::kLeftShift; return true;
+    case GLFW_KEY_RIGHT_SHIFT: *which = HeldModifiers::kRightShift; return true;
+    case GLFW_KEY_LEFT_CONTROL: *which = HeldModifiers::kLeftCtrl; return true;
+    case GLFW_KEY_RIGHT_CONTROL: *which = HeldModifiers::kRightCtrl; return true;
+    default: return false;
+  }
+}
+
 DoubleClickDetector& double_clicks() {
   static DoubleClickDetector detector;   // main thread only, as the key presses
   return detector;
@@ -65,7 +84,16 @@ void begin_mouse_poll(double busy_s) { double_clicks().begin_poll(busy_s); }
 void record_left_press(double t_s, double x_px, double y_px) { double_clicks().press(t_s, x_px, y_px); }
 bool mouse_double_clicked() { return double_clicks().double_clicked(); }
 
-void record_key_press(int key, int mods, bool repeat) { key_presses().push_back({key, mods, repeat}); }
+void record_key_event(int key, int action, int mods) {
+  HeldModifiers::Key which;
+  if (modifier_key(key, &which)) {
+    if (action == GLFW_RELEASE) held_modifiers().release(which);
+    else held_modifiers().press(which);
+    return;
+  }
+  if (action == GLFW_PRESS || action == GLFW_REPEAT)
+    key_presses().push_back({key, mods | held_modifiers().mods(), action == GLFW_REPEAT});
+}
 void clear_key_presses() { key_presses().clear(); }
 
 bool take_enter_press() {
@@ -79,16 +107,16 @@ bool take_enter_press() {
 
 // From the recorded presses, not ImGui::IsKeyPressed: ImGui 1.86 keeps only whether a key is down at
 // NewFrame, so a tap whose press and release fall in one event poll (a slow frame, a quick tap, a
-// scripted key) was lost. Modifiers count when the event carried them or ImGui sees them held.
+// scripted key) was lost. A press's modifiers are those down when it was made (record_key_event), not
+// those ImGui sees held at NewFrame: "PgUp, Ctrl+S" in one poll is a nudge and a save.
 std::vector<Action> pressed_actions() {
   std::vector<Action> actions;
   std::vector<KeyPress> presses;
   presses.swap(key_presses());
-  const ImGuiIO& io = ImGui::GetIO();
-  if (io.WantTextInput) return actions;
+  if (ImGui::GetIO().WantTextInput) return actions;
   for (const KeyPress& p : presses) {
-    const bool shift = io.KeyShift || (p.mods & GLFW_MOD_SHIFT) != 0;
-    const bool ctrl = io.KeyCtrl || (p.mods & GLFW_MOD_CONTROL) != 0;
+    const bool shift = (p.mods & GLFW_MOD_SHIFT) != 0;
+    const bool ctrl = (p.mods & GLFW_MOD_CONTROL) != 0;
     for (const KeyBinding& k : key_table())
       if (k.key == p.key && (!p.repeat || !k.ctrl) && (!k.shift || shift) && k.ctrl == ctrl)
         actions.push_back(k.action);

@@ -25,10 +25,12 @@ struct KeyBinding {
 
 const std::vector<KeyBinding>& key_table();
 // The actions whose keys were pressed since the last call (ignored while a text field has the
-// keyboard). The presses come from record_key_press, which the window's GLFW key callback calls;
+// keyboard). The presses come from record_key_event, which the window's GLFW key callback calls;
 // clear_key_presses drops the ones nobody asked for (GlWindow::begin_frame, before polling).
 std::vector<Action> pressed_actions();
-void record_key_press(int key, int mods, bool repeat);
+// Every key event of the window (GLFW key, action, mods), in order: modifier keys update what is held,
+// presses and repeats are recorded with the modifiers held then.
+void record_key_event(int key, int action, int mods);
 void clear_key_presses();
 // Whether Enter (either one) was pressed since the last frame, taking that press: a dialog's default answer.
 bool take_enter_press();
