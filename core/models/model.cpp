@@ -47,6 +47,12 @@ const std::vector<std::string>& model_ids() {
   return ids;
 }
 
+std::string model_ids_text(const std::string& separator) {
+  std::string text;
+  for (const std::string& m : model_ids()) text += (text.empty() ? "" : separator) + m;
+  return text;
+}
+
 ParamSet default_params(const std::string& id) {
   if (id == "hydroshear") return ParamSet(hydroshear_param_specs());
   if (id == "hydroshear-layer") return ParamSet(hydroshear_param_specs(true));
@@ -56,9 +62,7 @@ ParamSet default_params(const std::string& id) {
   if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
   if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
   if (id == "tacsl-normalized") return ParamSet(tacsl_param_specs(true));
-  std::string known;
-  for (const std::string& m : model_ids()) known += (known.empty() ? "" : ", ") + m;
-  throw std::invalid_argument("unknown model id '" + id + "' (known: " + known + ")");
+  throw std::invalid_argument("unknown model id '" + id + "' (known: " + model_ids_text(", ") + ")");
 }
 
 std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
