@@ -13,6 +13,7 @@
 
 #include "app/command.hpp"
 #include "core/models/bench_run.hpp"
+#include "core/models/model.hpp"
 #include "core/base/error.hpp"
 #include "core/data/tsd.hpp"
 
@@ -142,7 +143,7 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
 }
 
 void add_flags(CLI::App& sub, BenchArgs& a) {
-  sub.add_option("--model", a.model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized | all")
+  sub.add_option("--model", a.model, model_ids_text() + " | all")
       ->capture_default_str();
   sub.add_option("--envs", a.envs, "environments (2 sensors each); repeatable; default 256 512 1024")
       ->check(CLI::PositiveNumber);

@@ -10,6 +10,7 @@
 #include "core/base/reproducible.hpp"
 #include "core/base/data_root.hpp"
 #include "core/calibration/evaluate.hpp"
+#include "core/models/model.hpp"
 #include "core/data/json_read.hpp"
 #include "core/geometry/mesh.hpp"
 #include "core/calibration/prediction_export.hpp"
@@ -89,7 +90,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, SimulateArgs& a) {
   sub.add_option("--scene", a.scene, "scene JSON (scenes/*.json)")->required();
-  sub.add_option("--model", a.model, "hydroshear | fots | fots-reimpl | tacsl | tacsl-normalized")->required();
+  sub.add_option("--model", a.model, model_ids_text())->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--out", a.out, "output dataset folder")->required();

@@ -11,6 +11,8 @@ namespace sb::ui {
 std::string display_name(const std::string& id) {
   if (id == "hydroshear") return "HydroShear";
   if (id == "hydroshear-layer") return "HydroShear (layer)";
+  if (id == "hydroshear-stick") return "HydroShear (stick)";
+  if (id == "hydroshear-layer-stick") return "HydroShear (layer+stick)";
   if (id == "fots") return "FOTS";
   if (id == "fots-reimpl") return "FOTS (reimpl)";
   if (id == "tacsl") return "TacSL";

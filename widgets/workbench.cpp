@@ -291,22 +291,24 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
   }
 }
 
-// HydroShear: the authors' | with the bonded-layer kernel (issue 17); FOTS: original | re-implementation;
+// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both (issue 17, docs/effects.md);
+// FOTS: original | re-implementation;
 // TacSL: raw | normalised. The choice replaces that panel's model at
 // the sync point (AppState::request_model), which replays the path to the current step.
 void Workbench::draw_variant_switches(WorkbenchRequest& req) {
-  struct Family { const char* label; std::array<const char*, 2> ids; };
-  static constexpr std::array<Family, 3> kFamilies{{{"HydroShear", {"hydroshear", "hydroshear-layer"}},
-                                                    {"FOTS", {"fots", "fots-reimpl"}},
-                                                    {"TacSL", {"tacsl", "tacsl-normalized"}}}};
+  struct Family { const char* label; std::vector<std::string> ids; };
+  static const std::vector<Family> kFamilies{
+      {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"}},
+      {"FOTS", {"fots", "fots-reimpl"}},
+      {"TacSL", {"tacsl", "tacsl-normalized"}}};
   for (const Family& f : kFamilies) {
     for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m) {
       const std::string& id = snap_.models[m].id;
-      if (id != f.ids[0] && id != f.ids[1]) continue;
+      if (std::find(f.ids.begin(), f.ids.end(), id) == f.ids.end()) continue;
       ImGui::SetNextItemWidth(-125);   // room for "HydroShear variant"
       if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
-        for (const char* v : f.ids)
-          if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, std::string(v));
+        for (const std::string& v : f.ids)
+          if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, v);
         ImGui::EndCombo();
       }
     }

@@ -317,6 +317,16 @@ const std::vector<FitStage>& fit_stages(const std::string& id) {
         {"shear-shape", {"lambda_s", "beta_s", "lambda_s2"}, {"shear", "twist"}, true, {}},
         {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
         {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
+      {"hydroshear-stick",
+       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
+        {"shear-shape", {"lambda_s", "stick_sat"}, {"shear", "twist"}, true, {}},
+        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
+        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
+      {"hydroshear-layer-stick",
+       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
+        {"shear-shape", {"lambda_s", "beta_s", "lambda_s2", "stick_sat"}, {"shear", "twist"}, true, {}},
+        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
+        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
       // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
       // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
       {"fots",

@@ -16,7 +16,7 @@ namespace sb {
 
 const std::vector<std::string>& bench_model_ids() {
   static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer"};
+                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
   return ids;
 }
 
@@ -50,7 +50,7 @@ struct BatchOf final : AnyBatch {
 std::unique_ptr<AnyBatch> make_batch(const std::string& model, std::shared_ptr<const Sensor> sensor,
                                      std::shared_ptr<const Indenter> peg, int slots) {
   const ParamSet params = default_params(model);
-  if (model == "hydroshear" || model == "hydroshear-layer")
+  if (model.rfind("hydroshear", 0) == 0)
     return std::make_unique<BatchOf<HydroShearBatch>>(HydroShearBatch(sensor, peg, slots, params));
   if (model == "fots")
     return std::make_unique<BatchOf<FotsBatch>>(FotsBatch(FotsVariant::Original, sensor, peg, slots, params));

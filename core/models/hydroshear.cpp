@@ -31,7 +31,7 @@ const double kDefaultPxPerMetre = Camera{}.px_per_metre();  // 1 / 0.0634 mm = 1
 
 }  // namespace
 
-std::vector<ParamSpec> hydroshear_param_specs(bool layer) {
+std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick) {
   std::vector<ParamSpec> specs = {
       {"lambda_d", "m^-2", 20000, 1e2, 1e7, "dilation Gaussian rate on squared distance (authors' RL config)", true},
       {"lambda_s", "m^-2", 10800, 1e2, 1e7, "shear Gaussian rate on squared distance (authors' RL config)", true},
@@ -60,6 +60,10 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer) {
     };
     specs.insert(specs.end(), near.begin(), near.end());
   }
+  if (stick)
+    specs.push_back({"stick_sat", "1/m", 1000, 0, 1e5,
+                     "stick zone: the shear sum over 1 + stick_sat sum_i w_i G_i (0 = the authors' linear sum; "
+                     "default of the order fitted on twin_sphere35)"});
   return specs;
 }
 
@@ -81,6 +85,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   k.normal_indenter = param_flag(p, "normal");
   k.flat_pad_fast = param_flag(p, "flat_pad_fast");
   if (p.index_of("beta_s") >= 0) k.beta_s = p.get("beta_s"), k.lambda_s2 = p.get("lambda_s2");
+  if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
   return k;
 }
 
@@ -112,11 +117,12 @@ struct HydroShearBatch::Scratch {
   const double *field_un = nullptr, *field_phi = nullptr;
   const double *fx = nullptr, *fy = nullptr, *fz = nullptr, *fnx = nullptr, *fny = nullptr, *fnz = nullptr;
   // Shear sum operands (kernels::shear_operands, shear_matrices).
-  std::vector<double> wvx, wvy, args, Xt, Wt, S;
+  std::vector<double> wvx, wvy, ww, args, Xt, Wt, S;   // ww: the weights alone (stick saturation)
   std::vector<std::uint8_t> fast;
   std::vector<int> old_index;              // lookup_state's merge
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
+  std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
   std::vector<int> dil_k;                  // markers inside the indenter
@@ -523,8 +529,18 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   sc.shear_x.assign(nm, 0.0);
   sc.shear_y.assign(nm, 0.0);
   if (sc.field->size() == 0) return;
-  add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_}, sc);
+  const bool stick = k_.stick_sat > 0;
+  if (stick) sc.shear_w.assign(nm, 0.0);
+  add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick}, sc);
   if (k_.beta_s > 0) add_shear_term({k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_}, sc);
+  if (!stick) return;
+  // The stick zone: where the contact's weights pile up, the field tends to their weighted mean state
+  // instead of growing with their sum (docs/effects.md, "The stick zone").
+  for (int j = 0; j < nm; ++j) {
+    const double f = 1.0 / (1.0 + k_.stick_sat * sc.shear_w[j]);
+    sc.shear_x[j] *= f;
+    sc.shear_y[j] *= f;
+  }
 }
 
 // Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums.
@@ -559,8 +575,13 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
   if (term.weight != 1.0)
     for (int i = 0; i < n; ++i) sc.wvx[i] *= term.weight, sc.wvy[i] *= term.weight;
+  if (term.with_weights) {   // w_i as shear_operands forms it
+    sc.ww.assign(mp, 0.0);
+    for (int i = 0; i < n; ++i) sc.ww[i] = term.weight * (k_.weight_paper ? -sc.field_phi[i] : k_.E * sc.field_un[i]);
+  }
   for (int i = 0; i < n; ++i)
-    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0)) shear_point_slow(term, sc, i, sc.wvx[i], sc.wvy[i]);
+    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0 || (term.with_weights && sc.ww[i] != 0)))
+      shear_point_slow(term, sc, i, sc.wvx[i], sc.wvy[i]);
   if (factored) shear_sum_fast(term, sc, mp);
 }
 
@@ -568,19 +589,23 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
 void HydroShearBatch::shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const {
   const int rows = grid_.rows, cols = grid_.cols;
   exp_in_place(sc.args.data(), 3 * mp);
-  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
+  const int blocks = term.with_weights ? 3 : 2;
+  const int cols_pad = (cols + 2) / 3 * 3, nw = blocks * rows, nw_pad = (nw + 2) / 3 * 3;
   sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
   sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
   sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
   const double* e = sc.args.data();
   kernels::shear_matrices(e, e + mp, e + 2 * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows, cols,
-                          term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data());
+                          term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data(),
+                          term.with_weights ? sc.ww.data() : nullptr);
   kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
   const int nm = rows * cols;
   for (int j = 0; j < nm; ++j) {
     sc.shear_x[j] += sc.S[j];
     sc.shear_y[j] += sc.S[nm + j];
   }
+  if (term.with_weights)
+    for (int j = 0; j < nm; ++j) sc.shear_w[j] += sc.S[2 * nm + j];
 }
 
 // One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
@@ -591,6 +616,8 @@ void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i
   const double ls = term.lambda;
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
+  double* sw = term.with_weights ? sc.shear_w.data() : nullptr;
+  const double vw = term.with_weights ? sc.ww[i] : 0.0;
   if (grid_.is_grid) {
     const int rows = grid_.rows, cols = grid_.cols;
     sc.ex.resize(cols);
@@ -603,6 +630,7 @@ void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i
         const double g = ez * sc.ey[r] * sc.ex[c];
         sx[r * cols + c] += vx * g;
         sy[r * cols + c] += vy * g;
+        if (sw != nullptr) sw[r * cols + c] += vw * g;
       }
     return;
   }
@@ -611,6 +639,7 @@ void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i
     const double g = std::exp(-ls * (M[j] - a).squaredNorm());
     sx[j] += vx * g;
     sy[j] += vy * g;
+    if (sw != nullptr) sw[j] += vw * g;
   }
 }
 

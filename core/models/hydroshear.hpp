@@ -28,11 +28,17 @@ namespace sb {
 // docs/effects.md "Traction through a bonded layer"): the shear kernel gains a narrow second Gaussian,
 //   exp(-lambda_s |r|^2)  ->  exp(-lambda_s |r|^2) + beta_s exp(-lambda_s2 |r|^2),
 // beta_s = 0 being the authors' kernel.
-std::vector<ParamSpec> hydroshear_param_specs(bool layer = false);
+// `stick`: the stick-zone hypothesis (models "hydroshear-stick", "hydroshear-layer-stick", docs/effects.md
+// "The stick zone"): the shear sum saturates where the contact's weights pile up,
+//   M_s(m_j) -> M_s(m_j) / (1 + stick_sat W_j),  W_j = sum_i w_i exp(-lambda_s |m_j - a_i|^2),
+// so inside a wide stuck contact the field tends to the weighted mean of its points' state (the stuck
+// surface moves with the indenter) instead of growing with their number; stick_sat = 0 is the authors' sum.
+std::vector<ParamSpec> hydroshear_param_specs(bool layer = false, bool stick = false);
 
 struct HydroShearParams {
   double lambda_d, lambda_s, mu, kappa_d, kappa_s, K, E, g_aug;
   double beta_s = 0, lambda_s2 = 0;   // the layer kernel's near-field term (0: the authors' kernel)
+  double stick_sat = 0;               // the stick zone's saturation (1/m; 0: the authors' linear sum)
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -120,6 +126,7 @@ class HydroShearBatch {
   struct ShearTerm {
     double weight, lambda;
     const GaussianAxis *gx, *gy;
+    bool with_weights = false;   // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
   };
   void shear_sum(const Pose& X_EI, Scratch& sc) const;
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;

@@ -135,7 +135,7 @@ void shear_operands(const ShearColumns& in, const ShearConstants& constants, int
 SB_VECTOR_CLONES
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt) {
+                    double* Wt, const double* vw) {
   // Xt: row 0 = E_i, row c = row c-1 * r_i q^(c-1), the ratio recurrence of GaussianAxis carried
   // across rows (each row is one vectorised pass over the points).
   for (int i = 0; i < mp; ++i) Xt[i] = e_lead[i];
@@ -172,7 +172,23 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
     }
     q_pow *= qy;
   }
-  const int nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
+  if (vw != nullptr) {   // the weights' block, the same recurrence
+    double* ww0 = Wt + static_cast<std::ptrdiff_t>(2 * rows) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) {
+      const double w = vw[i];
+      ww0[i] = fast[i] ? w : 0.0;
+    }
+    q_pow = 1.0;
+    for (int r = 1; r < rows; ++r) {
+      const double* pw = ww0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
+      double* rw = ww0 + static_cast<std::ptrdiff_t>(r) * mp;
+#pragma GCC ivdep
+      for (int i = 0; i < mp; ++i) rw[i] = pw[i] * (e_ry[i] * q_pow);
+      q_pow *= qy;
+    }
+  }
+  const int nw = (vw != nullptr ? 3 : 2) * rows, nw_pad = (nw + 2) / 3 * 3;
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
 }
 

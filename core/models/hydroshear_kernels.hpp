@@ -58,9 +58,11 @@ void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, doub
 // so that sum_i Wt[r] Xt[c] = sum_i vx_i exp(-l |m_rc - a_i|^2). For i < mp (points past n must have
 // zero weight and finite exponents); qx, qy: the axes' constants. Zeroes the padding rows that
 // add_products_nt reads.
+// With vw (not null) a third block of rows, Wt[(2 rows + r) * mp + i] = fast_i vw_i Y_i[r], sums the
+// weights alone (the stick saturation's denominator); Wt must then hold round_up(3 rows, 3) rows.
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt);
+                    double* Wt, const double* vw = nullptr);
 
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).

@@ -43,24 +43,32 @@ class SingleSlotModel final : public ShearModel {
 
 const std::vector<std::string>& model_ids() {
   static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer"};
+                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
   return ids;
+}
+
+std::string model_ids_text(const std::string& separator) {
+  std::string text;
+  for (const std::string& m : model_ids()) text += (text.empty() ? "" : separator) + m;
+  return text;
 }
 
 ParamSet default_params(const std::string& id) {
   if (id == "hydroshear") return ParamSet(hydroshear_param_specs());
   if (id == "hydroshear-layer") return ParamSet(hydroshear_param_specs(true));
+  if (id == "hydroshear-stick") return ParamSet(hydroshear_param_specs(false, true));
+  if (id == "hydroshear-layer-stick") return ParamSet(hydroshear_param_specs(true, true));
   if (id == "fots") return ParamSet(fots_param_specs());
   if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
   if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
   if (id == "tacsl-normalized") return ParamSet(tacsl_param_specs(true));
-  throw std::invalid_argument("unknown model id '" + id + "' (known: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized, hydroshear-layer)");
+  throw std::invalid_argument("unknown model id '" + id + "' (known: " + model_ids_text(", ") + ")");
 }
 
 std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
                                        std::shared_ptr<const Indenter> indenter) {
   const ParamSet p = default_params(id);
-  if (id == "hydroshear" || id == "hydroshear-layer")
+  if (id == "hydroshear" || id == "hydroshear-layer" || id == "hydroshear-stick" || id == "hydroshear-layer-stick")
     return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p));
   if (id == "fots" || id == "fots-reimpl") {
     const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;

@@ -41,6 +41,8 @@ class ShearModel {
 
 // The known model ids, in display order.
 const std::vector<std::string>& model_ids();
+// "hydroshear | fots | ..." for help texts and errors.
+std::string model_ids_text(const std::string& separator = " | ");
 // Default parameter table of a model id (throws std::invalid_argument for an unknown id).
 ParamSet default_params(const std::string& model_id);
 std::unique_ptr<ShearModel> make_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
