@@ -15,6 +15,8 @@
 #include "core/sensor/camera.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/tracking/lattice_check.hpp"
+#include "core/tracking/pin_field_prior.hpp"
 
 namespace fs = std::filesystem;
 
@@ -545,6 +547,70 @@ cv::Mat read_grey(const std::string& path) {
   return img;
 }
 
+// Covariates of a sample's pin field for the prior (pin_field_prior.hpp), inputs scaled to about [-1, 1]:
+// the press d and d^2 (the contact grows with the press), the tilt (a, b) to third order (it moves the
+// contact across the dome) alone and times d, the slide (sx, sy) and twist w alone and times d and the
+// tilt (the stick region's size, hence how much of the slide the skin follows, grows with the press).
+Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
+  const double d = t.depth_mm / 5.0, a = t.rx_deg / 25.0, b = t.ry_deg / 25.0, sx = t.sx_mm / 5.0,
+               sy = t.sy_mm / 5.0, w = t.twist_deg / 5.0;
+  std::vector<double> f{1.0, d, d * d};
+  for (double x : {a, b, a * a, a * b, b * b, a * a * a, a * a * b, a * b * b, b * b * b}) {
+    f.push_back(x);
+    f.push_back(d * x);
+  }
+  for (double x : {sx, sy, w}) {
+    f.push_back(x);
+    f.push_back(d * x);
+    f.push_back(a * x);
+    f.push_back(b * x);
+  }
+  return Eigen::Map<const Eigen::VectorXd>(f.data(), Eigen::Index(f.size()));
+}
+
+struct TactipSplit {
+  std::string name;
+  std::vector<TactipTarget> targets;
+  std::vector<std::vector<PinDetection>> detections;
+};
+
+TactipSplit read_tactip_split(const fs::path& in, const std::string& name, const PinReference& ref,
+                              const cv::Mat& ref_img, const TactipImportOptions& options, ImportReport& report) {
+  const fs::path sdir = in / name;
+  TactipSplit sp;
+  sp.name = name;
+  sp.targets = read_tactip_targets((sdir / "targets.csv").string());
+  if (options.max_samples_per_split > 0 && sp.targets.size() > std::size_t(options.max_samples_per_split))
+    sp.targets.resize(options.max_samples_per_split);
+  const std::string other_ref = (sdir / "images" / "image_0.png").string();
+  if (fs::exists(other_ref)) {
+    const cv::Mat o = read_grey(other_ref);
+    if (o.size() != ref_img.size() || cv::norm(o, ref_img, cv::NORM_INF) != 0)
+      report.lines.push_back(name + ": its image_0.png differs from calibration's; calibration's is the rest");
+  }
+  for (const auto& t : sp.targets) {
+    const std::string ipath = (sdir / "images" / t.image).string();
+    const cv::Mat img = read_grey(ipath);
+    if (img.size() != ref_img.size()) throw InputError(ipath, "image size differs from the reference");
+    sp.detections.push_back(detect_pins(img, options.tracker, ref.area_px));
+  }
+  return sp;
+}
+
+// The prior of every sample's pin field, fitted on the calibration split alone by continuation in depth.
+ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& cal, const TactipImportOptions& options) {
+  std::vector<Eigen::VectorXd> x;
+  std::vector<double> depth;
+  for (const auto& t : cal.targets) {
+    x.push_back(tactip_covariates(t));
+    depth.push_back(t.depth_mm);
+  }
+  ContinuationOptions c;
+  for (double d = options.prior_first_depth_mm; d < 5.0; d += options.prior_step_mm) c.limits.push_back(d);
+  c.limits.push_back(std::numeric_limits<double>::infinity());
+  return fit_prior_by_continuation(ref, cal.detections, x, depth, options.tracker, c);
+}
+
 }  // namespace
 
 // Frames (SOURCE.md, env_params.json): the work frame W has z down into the surface (the surface plane is
@@ -600,25 +666,36 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
                     {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
   ds.mesh_files = {{"meshes/flat_surface.obj", box_obj(0.08, 0.08, 0.01)}};
   ImportReport report;
-  for (const char* split : {"calibration", "validation"}) {
-    const fs::path sdir = in / split;
-    std::vector<TactipTarget> targets = read_tactip_targets((sdir / "targets.csv").string());
-    if (options.max_samples_per_split > 0 && targets.size() > std::size_t(options.max_samples_per_split))
-      targets.resize(options.max_samples_per_split);
-    const std::string other_ref = (sdir / "images" / "image_0.png").string();
-    if (fs::exists(other_ref)) {
-      const cv::Mat o = read_grey(other_ref);
-      if (o.size() != ref_img.size() || cv::norm(o, ref_img, cv::NORM_INF) != 0)
-        report.lines.push_back(std::string(split) + ": its image_0.png differs from calibration's; calibration's is the rest");
-    }
+  std::vector<TactipSplit> splits;
+  for (const char* split : {"calibration", "validation"})
+    splits.push_back(read_tactip_split(in, split, ref, ref_img, options, report));
+  PinFieldPrior prior;
+  if (options.use_prior) {
+    const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
+    prior = fit.prior;
+    for (const auto& st : fit.stages)
+      report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + " depth <= " + format_number(st.limit, "%.2f") + " mm: " +
+                             std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
+                             " calibration samples accepted; |tracked - prior| median " +
+                             format_number(st.miss_median_px, "%.2f") + " px, p95 " + format_number(st.miss_p95_px, "%.2f") + " px");
+  }
+  for (const auto& sp : splits) {
     std::vector<double> kept;
-    int worst_number = -1;
+    int worst_number = -1, slipped_samples = 0;
     double worst = 2.0;
-    for (const auto& t : targets) {
-      const std::string ipath = (sdir / "images" / t.image).string();
-      const cv::Mat img = read_grey(ipath);
-      if (img.size() != ref_img.size()) throw InputError(ipath, "image size differs from the reference");
-      const std::vector<Vec2> disp = track_pins(ref, img, options.tracker);
+    for (std::size_t k = 0; k < sp.targets.size(); ++k) {
+      const TactipTarget& t = sp.targets[k];
+      const std::vector<Vec2> expected = prior.predict(tactip_covariates(t));
+      std::vector<Vec2> disp = track_pins(ref, sp.detections[k], options.tracker, expected);
+      // Pins the lattice check doubts are lost, not kept: a kept pin must be the right pin.
+      const LatticeCheckResult check = check_lattice(ref, disp, sp.detections[k], LatticeCheckOptions{}, expected);
+      int dropped = 0;
+      for (std::size_t i = 0; i < disp.size(); ++i)
+        if (check.suspect[i] && disp[i].allFinite()) {
+          disp[i] = Vec2(kNaN, kNaN);
+          ++dropped;
+        }
+      slipped_samples += !check.clean();
       int found = 0;
       for (const auto& d : disp) found += d.allFinite();
       const double frac = double(found) / double(disp.size());
@@ -629,10 +706,10 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       }
       constexpr double kDeg = M_PI / 180.0;
       TsdSampleOut s;
-      s.id = std::string(split == std::string("calibration") ? "cal_" : "val_") + format_number(t.number, "%04.0f");
+      s.id = std::string(sp.name == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
       s.motion = tactip_motion(t);
       s.indenter = kTactipSurface;
-      s.split = split;
+      s.split = sp.name;
       s.dt_s = kTactipDtS;
       s.pose_known = true;
       s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
@@ -644,20 +721,28 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       s.disp_px.assign(s.X_EI.size(), lost);
       s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
       s.disp_px.back() = disp;
-      s.extra = {{"image", std::string(split) + "/images/" + t.image},
+      s.extra = {{"image", sp.name + "/images/" + t.image},
                  {"pins_tracked", found},
+                 {"lattice_check", {{"slipped_pairs", check.slipped_pairs}, {"flipped_triangles", check.flipped_triangles},
+                                    {"skipped_sites", check.skipped_sites}, {"prior_misses", check.prior_misses},
+                                    {"median_prior_miss_px", check.median_prior_miss_px},
+                                    {"coherent_prior_miss_px", check.coherent_prior_miss_px},
+                                    {"registration_margin", check.registration_margin},
+                                    {"field_shifted", check.field_shifted}, {"worst_relative_step", check.worst_relative_step},
+                                    {"pins_dropped", dropped}, {"detections", sp.detections[k].size()}}},
                  {"targets", {{"depth_mm", t.depth_mm}, {"tilt_deg", {t.rx_deg, t.ry_deg}},
                               {"shear_mm", {t.sx_mm, t.sy_mm}}, {"twist_deg", t.twist_deg}}}};
       ds.samples.push_back(std::move(s));
     }
     std::sort(kept.begin(), kept.end());
     const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-    report.lines.push_back(std::string(split) + ": " + std::to_string(kept.size()) + " images, " +
+    report.lines.push_back(sp.name + ": " + std::to_string(kept.size()) + " images, " +
                            std::to_string(ref.rest_px.size()) + " pins; kept fraction min " +
                            format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
                            "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
                            format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " +
-                           std::to_string(below));
+                           std::to_string(below) + "; images where the lattice check dropped pins: " +
+                           std::to_string(slipped_samples));
   }
   ds.provenance =
       "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "

@@ -59,9 +59,15 @@ struct PinReference {
 PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOptions& options,
                                 const std::string& where);
 
-// Displacement of every reference pin in `image` (NaN where lost).
+// Displacement of every reference pin in `image` (NaN where lost). `prior_disp` (empty = zero; one entry
+// per reference pin, NaN entries count as zero) is an expected displacement field, e.g. from the sample's
+// known inputs (pin_field_prior.hpp): the fit, the seeds and the growth then work on the residual
+// disp - prior, so a field of several pitches is tracked as long as the prior is right to within the gate
+// (its smooth errors are absorbed by the global fit and the neighbour medians). Throws
+// std::invalid_argument when the prior's size is not the reference's.
 std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetection>& detections,
-                             const PinTrackerOptions& options);
-std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& options);
+                             const PinTrackerOptions& options, const std::vector<Vec2>& prior_disp = {});
+std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& options,
+                             const std::vector<Vec2>& prior_disp = {});
 
 }  // namespace sb
