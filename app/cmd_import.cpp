@@ -13,7 +13,7 @@ struct ImportArgs {
   std::string source, in, out, grid = "auto";
   double mm_per_px = 0.0634;
   int max_samples = 0;
-  bool no_pin_prior = false;
+  bool no_pin_prior = false, no_lattice_check = false;
 };
 
 int run_import(const ImportArgs& a, const GlobalOptions&) {
@@ -28,6 +28,7 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
     TactipImportOptions t;
     t.max_samples_per_split = a.max_samples;
     t.use_prior = !a.no_pin_prior;
+    t.lattice_check = !a.no_lattice_check;
     report = import_tactip_shear(a.in, a.out, t);
   } else
     throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats, tactip_shear)");
@@ -47,6 +48,8 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
       ->check(CLI::NonNegativeNumber);
   sub.add_flag("--no-pin-prior", a.no_pin_prior,
                "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");
+  sub.add_flag("--no-lattice-check", a.no_lattice_check,
+               "tactip_shear: keep the pins the lattice-slip check doubts (they are dropped by default)");
   sub.add_flag("--frames", a.frames, "video sources: also store the frames as PNG (the workbench shows them)");
 }
 

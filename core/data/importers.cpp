@@ -690,11 +690,8 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       // Pins the lattice check doubts are lost, not kept: a kept pin must be the right pin.
       const LatticeCheckResult check = check_lattice(ref, disp, sp.detections[k], LatticeCheckOptions{}, expected);
       int dropped = 0;
-      for (std::size_t i = 0; i < disp.size(); ++i)
-        if (check.suspect[i] && disp[i].allFinite()) {
-          disp[i] = Vec2(kNaN, kNaN);
-          ++dropped;
-        }
+      for (std::size_t i = 0; i < disp.size(); ++i) dropped += check.suspect[i] && disp[i].allFinite();
+      if (options.lattice_check) disp = without_suspects(disp, check);
       slipped_samples += !check.clean();
       int found = 0;
       for (const auto& d : disp) found += d.allFinite();
@@ -729,7 +726,8 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
                                     {"coherent_prior_miss_px", check.coherent_prior_miss_px},
                                     {"registration_margin", check.registration_margin},
                                     {"field_shifted", check.field_shifted}, {"worst_relative_step", check.worst_relative_step},
-                                    {"pins_dropped", dropped}, {"detections", sp.detections[k].size()}}},
+                                    {"detached_pins", check.detached_pins}, {"pins_dropped", options.lattice_check ? dropped : 0},
+                                    {"pins_suspect", dropped}, {"detections", sp.detections[k].size()}}},
                  {"targets", {{"depth_mm", t.depth_mm}, {"tilt_deg", {t.rx_deg, t.ry_deg}},
                               {"shear_mm", {t.sx_mm, t.sy_mm}}, {"twist_deg", t.twist_deg}}}};
       ds.samples.push_back(std::move(s));
@@ -741,7 +739,7 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
                            format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
                            "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
                            format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " +
-                           std::to_string(below) + "; images where the lattice check dropped pins: " +
+                           std::to_string(below) + "; images not clean under the lattice check: " +
                            std::to_string(slipped_samples));
   }
   ds.provenance =

@@ -52,6 +52,8 @@ struct TactipImportOptions {
   // calibration split by continuation in depth (first stage: presses up to prior_first_depth_mm tracked
   // without a prior, then steps of prior_step_mm). false: every image tracked without a prior.
   bool use_prior = true;
+  // Drop the pins lattice_check.hpp doubts (false: keep every match, e.g. to compare trackers).
+  bool lattice_check = true;
   double prior_first_depth_mm = 2.0;
   double prior_step_mm = 0.25;
 };

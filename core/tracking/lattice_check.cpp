@@ -77,18 +77,69 @@ std::vector<std::vector<int>> directional_neighbours(const PinReference& ref, co
   return nb;
 }
 
+// Pins outside the largest group of unsuspected tracked pins joined by lattice edges are marked suspect:
+// an island cut off by lost or suspect pins was registered on its own, and nothing ties its registration
+// to the main field's (a slipped island inside a ring of lost pins has no boundary to show). Returns how
+// many were marked.
+int mark_detached(const PinReference& ref, const std::vector<Vec2>& disp, std::vector<char>& suspect) {
+  const std::size_t n = ref.rest_px.size();
+  std::vector<std::vector<int>> adj(n);
+  for (const auto& [i, j] : lattice_edges(ref))
+    if (disp[i].allFinite() && disp[j].allFinite() && !suspect[i] && !suspect[j]) {
+      adj[i].push_back(j);
+      adj[j].push_back(i);
+    }
+  std::vector<int> group(n, -1), size;
+  for (std::size_t s = 0; s < n; ++s) {
+    if (group[s] >= 0 || !disp[s].allFinite() || suspect[s]) continue;
+    const int g = int(size.size());
+    size.push_back(0);
+    std::vector<int> todo{int(s)};
+    group[s] = g;
+    while (!todo.empty()) {
+      const int i = todo.back();
+      todo.pop_back();
+      ++size[g];
+      for (int j : adj[i])
+        if (group[j] < 0) {
+          group[j] = g;
+          todo.push_back(j);
+        }
+    }
+  }
+  if (size.empty()) return 0;
+  const int main_group = int(std::max_element(size.begin(), size.end()) - size.begin());
+  int marked = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    if (group[i] >= 0 && group[i] != main_group) {
+      suspect[i] = 1;
+      ++marked;
+    }
+  return marked;
+}
+
 }  // namespace
+
+std::vector<Vec2> without_suspects(const std::vector<Vec2>& disp, const LatticeCheckResult& check) {
+  std::vector<Vec2> out = disp;
+  for (std::size_t i = 0; i < out.size() && i < check.suspect.size(); ++i)
+    if (check.suspect[i]) out[i] = Vec2(std::nan(""), std::nan(""));
+  return out;
+}
 
 int registration_margin(const PinReference& ref, const std::vector<Vec2>& disp,
                         const std::vector<PinDetection>& detections) {
   const std::size_t n = ref.rest_px.size();
   int matched = 0;
   for (const auto& d : disp) matched += d.allFinite();
+  // A detection is used when a tracked pin sits on it (within 0.1 pitch: detections are a pitch apart, and
+  // a field given from elsewhere, e.g. a test's truth, may differ from the centroids by the rasterisation).
+  const double used2 = std::pow(0.1 * ref.pitch_px, 2);
   int unmatched = 0;
   for (const auto& det : detections) {
     bool used = false;
     for (std::size_t i = 0; i < n && !used; ++i)
-      used = disp[i].allFinite() && (ref.rest_px[i] + disp[i] - det.uv).squaredNorm() < 1e-6;
+      used = disp[i].allFinite() && (ref.rest_px[i] + disp[i] - det.uv).squaredNorm() < used2;
     unmatched += !used;
   }
   const auto nb = directional_neighbours(ref, lattice_edges(ref));
@@ -182,6 +233,7 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
       for (int v : t) r.suspect[v] = 1;
     }
   }
+  r.detached_pins = mark_detached(ref, disp, r.suspect);
   return r;
 }
 

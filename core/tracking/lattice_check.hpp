@@ -21,6 +21,8 @@
 //   inputs (pin_field_prior.hpp), the component-wise median of (tracked - prior) must also stay under
 //   `max_coherent_prior_miss` pitches. Pins farther than `max_prior_miss` from the prior are counted (a
 //   diagnostic of the prior), not flagged: the prior is a regression; the lattice decides.
+// Last, tracked pins cut off from the largest group of unsuspected pins (joined by lattice edges) are
+// suspect too: an island ringed by lost pins has no boundary that could show its slip.
 #include <array>
 #include <utility>
 #include <vector>
@@ -49,8 +51,11 @@ struct LatticeCheckResult {
   double coherent_prior_miss_px = 0;  // |component-wise median of (tracked - prior)|: a whole-field slip
   int registration_margin = 0;  // pins explained beyond the best one-site translation (see above)
   bool field_shifted = false;   // margin <= 0 or a coherent prior miss: all tracked pins suspect
+  int detached_pins = 0;        // tracked pins cut off from the main field by lost or suspect pins (suspect)
   double worst_relative_step = 0;
-  std::vector<char> suspect;    // per pin: on a slipped pair, a skipped site or a flipped triangle
+  // Per pin: on a slipped pair, a skipped site or a flipped triangle, in a shifted field, or detached.
+  // Detached pins are unverified rather than evidence of a slip, so they do not make the field unclean.
+  std::vector<char> suspect;
   bool clean() const { return slipped_pairs == 0 && skipped_sites == 0 && flipped_triangles == 0 && !field_shifted; }
 };
 
@@ -62,6 +67,9 @@ std::vector<std::pair<int, int>> lattice_edges(const PinReference& ref);
 // neighbours (the hexagonal cells; the long triangles along the convex hull are left out). Vertices
 // counter-clockwise in image coordinates (positive signed area with v down).
 std::vector<std::array<int, 3>> lattice_triangles(const PinReference& ref);
+
+// `disp` with every suspect pin lost (NaN).
+std::vector<Vec2> without_suspects(const std::vector<Vec2>& disp, const LatticeCheckResult& check);
 
 // The registration margin alone (see the file comment).
 int registration_margin(const PinReference& ref, const std::vector<Vec2>& disp,

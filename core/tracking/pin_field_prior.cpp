@@ -119,8 +119,10 @@ ContinuationResult fit_prior_by_continuation(const PinReference& ref,
       if ((r.accepted[k] && !refine) || difficulty[k] > limits[s]) continue;
       ++st.candidates;
       const std::vector<Vec2> prior = r.prior.predict(features[k]);
-      std::vector<Vec2> disp = track_pins(ref, detections[k], tracker, prior);
-      if (std::size_t(kept_count(disp)) < need || !check_lattice(ref, disp, detections[k], o.check, prior).clean()) continue;
+      const std::vector<Vec2> tracked = track_pins(ref, detections[k], tracker, prior);
+      const LatticeCheckResult check = check_lattice(ref, tracked, detections[k], o.check, prior);
+      std::vector<Vec2> disp = without_suspects(tracked, check);
+      if (std::size_t(kept_count(disp)) < need || !check.clean()) continue;
       r.accepted[k] = 1;
       ++st.accepted;
       for (std::size_t i = 0; i < disp.size() && !prior.empty(); ++i)
