@@ -748,7 +748,13 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
       "(identical in validation/), " + std::to_string(ref.rest_px.size()) + " pins, pitch " +
       format_number(ref.pitch_px, "%.2f") + " px. Pins tracked by shearbench's pin tracker (blob detection, global "
-      "affine then local nearest-neighbour correspondence, lost pins NaN). poses.csv is the collection procedure: "
+      "affine then local nearest-neighbour correspondence, lost pins NaN)" +
+      std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
+                                      "regression fitted on the calibration split alone (continuation from "
+                                      "shallow to deep presses)" : "") +
+      std::string(options.lattice_check ? "; pins the lattice-slip check doubts (a skipped lattice site, a "
+                                          "crossing, a jump between neighbours, a detached island, a whole-field "
+                                          "shift) are lost: see 'lattice_check' per sample" : "") + ". poses.csv is the collection procedure: "
       "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." + std::to_string(options.slide_steps + 1) +
       " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
       "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "

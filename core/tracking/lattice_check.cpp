@@ -197,7 +197,6 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
                                 std::to_string(prior.size()) + " differ from the reference's " + std::to_string(n));
   LatticeCheckResult r;
   r.suspect.assign(n, 0);
-  std::vector<double> miss, miss_u, miss_v;
   for (const auto& [i, j] : lattice_edges(ref)) {
     if (!disp[i].allFinite() || !disp[j].allFinite()) continue;
     ++r.pairs_checked;
@@ -210,20 +209,6 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
     r.skipped_sites += skipped;
     if (slipped || skipped) r.suspect[i] = r.suspect[j] = 1;
   }
-  for (std::size_t i = 0; i < n; ++i)
-    if (disp[i].allFinite() && !prior.empty() && prior[i].allFinite()) {
-      miss.push_back((disp[i] - prior[i]).norm());
-      miss_u.push_back((disp[i] - prior[i]).x());
-      miss_v.push_back((disp[i] - prior[i]).y());
-      r.prior_misses += miss.back() > o.max_prior_miss * ref.pitch_px;
-    }
-  r.median_prior_miss_px = median_of(miss);
-  r.coherent_prior_miss_px = Vec2(median_of(miss_u), median_of(miss_v)).norm();
-  r.registration_margin = registration_margin(ref, disp, detections);
-  r.field_shifted =
-      r.registration_margin <= 0 || r.coherent_prior_miss_px > o.max_coherent_prior_miss * ref.pitch_px;
-  if (r.field_shifted)
-    for (std::size_t i = 0; i < n; ++i) r.suspect[i] = disp[i].allFinite();
   for (const auto& t : lattice_triangles(ref)) {
     if (!disp[t[0]].allFinite() || !disp[t[1]].allFinite() || !disp[t[2]].allFinite()) continue;
     ++r.triangles_checked;
@@ -234,6 +219,28 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
     }
   }
   r.detached_pins = mark_detached(ref, disp, r.suspect);
+  // The whole-field tests judge what would be kept: a field whose slipped part is its larger part keeps
+  // that part after the local tests, and only the pins left can show it.
+  const std::vector<Vec2> kept = without_suspects(disp, r);
+  std::vector<double> miss_u, miss_v, miss;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (prior.empty() || !prior[i].allFinite()) continue;
+    if (disp[i].allFinite()) {
+      miss.push_back((disp[i] - prior[i]).norm());
+      r.prior_misses += miss.back() > o.max_prior_miss * ref.pitch_px;
+    }
+    if (kept[i].allFinite()) {
+      miss_u.push_back((kept[i] - prior[i]).x());
+      miss_v.push_back((kept[i] - prior[i]).y());
+    }
+  }
+  r.median_prior_miss_px = median_of(miss);
+  r.coherent_prior_miss_px = Vec2(median_of(miss_u), median_of(miss_v)).norm();
+  r.registration_margin = registration_margin(ref, kept, detections);
+  r.field_shifted =
+      r.registration_margin <= 0 || r.coherent_prior_miss_px > o.max_coherent_prior_miss * ref.pitch_px;
+  if (r.field_shifted)
+    for (std::size_t i = 0; i < n; ++i) r.suspect[i] = disp[i].allFinite();
   return r;
 }
 

@@ -16,8 +16,9 @@
 //   correspondence one lattice step, so the pins on the leading rim would need detections beyond it and
 //   those on the trailing rim's detections would be left over. registration_margin counts how many more
 //   pins the found registration explains than the best one-site translation of it could (at most: the
-//   pins whose neighbour in that direction is matched, plus every unmatched detection); <= 0 means the
-//   image cannot tell them apart and every tracked pin is suspect. With a prior from the sample's known
+//   pins whose neighbour in that direction is matched, plus every unmatched detection), counted on the
+//   pins the local tests leave (a field whose slipped part is the larger one keeps that part); <= 0 means
+//   the image cannot tell them apart and every tracked pin is suspect. With a prior from the sample's known
 //   inputs (pin_field_prior.hpp), the component-wise median of (tracked - prior) must also stay under
 //   `max_coherent_prior_miss` pitches. Pins farther than `max_prior_miss` from the prior are counted (a
 //   diagnostic of the prior), not flagged: the prior is a regression; the lattice decides.
@@ -49,7 +50,8 @@ struct LatticeCheckResult {
   int prior_misses = 0;         // tracked pins farther than max_prior_miss pitches from the prior (counted)
   double median_prior_miss_px = 0;  // median |tracked - prior| (0 without a prior)
   double coherent_prior_miss_px = 0;  // |component-wise median of (tracked - prior)|: a whole-field slip
-  int registration_margin = 0;  // pins explained beyond the best one-site translation (see above)
+  int registration_margin = 0;  // pins explained beyond the best one-site translation (see above), after
+                                // the local tests' suspects are dropped
   bool field_shifted = false;   // margin <= 0 or a coherent prior miss: all tracked pins suspect
   int detached_pins = 0;        // tracked pins cut off from the main field by lost or suspect pins (suspect)
   double worst_relative_step = 0;
