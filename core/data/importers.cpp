@@ -674,7 +674,8 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
     const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
     prior = fit.prior;
     for (const auto& st : fit.stages)
-      report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + " depth <= " + format_number(st.limit, "%.2f") + " mm: " +
+      report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
+                             (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") + ": " +
                              std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
                              " calibration samples accepted; |tracked - prior| median " +
                              format_number(st.miss_median_px, "%.2f") + " px, p95 " + format_number(st.miss_p95_px, "%.2f") + " px");
