@@ -29,6 +29,7 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
     t.max_samples_per_split = a.max_samples;
     t.use_prior = !a.no_pin_prior;
     t.lattice_check = !a.no_lattice_check;
+    t.frames = a.frames;
     report = import_tactip_shear(a.in, a.out, t);
   } else
     throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats, tactip_shear)");
@@ -50,7 +51,7 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
                "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");
   sub.add_flag("--no-lattice-check", a.no_lattice_check,
                "tactip_shear: keep the pins the lattice-slip check doubts (they are dropped by default)");
-  sub.add_flag("--frames", a.frames, "video sources: also store the frames as PNG (the workbench shows them)");
+  sub.add_flag("--frames", a.frames, "video sources and tactip_shear: also store the frames as PNG (the workbench shows them behind the panels)");
 }
 
 const Subcommand<ImportArgs> kSubcommand{

@@ -719,6 +719,11 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       s.disp_px.assign(s.X_EI.size(), lost);
       s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
       s.disp_px.back() = disp;
+      if (options.frames) {
+        s.frames.assign(s.X_EI.size(), cv::Mat());
+        s.frames.front() = ref_img;
+        s.frames.back() = read_grey((in / sp.name / "images" / t.image).string());
+      }
       s.extra = {{"image", sp.name + "/images/" + t.image},
                  {"pins_tracked", found},
                  {"lattice_check", {{"slipped_pairs", check.slipped_pairs}, {"flipped_triangles", check.flipped_triangles},

@@ -54,6 +54,9 @@ struct TactipImportOptions {
   bool use_prior = true;
   // Drop the pins lattice_check.hpp doubts (false: keep every match, e.g. to compare trackers).
   bool lattice_check = true;
+  // Store the images (frame 0: the reference, the last frame: the sample's thresholded image; the frames
+  // between were not imaged and have none) so the workbench shows them behind the panels.
+  bool frames = false;
   double prior_first_depth_mm = 2.0;
   double prior_step_mm = 0.25;
 };
