@@ -673,6 +673,10 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   if (options.use_prior) {
     const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
     prior = fit.prior;
+    if (prior.empty())
+      report.lines.push_back("prior: too few calibration samples (" + std::to_string(splits.front().targets.size()) +
+                             ") for the per-pin regression; every image tracked without a prior (deep presses "
+                             "lose pins rather than guess)");
     for (const auto& st : fit.stages)
       report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
                              (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") + ": " +
