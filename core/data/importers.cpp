@@ -611,6 +611,84 @@ ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& 
   return fit_prior_by_continuation(ref, cal.detections, x, depth, options.tracker, c);
 }
 
+void report_prior(const ContinuationResult& fit, std::size_t calibration_samples, ImportReport& report) {
+  if (fit.prior.empty())
+    report.lines.push_back("prior: too few calibration samples (" + std::to_string(calibration_samples) +
+                           ") for the per-pin regression; every image tracked without a prior (deep presses "
+                           "lose pins rather than guess)");
+  for (const auto& st : fit.stages)
+    report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
+                           (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") +
+                           ": " + std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
+                           " calibration samples accepted; |tracked - prior| median " +
+                           format_number(st.miss_median_px, "%.2f") + " px, p95 " +
+                           format_number(st.miss_p95_px, "%.2f") + " px");
+}
+
+// One image's pins: tracked against the prior, then checked; the pins the check doubts are lost, not
+// kept (a kept pin must be the right pin), unless options.lattice_check is off.
+struct CheckedPins {
+  std::vector<Vec2> disp;
+  LatticeCheckResult check;
+  int suspect = 0;  // tracked pins the check doubts
+  int kept() const {
+    int n = 0;
+    for (const auto& d : disp) n += d.allFinite();
+    return n;
+  }
+};
+
+CheckedPins track_checked(const PinReference& ref, const std::vector<PinDetection>& detections,
+                          const std::vector<Vec2>& prior, const TactipImportOptions& options) {
+  CheckedPins out;
+  out.disp = track_pins(ref, detections, options.tracker, prior);
+  out.check = check_lattice(ref, out.disp, detections, LatticeCheckOptions{}, prior);
+  for (std::size_t i = 0; i < out.disp.size(); ++i) out.suspect += out.check.suspect[i] && out.disp[i].allFinite();
+  if (options.lattice_check) out.disp = without_suspects(out.disp, out.check);
+  return out;
+}
+
+nlohmann::json lattice_check_json(const CheckedPins& p, std::size_t detections, bool dropped) {
+  const LatticeCheckResult& c = p.check;
+  return {{"slipped_pairs", c.slipped_pairs}, {"flipped_triangles", c.flipped_triangles},
+          {"skipped_sites", c.skipped_sites}, {"prior_misses", c.prior_misses},
+          {"median_prior_miss_px", c.median_prior_miss_px}, {"coherent_prior_miss_px", c.coherent_prior_miss_px},
+          {"registration_margin", c.registration_margin}, {"field_shifted", c.field_shifted},
+          {"worst_relative_step", c.worst_relative_step}, {"detached_pins", c.detached_pins},
+          {"pins_dropped", dropped ? p.suspect : 0}, {"pins_suspect", p.suspect}, {"detections", detections}};
+}
+
+
+// The tsd/1 sample of one TacTip image: the pose path of the collection procedure (in E), the markers
+// (frame 0 the reference, the last frame `disp`, NaN between: not imaged) and, with `ref_img` given, the
+// reference and the image as frames 0 and last.
+TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, const std::vector<Vec2>& disp,
+                           const TactipImportOptions& options, const cv::Mat& ref_img, const fs::path& in) {
+  constexpr double kDeg = M_PI / 180.0;
+  TsdSampleOut s;
+  s.id = std::string(split == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
+  s.motion = tactip_motion(t);
+  s.indenter = kTactipSurface;
+  s.split = split;
+  s.dt_s = kTactipDtS;
+  s.pose_known = true;
+  s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
+                            t.twist_deg * kDeg, options.slide_steps);
+  Pose X_ES = Pose::Identity();
+  X_ES.linear() = Eigen::AngleAxisd(kTactipImageFromToolDeg * kDeg, Vec3::UnitZ()).toRotationMatrix();
+  for (auto& X : s.X_EI) X = X_ES * X;
+  const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
+  s.disp_px.assign(s.X_EI.size(), lost);
+  s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
+  s.disp_px.back() = disp;
+  if (!ref_img.empty()) {
+    s.frames.assign(s.X_EI.size(), cv::Mat());
+    s.frames.front() = ref_img;
+    s.frames.back() = read_grey((in / split / "images" / t.image).string());
+  }
+  return s;
+}
+
 }  // namespace
 
 // Frames (SOURCE.md, env_params.json): the work frame W has z down into the surface (the surface plane is
@@ -673,16 +751,7 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   if (options.use_prior) {
     const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
     prior = fit.prior;
-    if (prior.empty())
-      report.lines.push_back("prior: too few calibration samples (" + std::to_string(splits.front().targets.size()) +
-                             ") for the per-pin regression; every image tracked without a prior (deep presses "
-                             "lose pins rather than guess)");
-    for (const auto& st : fit.stages)
-      report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
-                             (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") + ": " +
-                             std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
-                             " calibration samples accepted; |tracked - prior| median " +
-                             format_number(st.miss_median_px, "%.2f") + " px, p95 " + format_number(st.miss_p95_px, "%.2f") + " px");
+    report_prior(fit, splits.front().targets.size(), report);
   }
   for (const auto& sp : splits) {
     std::vector<double> kept;
@@ -690,54 +759,20 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
     double worst = 2.0;
     for (std::size_t k = 0; k < sp.targets.size(); ++k) {
       const TactipTarget& t = sp.targets[k];
-      const std::vector<Vec2> expected = prior.predict(tactip_covariates(t));
-      std::vector<Vec2> disp = track_pins(ref, sp.detections[k], options.tracker, expected);
-      // Pins the lattice check doubts are lost, not kept: a kept pin must be the right pin.
-      const LatticeCheckResult check = check_lattice(ref, disp, sp.detections[k], LatticeCheckOptions{}, expected);
-      int dropped = 0;
-      for (std::size_t i = 0; i < disp.size(); ++i) dropped += check.suspect[i] && disp[i].allFinite();
-      if (options.lattice_check) disp = without_suspects(disp, check);
-      slipped_samples += !check.clean();
-      int found = 0;
-      for (const auto& d : disp) found += d.allFinite();
+      const CheckedPins pins = track_checked(ref, sp.detections[k], prior.predict(tactip_covariates(t)), options);
+      const std::vector<Vec2>& disp = pins.disp;
+      slipped_samples += !pins.check.clean();
+      const int found = pins.kept();
       const double frac = double(found) / double(disp.size());
       kept.push_back(frac);
       if (frac < worst) {
         worst = frac;
         worst_number = t.number;
       }
-      constexpr double kDeg = M_PI / 180.0;
-      TsdSampleOut s;
-      s.id = std::string(sp.name == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
-      s.motion = tactip_motion(t);
-      s.indenter = kTactipSurface;
-      s.split = sp.name;
-      s.dt_s = kTactipDtS;
-      s.pose_known = true;
-      s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
-                                t.twist_deg * kDeg, options.slide_steps);
-      Pose X_ES = Pose::Identity();
-      X_ES.linear() = Eigen::AngleAxisd(kTactipImageFromToolDeg * kDeg, Vec3::UnitZ()).toRotationMatrix();
-      for (auto& X : s.X_EI) X = X_ES * X;
-      const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
-      s.disp_px.assign(s.X_EI.size(), lost);
-      s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
-      s.disp_px.back() = disp;
-      if (options.frames) {
-        s.frames.assign(s.X_EI.size(), cv::Mat());
-        s.frames.front() = ref_img;
-        s.frames.back() = read_grey((in / sp.name / "images" / t.image).string());
-      }
+      TsdSampleOut s = tactip_sample(sp.name, t, disp, options, options.frames ? ref_img : cv::Mat(), in);
       s.extra = {{"image", sp.name + "/images/" + t.image},
                  {"pins_tracked", found},
-                 {"lattice_check", {{"slipped_pairs", check.slipped_pairs}, {"flipped_triangles", check.flipped_triangles},
-                                    {"skipped_sites", check.skipped_sites}, {"prior_misses", check.prior_misses},
-                                    {"median_prior_miss_px", check.median_prior_miss_px},
-                                    {"coherent_prior_miss_px", check.coherent_prior_miss_px},
-                                    {"registration_margin", check.registration_margin},
-                                    {"field_shifted", check.field_shifted}, {"worst_relative_step", check.worst_relative_step},
-                                    {"detached_pins", check.detached_pins}, {"pins_dropped", options.lattice_check ? dropped : 0},
-                                    {"pins_suspect", dropped}, {"detections", sp.detections[k].size()}}},
+                 {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
                  {"targets", {{"depth_mm", t.depth_mm}, {"tilt_deg", {t.rx_deg, t.ry_deg}},
                               {"shear_mm", {t.sx_mm, t.sy_mm}}, {"twist_deg", t.twist_deg}}}};
       ds.samples.push_back(std::move(s));
