@@ -45,7 +45,7 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
       ->required();
   sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
   sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();
-  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all)")
+  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all; the pin prior is fitted on the calibration samples imported, none below 66)")
       ->check(CLI::NonNegativeNumber);
   sub.add_flag("--no-pin-prior", a.no_pin_prior,
                "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");
