@@ -13,6 +13,7 @@ struct ImportArgs {
   std::string source, in, out, grid = "auto";
   double mm_per_px = 0.0634;
   int max_samples = 0;
+  bool no_pin_prior = false, no_lattice_check = false;
 };
 
 int run_import(const ImportArgs& a, const GlobalOptions&) {
@@ -26,6 +27,9 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
   else if (a.source == "tactip_shear") {
     TactipImportOptions t;
     t.max_samples_per_split = a.max_samples;
+    t.use_prior = !a.no_pin_prior;
+    t.lattice_check = !a.no_lattice_check;
+    t.frames = a.frames;
     report = import_tactip_shear(a.in, a.out, t);
   } else
     throw InputError("--source", "unknown source '" + a.source + "' (gsrobotics, incipient_slip, fots, feats, tactip_shear)");
@@ -41,9 +45,13 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
       ->required();
   sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
   sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();
-  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all)")
+  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all; the pin prior is fitted on the calibration samples imported, none below 66)")
       ->check(CLI::NonNegativeNumber);
-  sub.add_flag("--frames", a.frames, "video sources: also store the frames as PNG (the workbench shows them)");
+  sub.add_flag("--no-pin-prior", a.no_pin_prior,
+               "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");
+  sub.add_flag("--no-lattice-check", a.no_lattice_check,
+               "tactip_shear: keep the pins the lattice-slip check doubts (they are dropped by default)");
+  sub.add_flag("--frames", a.frames, "video sources and tactip_shear: also store the frames as PNG (the workbench shows them behind the panels)");
 }
 
 const Subcommand<ImportArgs> kSubcommand{

@@ -168,3 +168,33 @@ TEST_CASE("a malformed targets.csv row is an InputError naming file, line and co
   }
   fs::remove_all(dir);
 }
+
+TEST_CASE("tactip_shear import with frames: the reference and the image, none where nothing was imaged",
+          "[import][tactip]") {
+  const std::string in = tactip_data("");
+  const fs::path out = fs::temp_directory_path() / "sb_test_import_tactip_frames";
+  fs::remove_all(out);
+  TactipImportOptions opts;
+  opts.max_samples_per_split = 1;
+  opts.frames = true;
+  import_tactip_shear(in, out.string(), opts);
+  const Dataset ds = read_dataset(out.string());
+  REQUIRE(ds.sample("val_0014").has_frames);
+  const SampleData s = read_sample(ds, "val_0014");
+  REQUIRE(s.frame_paths.size() == s.frames());
+  // Frame 0 is the reference, the last frame the sample's image, pixel for pixel; the pressed and
+  // sliding frames between were not imaged (their markers are NaN) and have no image.
+  CHECK(cv::norm(grey(s.frame_paths.front()), grey(tactip_data("validation/images/image_0.png")), cv::NORM_INF) == 0);
+  CHECK(cv::norm(grey(s.frame_paths.back()), grey(tactip_data("validation/images/image_14.png")), cv::NORM_INF) == 0);
+  for (std::size_t k = 1; k + 1 < s.frames(); ++k) CHECK(s.frame_paths[k].empty());
+  SECTION("an imaged frame whose image is missing is an error naming it") {
+    fs::remove(s.frame_paths.back());
+    try {
+      read_sample(ds, "val_0014");
+      FAIL("no InputError");
+    } catch (const InputError& e) {
+      CHECK_THAT(e.what(), Catch::Contains("val_0014/frames/000011.png"));
+    }
+  }
+  fs::remove_all(out);
+}

@@ -15,6 +15,8 @@
 #include "core/sensor/camera.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/tracking/lattice_check.hpp"
+#include "core/tracking/pin_field_prior.hpp"
 
 namespace fs = std::filesystem;
 
@@ -545,6 +547,148 @@ cv::Mat read_grey(const std::string& path) {
   return img;
 }
 
+// Covariates of a sample's pin field for the prior (pin_field_prior.hpp), inputs scaled to about [-1, 1]:
+// the press d and d^2 (the contact grows with the press), the tilt (a, b) to third order (it moves the
+// contact across the dome) alone and times d, the slide (sx, sy) and twist w alone and times d and the
+// tilt (the stick region's size, hence how much of the slide the skin follows, grows with the press).
+Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
+  const double d = t.depth_mm / 5.0, a = t.rx_deg / 25.0, b = t.ry_deg / 25.0, sx = t.sx_mm / 5.0,
+               sy = t.sy_mm / 5.0, w = t.twist_deg / 5.0;
+  std::vector<double> f{1.0, d, d * d};
+  for (double x : {a, b, a * a, a * b, b * b, a * a * a, a * a * b, a * b * b, b * b * b}) {
+    f.push_back(x);
+    f.push_back(d * x);
+  }
+  for (double x : {sx, sy, w}) {
+    f.push_back(x);
+    f.push_back(d * x);
+    f.push_back(a * x);
+    f.push_back(b * x);
+  }
+  return Eigen::Map<const Eigen::VectorXd>(f.data(), Eigen::Index(f.size()));
+}
+
+struct TactipSplit {
+  std::string name;
+  std::vector<TactipTarget> targets;
+  std::vector<std::vector<PinDetection>> detections;
+};
+
+TactipSplit read_tactip_split(const fs::path& in, const std::string& name, const PinReference& ref,
+                              const cv::Mat& ref_img, const TactipImportOptions& options, ImportReport& report) {
+  const fs::path sdir = in / name;
+  TactipSplit sp;
+  sp.name = name;
+  sp.targets = read_tactip_targets((sdir / "targets.csv").string());
+  if (options.max_samples_per_split > 0 && sp.targets.size() > std::size_t(options.max_samples_per_split))
+    sp.targets.resize(options.max_samples_per_split);
+  const std::string other_ref = (sdir / "images" / "image_0.png").string();
+  if (fs::exists(other_ref)) {
+    const cv::Mat o = read_grey(other_ref);
+    if (o.size() != ref_img.size() || cv::norm(o, ref_img, cv::NORM_INF) != 0)
+      report.lines.push_back(name + ": its image_0.png differs from calibration's; calibration's is the rest");
+  }
+  for (const auto& t : sp.targets) {
+    const std::string ipath = (sdir / "images" / t.image).string();
+    const cv::Mat img = read_grey(ipath);
+    if (img.size() != ref_img.size()) throw InputError(ipath, "image size differs from the reference");
+    sp.detections.push_back(detect_pins(img, options.tracker, ref.area_px));
+  }
+  return sp;
+}
+
+// The prior of every sample's pin field, fitted on the calibration split alone by continuation in depth.
+ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& cal, const TactipImportOptions& options) {
+  std::vector<Eigen::VectorXd> x;
+  std::vector<double> depth;
+  for (const auto& t : cal.targets) {
+    x.push_back(tactip_covariates(t));
+    depth.push_back(t.depth_mm);
+  }
+  ContinuationOptions c;
+  for (double d = options.prior_first_depth_mm; d < 5.0; d += options.prior_step_mm) c.limits.push_back(d);
+  c.limits.push_back(std::numeric_limits<double>::infinity());
+  return fit_prior_by_continuation(ref, cal.detections, x, depth, options.tracker, c);
+}
+
+void report_prior(const ContinuationResult& fit, std::size_t calibration_samples, ImportReport& report) {
+  if (fit.prior.empty())
+    report.lines.push_back("prior: too few calibration samples (" + std::to_string(calibration_samples) +
+                           ") for the per-pin regression; every image tracked without a prior (deep presses "
+                           "lose pins rather than guess)");
+  for (const auto& st : fit.stages)
+    report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
+                           (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") +
+                           ": " + std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
+                           " calibration samples accepted; |tracked - prior| median " +
+                           format_number(st.miss_median_px, "%.2f") + " px, p95 " +
+                           format_number(st.miss_p95_px, "%.2f") + " px");
+}
+
+// One image's pins: tracked against the prior, then checked; the pins the check doubts are lost, not
+// kept (a kept pin must be the right pin), unless options.lattice_check is off.
+struct CheckedPins {
+  std::vector<Vec2> disp;
+  LatticeCheckResult check;
+  int suspect = 0;  // tracked pins the check doubts
+  int kept() const {
+    int n = 0;
+    for (const auto& d : disp) n += d.allFinite();
+    return n;
+  }
+};
+
+CheckedPins track_checked(const PinReference& ref, const std::vector<PinDetection>& detections,
+                          const std::vector<Vec2>& prior, const TactipImportOptions& options) {
+  CheckedPins out;
+  out.disp = track_pins(ref, detections, options.tracker, prior);
+  out.check = check_lattice(ref, out.disp, detections, LatticeCheckOptions{}, prior);
+  for (std::size_t i = 0; i < out.disp.size(); ++i) out.suspect += out.check.suspect[i] && out.disp[i].allFinite();
+  if (options.lattice_check) out.disp = without_suspects(out.disp, out.check);
+  return out;
+}
+
+nlohmann::json lattice_check_json(const CheckedPins& p, std::size_t detections, bool dropped) {
+  const LatticeCheckResult& c = p.check;
+  return {{"slipped_pairs", c.slipped_pairs}, {"flipped_triangles", c.flipped_triangles},
+          {"skipped_sites", c.skipped_sites}, {"prior_misses", c.prior_misses},
+          {"median_prior_miss_px", c.median_prior_miss_px}, {"coherent_prior_miss_px", c.coherent_prior_miss_px},
+          {"registration_margin", c.registration_margin}, {"field_shifted", c.field_shifted},
+          {"worst_relative_step", c.worst_relative_step}, {"detached_pins", c.detached_pins},
+          {"pins_dropped", dropped ? p.suspect : 0}, {"pins_suspect", p.suspect}, {"detections", detections}};
+}
+
+
+// The tsd/1 sample of one TacTip image: the pose path of the collection procedure (in E), the markers
+// (frame 0 the reference, the last frame `disp`, NaN between: not imaged) and, with `ref_img` given, the
+// reference and the image as frames 0 and last.
+TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, const std::vector<Vec2>& disp,
+                           const TactipImportOptions& options, const cv::Mat& ref_img, const fs::path& in) {
+  constexpr double kDeg = M_PI / 180.0;
+  TsdSampleOut s;
+  s.id = std::string(split == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
+  s.motion = tactip_motion(t);
+  s.indenter = kTactipSurface;
+  s.split = split;
+  s.dt_s = kTactipDtS;
+  s.pose_known = true;
+  s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
+                            t.twist_deg * kDeg, options.slide_steps);
+  Pose X_ES = Pose::Identity();
+  X_ES.linear() = Eigen::AngleAxisd(kTactipImageFromToolDeg * kDeg, Vec3::UnitZ()).toRotationMatrix();
+  for (auto& X : s.X_EI) X = X_ES * X;
+  const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
+  s.disp_px.assign(s.X_EI.size(), lost);
+  s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
+  s.disp_px.back() = disp;
+  if (!ref_img.empty()) {
+    s.frames.assign(s.X_EI.size(), cv::Mat());
+    s.frames.front() = ref_img;
+    s.frames.back() = read_grey((in / split / "images" / t.image).string());
+  }
+  return s;
+}
+
 }  // namespace
 
 // Frames (SOURCE.md, env_params.json): the work frame W has z down into the surface (the surface plane is
@@ -600,64 +744,48 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
                     {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
   ds.mesh_files = {{"meshes/flat_surface.obj", box_obj(0.08, 0.08, 0.01)}};
   ImportReport report;
-  for (const char* split : {"calibration", "validation"}) {
-    const fs::path sdir = in / split;
-    std::vector<TactipTarget> targets = read_tactip_targets((sdir / "targets.csv").string());
-    if (options.max_samples_per_split > 0 && targets.size() > std::size_t(options.max_samples_per_split))
-      targets.resize(options.max_samples_per_split);
-    const std::string other_ref = (sdir / "images" / "image_0.png").string();
-    if (fs::exists(other_ref)) {
-      const cv::Mat o = read_grey(other_ref);
-      if (o.size() != ref_img.size() || cv::norm(o, ref_img, cv::NORM_INF) != 0)
-        report.lines.push_back(std::string(split) + ": its image_0.png differs from calibration's; calibration's is the rest");
-    }
+  std::vector<TactipSplit> splits;
+  for (const char* split : {"calibration", "validation"})
+    splits.push_back(read_tactip_split(in, split, ref, ref_img, options, report));
+  PinFieldPrior prior;
+  if (options.use_prior) {
+    const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
+    prior = fit.prior;
+    report_prior(fit, splits.front().targets.size(), report);
+  }
+  for (const auto& sp : splits) {
     std::vector<double> kept;
-    int worst_number = -1;
+    int worst_number = -1, slipped_samples = 0;
     double worst = 2.0;
-    for (const auto& t : targets) {
-      const std::string ipath = (sdir / "images" / t.image).string();
-      const cv::Mat img = read_grey(ipath);
-      if (img.size() != ref_img.size()) throw InputError(ipath, "image size differs from the reference");
-      const std::vector<Vec2> disp = track_pins(ref, img, options.tracker);
-      int found = 0;
-      for (const auto& d : disp) found += d.allFinite();
+    for (std::size_t k = 0; k < sp.targets.size(); ++k) {
+      const TactipTarget& t = sp.targets[k];
+      const CheckedPins pins = track_checked(ref, sp.detections[k], prior.predict(tactip_covariates(t)), options);
+      const std::vector<Vec2>& disp = pins.disp;
+      slipped_samples += !pins.check.clean();
+      const int found = pins.kept();
       const double frac = double(found) / double(disp.size());
       kept.push_back(frac);
       if (frac < worst) {
         worst = frac;
         worst_number = t.number;
       }
-      constexpr double kDeg = M_PI / 180.0;
-      TsdSampleOut s;
-      s.id = std::string(split == std::string("calibration") ? "cal_" : "val_") + format_number(t.number, "%04.0f");
-      s.motion = tactip_motion(t);
-      s.indenter = kTactipSurface;
-      s.split = split;
-      s.dt_s = kTactipDtS;
-      s.pose_known = true;
-      s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
-                                t.twist_deg * kDeg, options.slide_steps);
-      Pose X_ES = Pose::Identity();
-      X_ES.linear() = Eigen::AngleAxisd(kTactipImageFromToolDeg * kDeg, Vec3::UnitZ()).toRotationMatrix();
-      for (auto& X : s.X_EI) X = X_ES * X;
-      const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
-      s.disp_px.assign(s.X_EI.size(), lost);
-      s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
-      s.disp_px.back() = disp;
-      s.extra = {{"image", std::string(split) + "/images/" + t.image},
+      TsdSampleOut s = tactip_sample(sp.name, t, disp, options, options.frames ? ref_img : cv::Mat(), in);
+      s.extra = {{"image", sp.name + "/images/" + t.image},
                  {"pins_tracked", found},
+                 {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
                  {"targets", {{"depth_mm", t.depth_mm}, {"tilt_deg", {t.rx_deg, t.ry_deg}},
                               {"shear_mm", {t.sx_mm, t.sy_mm}}, {"twist_deg", t.twist_deg}}}};
       ds.samples.push_back(std::move(s));
     }
     std::sort(kept.begin(), kept.end());
     const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-    report.lines.push_back(std::string(split) + ": " + std::to_string(kept.size()) + " images, " +
+    report.lines.push_back(sp.name + ": " + std::to_string(kept.size()) + " images, " +
                            std::to_string(ref.rest_px.size()) + " pins; kept fraction min " +
                            format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
                            "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
                            format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " +
-                           std::to_string(below));
+                           std::to_string(below) + "; images not clean under the lattice check: " +
+                           std::to_string(slipped_samples));
   }
   ds.provenance =
       "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "
@@ -665,7 +793,13 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
       "(identical in validation/), " + std::to_string(ref.rest_px.size()) + " pins, pitch " +
       format_number(ref.pitch_px, "%.2f") + " px. Pins tracked by shearbench's pin tracker (blob detection, global "
-      "affine then local nearest-neighbour correspondence, lost pins NaN). poses.csv is the collection procedure: "
+      "affine then local nearest-neighbour correspondence, lost pins NaN)" +
+      std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
+                                      "regression fitted on the calibration split alone (continuation from "
+                                      "shallow to deep presses)" : "") +
+      std::string(options.lattice_check ? "; pins the lattice-slip check doubts (a skipped lattice site, a "
+                                          "crossing, a jump between neighbours, a detached island, a whole-field "
+                                          "shift) are lost: see 'lattice_check' per sample" : "") + ". poses.csv is the collection procedure: "
       "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." + std::to_string(options.slide_steps + 1) +
       " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
       "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "

@@ -48,6 +48,17 @@ struct TactipImportOptions {
   PinTrackerOptions tracker;
   int max_samples_per_split = 0;
   int slide_steps = 10;  // frames of the in-contact slide
+  // Track against a prior field predicted from each sample's targets (pin_field_prior.hpp), fitted on the
+  // calibration split by continuation in depth (first stage: presses up to prior_first_depth_mm tracked
+  // without a prior, then steps of prior_step_mm). false: every image tracked without a prior.
+  bool use_prior = true;
+  // Drop the pins lattice_check.hpp doubts (false: keep every match, e.g. to compare trackers).
+  bool lattice_check = true;
+  // Store the images (frame 0: the reference, the last frame: the sample's thresholded image; the frames
+  // between were not imaged and have none) so the workbench shows them behind the panels.
+  bool frames = false;
+  double prior_first_depth_mm = 2.0;
+  double prior_step_mm = 0.25;
 };
 ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
                                  const TactipImportOptions& options = {});

@@ -293,8 +293,12 @@ SampleData read_sample(const Dataset& ds, const std::string& sample_id, Warnings
       char name[32];
       std::snprintf(name, sizeof name, "%06zu.png", k);
       const std::string p = (dir / "frames" / name).string();
-      if (!fs::exists(p)) throw InputError(p, "frame image missing (sample has has_frames: true)");
-      data.frame_paths.push_back(p);
+      // A frame that was not imaged (every marker lost, e.g. the TacTip set's pressed and sliding frames)
+      // may lack its image: its path is empty. A frame with data must have one.
+      const bool imaged = std::any_of(data.markers_px[k].begin(), data.markers_px[k].end(),
+                                      [](const Vec2& d) { return d.allFinite(); });
+      if (!fs::exists(p) && imaged) throw InputError(p, "frame image missing (sample has has_frames: true)");
+      data.frame_paths.push_back(fs::exists(p) ? p : std::string());
     }
   }
   return data;

@@ -1,7 +1,9 @@
 #include "core/data/tsd_out.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
@@ -49,7 +51,7 @@ Dataset as_dataset(const TsdDatasetOut& out) {
     info.split = s.split;
     info.dt_s = s.dt_s;
     info.pose_known = s.pose_known;
-    info.has_frames = !s.frames.empty();
+    info.has_frames = std::any_of(s.frames.begin(), s.frames.end(), [](const cv::Mat& m) { return !m.empty(); });
     info.extra = s.extra;
     ds.samples.push_back(info);
   }
@@ -78,10 +80,18 @@ void write_tsd_dataset(const TsdDatasetOut& out, const std::string& dir) {
   std::vector<SampleData> data;
   for (const auto& s : out.samples) {
     const fs::path sdir = fs::path(dir) / s.id;
-    fs::create_directories(sdir / (s.frames.empty() ? "" : "frames"), ec);
+    const bool any_frame = std::any_of(s.frames.begin(), s.frames.end(), [](const cv::Mat& m) { return !m.empty(); });
+    fs::create_directories(sdir / (any_frame ? "frames" : ""), ec);
     if (ec) throw InputError(sdir.string(), "cannot create sample directory: " + ec.message());
     char name[32];
     for (std::size_t f = 0; f < s.frames.size(); ++f) {
+      if (s.frames[f].empty()) {  // not imaged: then nothing may be tracked in it (read_sample's rule)
+        if (f < s.disp_px.size() && std::any_of(s.disp_px[f].begin(), s.disp_px[f].end(),
+                                                [](const Vec2& d) { return d.allFinite(); }))
+          throw std::invalid_argument("write_tsd_dataset: sample " + s.id + " frame " + std::to_string(f) +
+                                      " has tracked markers but no image");
+        continue;
+      }
       std::snprintf(name, sizeof name, "%06zu.png", f);
       write_image_atomically((sdir / "frames" / name).string(), s.frames[f]);
     }

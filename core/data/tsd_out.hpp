@@ -21,7 +21,8 @@ struct TsdSampleOut {
   bool pose_known = false;
   std::vector<Pose> X_EI;                        // one per frame (placeholders when !pose_known)
   std::vector<std::vector<Vec2>> disp_px;        // [frame][marker], NaN = lost
-  std::vector<cv::Mat> frames;                   // empty, or one image per frame
+  std::vector<cv::Mat> frames;                   // empty, or one image per frame (an empty Mat: a frame
+                                                 // not imaged, every marker NaN; no file is written)
   nlohmann::json extra = nlohmann::json::object();  // extra keys of the sample entry (e.g. slip_label)
 };
 

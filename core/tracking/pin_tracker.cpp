@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <Eigen/SVD>
 #include <opencv2/calib3d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -89,22 +91,23 @@ std::vector<int> mutual_nearest(const std::vector<Vec2>& pred, const std::vector
   return match;
 }
 
-// Global affine rest -> image from mutual nearest neighbours, refined a few times.
-std::vector<Vec2> global_prediction(const PinReference& ref, const std::vector<Vec2>& det, double gate) {
-  std::vector<Vec2> pred = ref.rest_px;
+// Global affine start -> image from mutual nearest neighbours, refined a few times (start = rest + prior).
+std::vector<Vec2> global_prediction(const std::vector<Vec2>& start, const std::vector<Vec2>& det, double gate,
+                                    double pitch) {
+  std::vector<Vec2> pred = start;
   for (int it = 0; it < 4; ++it) {
     const std::vector<int> m = mutual_nearest(pred, det, gate);
     std::vector<cv::Point2f> from, to;
     for (std::size_t i = 0; i < m.size(); ++i)
       if (m[i] >= 0) {
-        from.emplace_back(float(ref.rest_px[i].x()), float(ref.rest_px[i].y()));
+        from.emplace_back(float(start[i].x()), float(start[i].y()));
         to.emplace_back(float(det[m[i]].x()), float(det[m[i]].y()));
       }
     if (from.size() < 6) break;
-    const cv::Mat A = cv::estimateAffine2D(from, to, cv::noArray(), cv::RANSAC, 0.25 * ref.pitch_px);
+    const cv::Mat A = cv::estimateAffine2D(from, to, cv::noArray(), cv::RANSAC, 0.25 * pitch);
     if (A.empty()) break;
     for (std::size_t i = 0; i < pred.size(); ++i) {
-      const Vec2& r = ref.rest_px[i];
+      const Vec2& r = start[i];
       pred[i] = Vec2(A.at<double>(0, 0) * r.x() + A.at<double>(0, 1) * r.y() + A.at<double>(0, 2),
                      A.at<double>(1, 0) * r.x() + A.at<double>(1, 1) * r.y() + A.at<double>(1, 2));
     }
@@ -123,38 +126,41 @@ std::vector<std::vector<int>> neighbours_within(const std::vector<Vec2>& pts, do
 constexpr double kSeedFraction = 0.2;    // pitches: seed matches must sit this close to the global fit
 constexpr double kSupportRadius = 2.2;   // pitches: matched pins that predict a neighbour (local affine field)
 
-// Prediction of pin i: rest + the median displacement of its matched first ring, or (affine) the
-// least-squares affine field d(r) = d0 + G (r - r_i) of the matched pins within kSupportRadius pitches
-// (d0 is the prediction; their mean with fewer than four). nullopt when fewer than `need` matched pins are in the first ring.
-std::optional<Vec2> local_prediction(const PinReference& ref, const std::vector<Vec2>& disp, std::size_t i, int need,
-                                     bool affine) {
+// Prediction of pin i from the residual field res = disp - prior of its matched surroundings:
+// rest + prior + the median residual of its matched first ring, or (affine) + the least-squares affine
+// field r(x) = r0 + G (x - x_i) of the matched pins within kSupportRadius pitches (their mean with fewer
+// than four). The prior carries the large, known part of the field, so what is interpolated between
+// neighbours is only what the prior misses. nullopt when fewer than `need` matched pins are in the first ring.
+std::optional<Vec2> local_prediction(const PinReference& ref, const std::vector<Vec2>& prior,
+                                     const std::vector<Vec2>& res, std::size_t i, int need, bool affine) {
   int ring = 0;
-  for (int j : ref.neighbours[i]) ring += disp[j].allFinite();
+  for (int j : ref.neighbours[i]) ring += res[j].allFinite();
   if (ring < need) return std::nullopt;
+  const Vec2 base = ref.rest_px[i] + prior[i];
+  if (!affine) {
+    std::vector<Vec2> ring_res;
+    for (int j : ref.neighbours[i])
+      if (res[j].allFinite()) ring_res.push_back(res[j]);
+    return base + median2(ring_res);
+  }
   const double r2 = std::pow(kSupportRadius * ref.pitch_px, 2);
   std::vector<std::size_t> support;
-  for (std::size_t j = 0; j < disp.size(); ++j)
-    if (j != i && disp[j].allFinite() && (ref.rest_px[j] - ref.rest_px[i]).squaredNorm() <= r2) support.push_back(j);
+  for (std::size_t j = 0; j < res.size(); ++j)
+    if (j != i && res[j].allFinite() && (ref.rest_px[j] - ref.rest_px[i]).squaredNorm() <= r2) support.push_back(j);
   Vec2 mean = Vec2::Zero();
-  for (std::size_t j : support) mean += disp[j];
+  for (std::size_t j : support) mean += res[j];
   mean /= double(support.size());
-  if (!affine) {
-    std::vector<Vec2> ring_disp;
-    for (int j : ref.neighbours[i])
-      if (disp[j].allFinite()) ring_disp.push_back(disp[j]);
-    return ref.rest_px[i] + median2(ring_disp);
-  }
-  if (support.size() < 4) return ref.rest_px[i] + mean;
+  if (support.size() < 4) return base + mean;
   Eigen::MatrixXd A(support.size(), 3), b(support.size(), 2);
   for (std::size_t k = 0; k < support.size(); ++k) {
     const Vec2 r = (ref.rest_px[support[k]] - ref.rest_px[i]) / ref.pitch_px;
     A.row(k) << 1.0, r.x(), r.y();
-    b.row(k) = disp[support[k]].transpose();
+    b.row(k) = res[support[k]].transpose();
   }
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  if (svd.singularValues()(2) < 1e-3 * svd.singularValues()(0)) return ref.rest_px[i] + mean;  // collinear
+  if (svd.singularValues()(2) < 1e-3 * svd.singularValues()(0)) return base + mean;  // collinear
   const Eigen::MatrixXd x = svd.solve(b);
-  return ref.rest_px[i] + Vec2(x(0, 0), x(0, 1));
+  return base + Vec2(x(0, 0), x(0, 1));
 }
 
 }  // namespace
@@ -228,34 +234,42 @@ PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOption
 }
 
 std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetection>& detections,
-                             const PinTrackerOptions& o) {
+                             const PinTrackerOptions& o, const std::vector<Vec2>& prior_disp) {
+  const std::size_t n = ref.rest_px.size();
+  if (!prior_disp.empty() && prior_disp.size() != n)
+    throw std::invalid_argument("track_pins: prior has " + std::to_string(prior_disp.size()) + " pins, reference " +
+                                std::to_string(n));
+  std::vector<Vec2> prior = prior_disp.empty() ? std::vector<Vec2>(n, Vec2::Zero()) : prior_disp;
+  for (auto& p : prior)
+    if (!p.allFinite()) p = Vec2::Zero();
   std::vector<Vec2> det;
   for (const auto& d : detections) det.push_back(d.uv);
-  const std::size_t n = ref.rest_px.size();
   const double gate = o.gate_fraction * ref.pitch_px;
   const Vec2 lost(kNaN, kNaN);
-  std::vector<Vec2> disp(n, lost);
+  std::vector<Vec2> res(n, lost);  // residual disp - prior of the matched pins
   std::vector<char> taken(det.size(), 0);
-  // Seeds: pins that match the global affine fit tightly and mutually (with the rim option, outer pins
-  // matched at their rest position instead: the skin is held at its base).
+  // Seeds: pins that match the global affine fit of the prior's prediction tightly and mutually (with the
+  // rim option, outer pins matched at their rest position instead: the skin is held at its base).
   {
-    const std::vector<Vec2> start = o.rim_seeds ? ref.rest_px : global_prediction(ref, det, gate);
+    std::vector<Vec2> start(n);
+    for (std::size_t i = 0; i < n; ++i) start[i] = ref.rest_px[i] + prior[i];
+    if (!o.rim_seeds) start = global_prediction(start, det, gate, ref.pitch_px);
     const std::vector<int> m = mutual_nearest(start, det, kSeedFraction * ref.pitch_px);
     for (std::size_t i = 0; i < n; ++i)
       if ((!o.rim_seeds || ref.on_rim[i]) && m[i] >= 0) {
-        disp[i] = det[m[i]] - ref.rest_px[i];
+        res[i] = det[m[i]] - ref.rest_px[i] - prior[i];
         taken[m[i]] = 1;
       }
   }
-  // Growth: a pin next to matched pins is predicted by the local affine field of its matched
-  // surroundings and takes the nearest free detection inside the gate; pins with the most matched
-  // neighbours go first, and the rounds repeat while anything is added.
+  // Growth: a pin next to matched pins is predicted from the residual of its matched surroundings and
+  // takes the nearest free detection inside the gate; pins with the most matched neighbours go first, and
+  // the rounds repeat while anything is added.
   for (int round = 0; round < o.local_iterations; ++round) {
     bool added = false;
     for (int need = 4; need >= 1; --need) {
       for (std::size_t i = 0; i < n; ++i) {
-        if (disp[i].allFinite()) continue;
-        const auto pred = local_prediction(ref, disp, i, need, o.affine_prediction);
+        if (res[i].allFinite()) continue;
+        const auto pred = local_prediction(ref, prior, res, i, need, o.affine_prediction);
         if (!pred) continue;
         int best = -1;
         double d2 = gate * gate;
@@ -267,27 +281,30 @@ std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetec
           }
         }
         if (best < 0) continue;
-        disp[i] = det[best] - ref.rest_px[i];
+        res[i] = det[best] - ref.rest_px[i] - prior[i];
         taken[best] = 1;
         added = true;
       }
     }
     if (!added) break;
   }
-  // A match that disagrees with the median of its matched rest-neighbours took a neighbour's pin: lost.
-  std::vector<Vec2> kept = disp;
+  // A match whose residual disagrees with the median of its matched rest-neighbours' took a neighbour's
+  // pin: lost.
+  std::vector<Vec2> kept(n, lost);
   for (std::size_t i = 0; i < n; ++i) {
-    if (!disp[i].allFinite()) continue;
+    if (!res[i].allFinite()) continue;
     std::vector<Vec2> around;
     for (int j : ref.neighbours[i])
-      if (disp[j].allFinite()) around.push_back(disp[j]);
-    if (around.size() >= 2 && (disp[i] - median2(around)).norm() > o.outlier_fraction * ref.pitch_px) kept[i] = lost;
+      if (res[j].allFinite()) around.push_back(res[j]);
+    if (around.size() < 2 || (res[i] - median2(around)).norm() <= o.outlier_fraction * ref.pitch_px)
+      kept[i] = res[i] + prior[i];
   }
   return kept;
 }
 
-std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& o) {
-  return track_pins(ref, detect_pins(image, o, ref.area_px), o);
+std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& o,
+                             const std::vector<Vec2>& prior_disp) {
+  return track_pins(ref, detect_pins(image, o, ref.area_px), o, prior_disp);
 }
 
 }  // namespace sb

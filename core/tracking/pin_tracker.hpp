@@ -6,15 +6,16 @@
 // (area within a band around the reference's median pin area, filled like a disc, not elongated);
 // centre = the blob's area centroid.
 //
-// Correspondence: (1) a global affine map rest -> image, fitted robustly (cv::estimateAffine2D, RANSAC)
-// to mutual nearest neighbours, repeated with the refined prediction; (2) seeds: the pins that are mutual
-// nearest neighbours of a detection within 0.2 pitch of that fit; (3) growth: a pin next to matched pins
-// is predicted at rest + the median displacement of its matched first ring and takes the nearest free
-// detection inside a gate well under half the pitch (pins with the most matched neighbours first,
-// repeated while anything is added); (4) a match whose displacement disagrees with its neighbours'
-// median by more than a fraction of the pitch is dropped. A pin without an accepted match is lost (NaN):
-// it never takes a neighbour's pin. The field can exceed a pitch on deep presses, where a single image
-// is ambiguous on the hexagonal lattice: there pins are lost rather than guessed (docs/tracking.md).
+// Correspondence: (1) a global affine map (rest + prior) -> image, fitted robustly (cv::estimateAffine2D,
+// RANSAC) to mutual nearest neighbours, repeated with the refined prediction; (2) seeds: the pins that are
+// mutual nearest neighbours of a detection within 0.2 pitch of that fit; (3) growth: a pin next to matched
+// pins is predicted at rest + prior + the median residual (disp - prior) of its matched first ring and
+// takes the nearest free detection inside a gate well under half the pitch (pins with the most matched
+// neighbours first, repeated while anything is added); (4) a match whose residual disagrees with its
+// neighbours' median by more than a fraction of the pitch is dropped. A pin without an accepted match is
+// lost (NaN). The prior (default zero) is what makes a field beyond half a pitch trackable: without it a
+// single image is ambiguous on the hexagonal lattice. The tracker alone does not prove its matches right:
+// lattice_check.hpp tests them (docs/tracking.md, "TacTip pins").
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -59,9 +60,15 @@ struct PinReference {
 PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOptions& options,
                                 const std::string& where);
 
-// Displacement of every reference pin in `image` (NaN where lost).
+// Displacement of every reference pin in `image` (NaN where lost). `prior_disp` (empty = zero; one entry
+// per reference pin, NaN entries count as zero) is an expected displacement field, e.g. from the sample's
+// known inputs (pin_field_prior.hpp): the fit, the seeds and the growth then work on the residual
+// disp - prior, so a field of several pitches is tracked as long as the prior is right to within the gate
+// (its smooth errors are absorbed by the global fit and the neighbour medians). Throws
+// std::invalid_argument when the prior's size is not the reference's.
 std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetection>& detections,
-                             const PinTrackerOptions& options);
-std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& options);
+                             const PinTrackerOptions& options, const std::vector<Vec2>& prior_disp = {});
+std::vector<Vec2> track_pins(const PinReference& ref, const cv::Mat& image, const PinTrackerOptions& options,
+                             const std::vector<Vec2>& prior_disp = {});
 
 }  // namespace sb

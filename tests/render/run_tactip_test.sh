@@ -1,7 +1,8 @@
 #!/bin/sh
 # The TacTip shear set in the workbench: imports the first sample of each split from the data root into
 # the build folder at test time (data is never committed), then renders validation image_14 (a 1.45 mm
-# press with 2.1 mm of slide) with the flat surface as the indenter and the tracked pins in Measured.
+# press with 2.1 mm of slide) with the flat surface as the indenter, the tracked pins in Measured and the
+# real thresholded image (--frames) behind every panel.
 # Usage: run_tactip_test.sh SHEARBENCH IMAGE_COMPARE OUT_DIR BASELINE_DIR MIN_SSIM
 set -eu
 exe=$1; compare=$2; out=$3; baselines=$4; min_ssim=$5
@@ -9,6 +10,6 @@ raw="${SHEARBENCH_DATA:?SHEARBENCH_DATA must name the data root}/raw/tactip_shea
 [ -d "$raw" ] || { echo "render test: missing $raw" >&2; exit 1; }
 work="$out/tactip"
 rm -rf "$work"; mkdir -p "$work"
-"$exe" -q import --source tactip_shear --max-samples 1 --in "$raw" --out "$work/imported" >/dev/null
+"$exe" -q import --source tactip_shear --max-samples 1 --frames --in "$raw" --out "$work/imported" >/dev/null
 exec "$(dirname "$0")/run_render_test.sh" "$exe" "$compare" tactip "$out" "$baselines" "$min_ssim" \
   --dataset "$work/imported" --sample val_0014
