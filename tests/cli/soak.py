@@ -613,6 +613,12 @@ class Soak:
                    (self.act_camera, 6), (self.act_variant, 5), (self.act_param, 5), (self.act_screenshot, 3),
                    (self.act_export, 2), (self.act_fit, 1.5), (self.act_save, 8), (self.act_quick_save, 3), (self.act_reopen, 1.2), (self.act_open, 1.2),
                    (self.act_kill, self.a.kill_weight)]
+        if self.a.actions:   # a narrowed walk, to find which action grows memory (docs/reliability.md)
+            keep = set(self.a.actions.split(","))
+            unknown = keep - {f.__name__[4:] for f, _ in actions}
+            if unknown:
+                raise SystemExit(f"--actions: unknown action(s) {sorted(unknown)}")
+            actions = [(f, w) for f, w in actions if f.__name__[4:] in keep]
         funcs, weights = zip(*actions)
         first = self.rng.choice(self.scenes)
         self.start(["--scene", first], "first scene")
@@ -759,6 +765,7 @@ def main():
     p.add_argument("--max-gl-growth", type=int, default=None,
                    help="fail when live GL objects of one kind grow by more than this within one process life")
     p.add_argument("--window-wait", type=float, default=120)
+    p.add_argument("--actions", default="", help="comma-separated actions to walk over (e.g. fit,save; default: all)")
     a = p.parse_args()
     for tool in ("xdotool",):
         if shutil.which(tool) is None:
