@@ -12,4 +12,12 @@ void return_free_memory_to_os() {
 #endif
 }
 
+void limit_malloc_arenas(int arenas) {
+#if defined(__GLIBC__)
+  mallopt(M_ARENA_MAX, arenas);
+#else
+  (void)arenas;
+#endif
+}
+
 }  // namespace sb

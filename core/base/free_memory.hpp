@@ -1,10 +1,17 @@
 #pragma once
+// Keeping a long-running process's heap from holding on to what bursts of work freed.
+namespace sb {
+
 // Gives freed heap memory back to the operating system. glibc keeps the pages a burst of allocations
 // freed (a fit loads a dataset, builds SDFs and Jacobians, then drops them), so without this a
 // long-running workbench's resident memory stepped up by 15-30 MB with each fit and stayed there (the
 // soak of issue 19; a loop of 12 fit jobs: 137 -> 169 MB, with a trim after each 112-150 MB, no trend).
-namespace sb {
-
 void return_free_memory_to_os();
+
+// Caps the number of glibc malloc arenas (call before threads start). Every thread that allocates gets
+// an arena of its own up to 8 per core, and each keeps the high-water mark of what ran on it: in the
+// workbench the fit thread, the physics thread and TBB's workers. With 2 the soak's resident memory
+// levels off lower and stays flat (docs/reliability.md, "Memory over a fit"). No-op off glibc.
+void limit_malloc_arenas(int arenas);
 
 }  // namespace sb
