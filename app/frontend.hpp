@@ -57,6 +57,7 @@ class Frontend {
   // The named region of the last drawn frame (ui::Workbench::regions) cut out of `image`.
   ui::Image crop_to_region(const ui::Image& image, const std::string& region) const;
   // Replaces a panel's model by another variant (fots | fots-reimpl, tacsl | tacsl-normalized).
+  void set_beside_hydroshear(const std::string& model_id);   // "" removes the panel
   void switch_model(int slot, const std::string& model_id);
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
@@ -90,6 +91,8 @@ class Frontend {
   enum class Baseline { None, Clean, Restored } baseline_pending_ = Baseline::Clean;
   bool close_confirmed_ = false;
   double last_work_check_s_ = -1e9;
+  double last_trim_s_ = 0;   // steady-clock seconds of the last trim_memory_when_idle
+  void trim_memory_when_idle();
 };
 
 // p50 / p90 / p99 / max of frame times, one line.

@@ -53,7 +53,14 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
                                                      const NamedParamSet& param_set,
                                                      std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
-  for (const std::string& id : {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id}) {
+  std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
+  if (!o.open.beside_hydroshear.empty()) {
+    if (o.open.beside_hydroshear.rfind("hydroshear", 0) != 0)
+      throw InputError("--beside-hydroshear", "expected a HydroShear variant (hydroshear, hydroshear-layer, "
+                                              "hydroshear-stick, hydroshear-layer-stick), got '" + o.open.beside_hydroshear + "'");
+    ids.insert(ids.begin() + 1, o.open.beside_hydroshear);
+  }
+  for (const std::string& id : ids) {
     auto m = make_model(id, scene.sensor, indenter);
     m->set_params(param_set.params(id));
     if (auto it = scene.params.find(id); it != scene.params.end()) {
@@ -182,6 +189,8 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--hydroshear", open.hydroshear_id, "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick")->capture_default_str();
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
+  sub.add_option("--beside-hydroshear", open.beside_hydroshear,
+                 "a HydroShear variant in a panel of its own beside HydroShear's (e.g. hydroshear-layer-stick)");
   add_param_set_flag(sub, open.param_set);
 }
 
@@ -193,6 +202,7 @@ std::vector<std::string> source_arguments(const SessionSource& open) {
   add("--scene", open.scene_path);
   add("--dataset", open.dataset_dir);
   add("--sample", open.sample_id);
+  add("--beside-hydroshear", open.beside_hydroshear);
   if (!open.indenter_mesh.empty())
     args.insert(args.end(), {"--indenter-mesh", open.indenter_mesh, "--indenter-scale", std::to_string(open.indenter_scale)});
   return args;

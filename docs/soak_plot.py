@@ -19,7 +19,10 @@ def main(src, out):
     p50 = [float(r["frame_ms_p50"]) for r in rows]
     p95 = [float(r["frame_ms_p95"]) for r in rows]
     fig, (a, b) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
-    a.plot(m, rss, "o-", ms=3, color="tab:blue")
+    a.plot(m, rss, "o-", ms=3, color="tab:blue", label="resident")
+    if rows and rows[0].get("rss_anon_mb"):   # soaks since the stats carry RssAnon: the heap part of it
+        a.plot(m, [float(r["rss_anon_mb"]) for r in rows], "o-", ms=3, color="tab:cyan", label="of which heap (RssAnon)")
+        a.legend(loc="lower right", fontsize=8)
     a.set_ylabel("resident memory (MB)")
     a.set_ylim(0, max(rss) * 1.15)
     a.grid(alpha=0.3)

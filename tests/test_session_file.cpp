@@ -36,6 +36,7 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   s.open.dataset_dir = "data:twin/twin_sphere8";
   s.open.sample_id = "shr_01";
   s.open.tacsl_id = "tacsl-normalized";
+  s.open.beside_hydroshear = "hydroshear-layer-stick";
   s.params["hydroshear"] = {{"mu", 0.4}};
   s.path = {sb::Pose::Identity(), sb::make_pose(sb::Vec3(1e-3, -2e-3, 0.5e-3), sb::Quat(Eigen::AngleAxisd(0.3, sb::Vec3::UnitZ())))};
   s.step = 1;
@@ -50,6 +51,7 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   CHECK(r.open.dataset_dir == s.open.dataset_dir);
   CHECK(r.open.sample_id == "shr_01");
   CHECK(r.open.tacsl_id == "tacsl-normalized");
+  CHECK(r.open.beside_hydroshear == "hydroshear-layer-stick");
   CHECK(r.params == s.params);
   REQUIRE(r.path.size() == 2);
   CHECK((r.path[1].matrix() - s.path[1].matrix()).cwiseAbs().maxCoeff() < kPoseTol);
@@ -59,10 +61,13 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   CHECK(r.residual_file == s.residual_file);
   CHECK(r.residual_fields);
   CHECK_FALSE(r.residual_corrected);
-  // Without an analysis the section is left out, and reads back as none.
+  // Without an analysis the section is left out, and reads back as none; so is an empty beside panel (the
+  // key is absent, and files without the feature stay readable by older builds).
   s.residual_file.clear();
+  s.open.beside_hydroshear.clear();
   sb::save_session_file(path, s);
   CHECK(sb::load_session_file(path).residual_file.empty());
+  CHECK_FALSE(sb::session_to_json(s)["open"].contains("beside_hydroshear"));
   fs::remove(path);
 }
 

@@ -301,10 +301,20 @@ void Workbench::draw_variant_switches(WorkbenchRequest& req) {
       {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"}},
       {"FOTS", {"fots", "fots-reimpl"}},
       {"TacSL", {"tacsl", "tacsl-normalized"}}};
+  const auto in_family = [](const Family& f, const std::string& id) {
+    return std::find(f.ids.begin(), f.ids.end(), id) != f.ids.end();
+  };
+  std::string beside;   // a second HydroShear slot is the panel beside HydroShear's
   for (const Family& f : kFamilies) {
+    bool first = true;
     for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m) {
       const std::string& id = snap_.models[m].id;
-      if (std::find(f.ids.begin(), f.ids.end(), id) == f.ids.end()) continue;
+      if (!in_family(f, id)) continue;
+      if (!first) {
+        beside = id;
+        continue;
+      }
+      first = false;
       ImGui::SetNextItemWidth(-125);   // room for "HydroShear variant"
       if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
         for (const std::string& v : f.ids)
@@ -313,6 +323,17 @@ void Workbench::draw_variant_switches(WorkbenchRequest& req) {
       }
     }
   }
+  // The corrected models beside the one they correct (issue 17): one more panel, its own parameters.
+  ImGui::SetNextItemWidth(-125);
+  if (ImGui::BeginCombo("beside HydroShear", beside.empty() ? "none" : display_name(beside).c_str())) {
+    if (ImGui::Selectable("none", beside.empty()) && !beside.empty()) req.beside_hydroshear = "";
+    for (const std::string& v : kFamilies.front().ids)
+      if (ImGui::Selectable(display_name(v).c_str(), beside == v) && beside != v) req.beside_hydroshear = v;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("A HydroShear variant in a field panel of its own, to compare a model-form correction\n"
+                      "(docs/effects.md) with HydroShear as it is. Costs one more model per step.");
 }
 
 // Recomputes the RMSE-over-time series (worker thread) when the models' parameters differ from those of

@@ -59,6 +59,7 @@ struct WorkbenchRequest {
   std::optional<std::string> load_residual;  // a residual JSON (shearbench residual --json)
   std::optional<std::string> export_fields;  // a folder: every model's field along the path, tsd/1 each
   std::optional<std::pair<int, std::string>> switch_model;   // (slot, model id): FOTS / TacSL variant
+  std::optional<std::string> beside_hydroshear;   // a HydroShear variant in its own panel ("": remove it)
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };

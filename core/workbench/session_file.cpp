@@ -42,6 +42,8 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
                {"hydroshear", s.open.hydroshear_id},
                {"fots", s.open.fots_id},           {"tacsl", s.open.tacsl_id},              {"indenter_mesh", s.open.indenter_mesh},
                {"indenter_scale", s.open.indenter_scale}, {"param_set", s.open.param_set}};
+  // Written only when used, so sessions without it stay readable by builds from before it.
+  if (!s.open.beside_hydroshear.empty()) j["open"]["beside_hydroshear"] = s.open.beside_hydroshear;
   j["params"] = s.params;
   nlohmann::ordered_json path = nlohmann::ordered_json::array();
   for (const auto& X : s.path) path.push_back(pose_json(X));
@@ -67,7 +69,7 @@ SessionFile session_from_json(const json& j, const std::string& file) {
     jsonin::fail(file, "/residual", "a version 1 session has no residual section");
   SessionFile s;
   const json& open = jsonin::member(j, "open", file, "");
-  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "indenter_mesh", "indenter_scale", "param_set"},
+  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "beside_hydroshear", "indenter_mesh", "indenter_scale", "param_set"},
                               file, "/open");
   s.open.scene_path = optional_string(open, "scene", file, "/open", "");
   s.open.dataset_dir = optional_string(open, "dataset", file, "/open", "");
@@ -75,6 +77,7 @@ SessionFile session_from_json(const json& j, const std::string& file) {
   s.open.hydroshear_id = optional_string(open, "hydroshear", file, "/open", s.open.hydroshear_id);
   s.open.fots_id = optional_string(open, "fots", file, "/open", s.open.fots_id);
   s.open.tacsl_id = optional_string(open, "tacsl", file, "/open", s.open.tacsl_id);
+  s.open.beside_hydroshear = optional_string(open, "beside_hydroshear", file, "/open", "");
   s.open.indenter_mesh = optional_string(open, "indenter_mesh", file, "/open", "");
   // Version 1 files predate parameter sets: their models started from the published values.
   s.open.param_set = optional_string(open, "param_set", file, "/open", version < 2 ? "published" : s.open.param_set);

@@ -21,6 +21,9 @@ struct SessionSource {
   std::string hydroshear_id = "hydroshear";   // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick
   std::string fots_id = "fots";     // or fots-reimpl
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
+  // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form
+  // correction with the model it corrects (issue 17).
+  std::string beside_hydroshear;
   std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
   double indenter_scale = 0.002;    // file units to metres for indenter_mesh
   std::string param_set = kDefaultParamSet;   // the parameter set the models start from

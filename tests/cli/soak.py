@@ -44,12 +44,12 @@ POSE_TOL_M = 1e-9
 QUAT_TOL = 1e-6
 PARAM_REL_TOL = 1e-6
 # Positions in a 1280x800 window with a scene open and no residual (the layout is fixed at that size).
-# (the Parameters section: HydroShear variant at y 479, FOTS 504, TacSL 529)
+# (the Parameters section: HydroShear variant at y 479, FOTS 504, TacSL 529, beside HydroShear 554)
 POS_FOTS_COMBO = (95, 504)
 POS_TACSL_COMBO = (95, 529)
 COMBO_ITEM_DY = (24, 45)          # the popup's two entries below the combo
 POS_EXPORT = (240, 429)
-POS_HS_MU = (115, 698)            # HydroShear mu slider (Ctrl+click: type a value)
+POS_HS_MU = (115, 723)            # HydroShear mu slider (Ctrl+click: type a value)
 POS_INDENTER = (800, 210)         # the indenter in the iso view at the scene's start
 # The Fit section, reached by collapsing Parameters (its header at y 454; Fit's header then at 479).
 POS_PARAMETERS_HEADER = (60, 454)
