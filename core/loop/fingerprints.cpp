@@ -302,17 +302,20 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
   }
   const double pitch = marker_pitch_px(sensor);
   constexpr double kUntravelledPx = 0.5;
-  // The regression at a trial k1: the pattern of the measured field undistorted by k1 (the lens acts on the
-  // true field, which the measurement holds better than a model with a form error).
+  // The regression at a trial k1. The regressor is the pattern of the measured field undistorted by k1 (the
+  // lens acts on the true field, which the measurement holds better than a model with a form error); its
+  // instrument is the pattern of the model's field, which does not share the measurement's noise (the
+  // noise in both sides of a plain regression would bias k1 by sigma^2 tr(P dg/dd) / |P g|^2).
   struct Sums {
-    double eg = 0, gg = 0, ee = 0, values = 0, nuisance = 0, frames = 0;
+    double ez = 0, gz = 0, zz = 0, gg = 0, values = 0, nuisance = 0, frames = 0;
+    std::vector<Eigen::VectorXd> e, g;   // per frame, the asymmetric parts (for the residual's scatter)
   };
   const auto regress = [&](double k1) {
     Sums t;
     for (const auto& s : samples)
       for (std::size_t k = 0; k < s.meas_px.size(); ++k) {
         if (!s.in_contact[k] || !(s.travel_px[k] < kUntravelledPx) || !frame_moved(s.meas_px[k])) continue;
-        Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * M), g = e;
+        Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * M), g = e, z = e;
         std::vector<Vec2> u(M, Vec2::Zero());
         std::vector<bool> seen(M, false);
         for (std::size_t j = 0; j < M; ++j) {
@@ -322,14 +325,19 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
           u[j] = lens_undistort(sensor.camera, k1, sensor.markers_rest_px[j], d);
           e.segment<2>(2 * j) = d - p;
           g.segment<2>(2 * j) = lens_k1_pattern(sensor.camera, sensor.markers_rest_px[j], u[j]);
+          z.segment<2>(2 * j) = lens_k1_pattern(sensor.camera, sensor.markers_rest_px[j], p);
           t.values += 2;
         }
-        Eigen::MatrixXd N = lens_nuisance(sensor, s.contact_centre_px[k], pitch, u);
+        Eigen::MatrixXd N = lens_nuisance(sensor, s.contact_centre_px[k], pitch, s.pred_px[k]);
         for (std::size_t j = 0; j < M; ++j)   // lost markers carry no equation
           if (!seen[j]) N.middleRows(2 * static_cast<Eigen::Index>(j), 2).setZero();
         const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(N);
-        const Eigen::VectorXd e_asym = e - N * qr.solve(e), g_asym = g - N * qr.solve(g);
-        t.eg += e_asym.dot(g_asym), t.gg += g_asym.dot(g_asym), t.ee += e_asym.squaredNorm();
+        const auto asym = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return v - N * qr.solve(v); };
+        t.e.push_back(asym(e));
+        t.g.push_back(asym(g));
+        const Eigen::VectorXd z_asym = asym(z);
+        t.ez += t.e.back().dot(z_asym), t.gz += t.g.back().dot(z_asym), t.zz += z_asym.squaredNorm();
+        t.gg += t.g.back().squaredNorm();
         t.nuisance += qr.rank();
         t.frames += 1;
       }
@@ -337,20 +345,23 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
   };
   LensFingerprint fp;
   Sums t = regress(0.0);
-  if (t.frames == 0 || !(t.gg > 0)) return fp;
-  // The estimate is the fixed point k1 = F(k1), F(k) = eg / gg of regress(k): secant steps from F(0).
-  double k_prev = 0.0, h_prev = t.eg / t.gg, k = h_prev;
+  if (t.frames == 0 || !(t.gz != 0) || !(t.zz > 0)) return fp;
+  // The estimate is the fixed point k1 = F(k1), F(k) = ez / gz of regress(k): secant steps from F(0).
+  double k_prev = 0.0, h_prev = t.ez / t.gz, k = std::clamp(h_prev, -1.0, 1.0);
   for (int it = 0; it < 12; ++it) {
     t = regress(k);
-    const double h = t.eg / t.gg - k;
+    if (!(t.gz != 0)) return fp;
+    const double h = t.ez / t.gz - k;
     if (std::abs(h) < 1e-9 || h == h_prev) break;
     const double next = k - h * (k - k_prev) / (h - h_prev);
     k_prev = k, h_prev = h, k = std::clamp(next, -1.0, 1.0);
   }
-  fp.k1 = t.eg / t.gg;
+  fp.k1 = t.ez / t.gz;
   fp.frames = t.frames;
+  double rr = 0;
+  for (std::size_t f = 0; f < t.e.size(); ++f) rr += (t.e[f] - fp.k1 * t.g[f]).squaredNorm();
   const double dof = std::max(1.0, t.values - t.nuisance - 1);
-  fp.k1_stderr = std::sqrt(std::max(0.0, t.ee - fp.k1 * t.eg) / dof / t.gg);
+  fp.k1_stderr = std::sqrt(rr / dof * t.zz) / std::abs(t.gz);
   fp.signal_rms_px = std::abs(fp.k1) * std::sqrt(2 * t.gg / t.values);
   return fp;
 }

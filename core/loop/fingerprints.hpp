@@ -89,7 +89,8 @@ struct LensFingerprint {
 // sides respond unlike a half-space, and that pattern is fixed to the gel, not the contact). Only frames
 // whose contact has not travelled (travel_px < 0.5 px) are used: a slide is not symmetric. The pattern is
 // that of the measured field undistorted by the estimate (the lens acts on the true field, which the
-// measurement holds better than a model with a form error): the estimate is the fixed point, found by secant
+// measurement holds better than a model with a form error), with the pattern of the model's field as its
+// instrument (it does not share the measurement's noise); the estimate is the fixed point, found by secant
 // steps. NaN when no frame qualifies.
 LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<FingerprintSample>& samples);
 
