@@ -134,9 +134,9 @@ bool has_fingerprint(const std::string& effect_id);
 bool fingerprint_needs_model(const std::string& effect_id);
 
 // The fingerprint of `effect_id` on each split and the finding (FingerprintCheck): creep holds tau_s and
-// creep_fraction at the calibration estimate (evidence beyond model form); lens bounds k1 to within the
-// agreement ratio of its estimate and holds k2 at 0 (a second radial term is not identified on a marker
-// grid this coarse); subsurface bounds depth_m the same way. nullopt for an effect without a fingerprint. The samples need pred_px when
+// creep_fraction at the calibration estimate (evidence beyond model form); lens requires the whole-field fit
+// of k1 to end within the agreement ratio of its estimate and holds k2 at 0 (a second radial term is not
+// identified on a marker grid this coarse); subsurface does the same with depth_m. nullopt for an effect without a fingerprint. The samples need pred_px when
 // fingerprint_needs_model(effect_id).
 std::optional<FingerprintCheck> fingerprint_check(const std::string& effect_id, const Sensor& sensor,
                                                   const std::vector<FingerprintSample>& calibration,

@@ -641,31 +641,26 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     }
     const std::string warm_key = effect_set_key(warm);
     // The candidate's fingerprint, against the reference (the warm start's model). Found: its parameters are
-    // held at the estimate or bounded near it (FingerprintCheck). Not found: fitted alone for the report.
+    // held at the estimate (evidence beyond model form), or fitted as without a fingerprint and checked
+    // against its band (evidence model form can mimic: it may add a verdict, never lift one). Not found:
+    // fitted alone for the report.
     std::optional<FingerprintCheck> fingerprint;
     const std::string candidate = ids.empty() ? "" : ids.back();
-    const std::vector<ParamSpec> physical_specs = start.specs();
     std::vector<std::string> held_now;   // the candidate's parameters held in this fit (full names)
+    const auto full = [&](const std::string& name) { return candidate + kEffectParamSeparator + name; };
+    const auto set_clamped = [&](const std::string& name, double value) {
+      const ParamSpec& sp = start.specs()[static_cast<std::size_t>(start.index_of(name))];
+      start.set(name, std::clamp(value, sp.min, sp.max));
+    };
     if (!candidate.empty() && has_fingerprint(candidate) && warm.size() + 1 == ids.size()) {
       o.progress("fingerprint " + candidate, static_cast<double>(rep.fits.size()) /
                                                  static_cast<double>(candidates.size() * o.selection.max_effects + 1));
       fingerprint = fingerprint_of(candidate, warm);
       if (fingerprint->consistent) {
-        const auto full = [&](const std::string& name) { return candidate + kEffectParamSeparator + name; };
-        std::vector<ParamSpec> specs = start.specs();
-        for (const auto& b : fingerprint->band) {
-          ParamSpec& sp = specs[static_cast<std::size_t>(start.index_of(full(b.name)))];
-          sp.min = std::max(sp.min, b.low), sp.max = std::min(sp.max, b.high);
-        }
-        ParamSet banded(specs);
-        for (std::size_t i = 0; i < start.size(); ++i) banded.set(i, std::clamp(start[i], specs[i].min, specs[i].max));
-        for (const auto& b : fingerprint->band) banded.set(full(b.name), std::clamp(b.estimate, b.low, b.high));
         for (const auto& [name, value] : fingerprint->held) {
-          const ParamSpec& sp = specs[static_cast<std::size_t>(start.index_of(full(name)))];
-          banded.set(full(name), std::clamp(value, sp.min, sp.max));
+          set_clamped(full(name), value);
           held_now.push_back(full(name));
         }
-        start = std::move(banded);
         // Later rounds hold all of them at this fit's values.
         auto& later = held_by_effect[candidate];
         later = held_now;
@@ -677,20 +672,18 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       auto it = held_by_effect.find(id);
       return it == held_by_effect.end() ? std::vector<std::string>{} : it->second;
     };
-    // The fitted table with the physical ranges back (a band is this fit's business only); a value at the
-    // edge of a fingerprint's band is a verdict like a bound: the whole field asks for more than the evidence.
-    const auto restore_ranges = [&](const ParamSet& fitted, std::string* band_veto) {
-      ParamSet out(physical_specs);
-      for (std::size_t i = 0; i < out.size(); ++i) out.set(i, fitted[i]);
+    // A fingerprint that model form can mimic must agree with the whole-field fit: a fitted value outside its
+    // band is a verdict like a bound (the whole field wants something else than the evidence).
+    const auto outside_band = [&](const ParamSet& fitted) {
+      std::string out;
       if (!fingerprint || !fingerprint->consistent) return out;
       for (const auto& b : fingerprint->band) {
-        const std::string name = candidate + kEffectParamSeparator + b.name;
-        const double v = fitted.get(name), tol = kAtBoundFraction * (b.high - b.low);
-        if (std::abs(v - b.low) > tol && std::abs(v - b.high) > tol) continue;
+        const double v = fitted.get(full(b.name));
+        if (v >= b.low && v <= b.high) continue;
         char buf[200];
-        std::snprintf(buf, sizeof buf, "%s%s = %.4g at an edge of the fingerprint's band [%.4g, %.4g]",
-                      band_veto->empty() ? "" : ", ", name.c_str(), v, b.low, b.high);
-        *band_veto += buf;
+        std::snprintf(buf, sizeof buf, "%s%s = %.4g outside its fingerprint's band [%.4g, %.4g]", out.empty() ? "" : ", ",
+                      full(b.name).c_str(), v, b.low, b.high);
+        out += buf;
       }
       return out;
     };
@@ -714,9 +707,7 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     check_cancel(er);
     std::size_t free_count = 0;
     for (const auto& st : stages) free_count += st.params.size();
-    std::string band_veto;
-    EffectFit ef = finish(ids, restore_ranges(er.params, &band_veto), free_count + rep.fits.at(warm_key).fit.free_params,
-                          ts, replay_cal, replay_val);
+    EffectFit ef = finish(ids, er.params, free_count + rep.fits.at(warm_key).fit.free_params, ts, replay_cal, replay_val);
     // (2) Screen: the joint refit (every run reruns the base model) only for an effect that alone, over
     // the reference's base, already buys part of the acceptance margin on validation, or whose fingerprint
     // was found. Joint refits may let the base parameters lean on the effect, but an effect the data hold
@@ -741,20 +732,16 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
             return build_model(in.model_id, ids, in.sensor, ind);
           }, joint_stage_only, in.calibration, er.params, fo);
       check_cancel(cr);
-      band_veto.clear();
-      ef = finish(ids, restore_ranges(cr.params, &band_veto), joint_count, ts, full_model(ids), full_model(ids));
-    }
-    if (ef.fit.veto.empty() && !band_veto.empty()) {
-      ef.fit.veto = "model-form symptom: " + band_veto + ": the whole field asks for more than its fingerprint";
-      ef.fit.model_form_symptom = true;
+      ef = finish(ids, cr.params, joint_count, ts, full_model(ids), full_model(ids));
     }
     if (ef.fit.veto.empty() && !candidate.empty()) {
-      std::vector<std::string> not_free = held_of(candidate);
-      if (fingerprint && fingerprint->consistent)   // a band's edges were judged above
-        for (const auto& b : fingerprint->band) not_free.push_back(candidate + kEffectParamSeparator + b.name);
-      const std::string bound = params_at_bound(ef.fit.params, candidate, not_free);
+      const std::string bound = params_at_bound(ef.fit.params, candidate, held_of(candidate));
+      const std::string band = outside_band(ef.fit.params);
       if (!bound.empty()) {
         ef.fit.veto = "model-form symptom: " + bound + " at a bound of its physical range";
+        ef.fit.model_form_symptom = true;
+      } else if (!band.empty()) {
+        ef.fit.veto = "model-form symptom: " + band + ": the whole field disagrees with the evidence";
         ef.fit.model_form_symptom = true;
       }
     }

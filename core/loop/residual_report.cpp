@@ -82,7 +82,7 @@ nlohmann::ordered_json fingerprint_json(const FingerprintCheck& f) {
           {"beyond_model_form", f.beyond_model_form},
           {"verdict", f.verdict},
           {"held_at", f.consistent ? held : nlohmann::ordered_json::object()},
-          {"bounded_to", f.consistent ? band : nlohmann::ordered_json::object()}};
+          {"must_end_in", f.consistent ? band : nlohmann::ordered_json::object()}};
 }
 
 const EffectFit* fit_of(const ResidualReport& r, const std::vector<std::string>& ids) {
@@ -376,7 +376,7 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
         std::string how;
         for (const auto& [name, value] : f.held) how += (how.empty() ? "" : ", ") + name + " held at " + g3(value);
         for (const auto& b : f.band)
-          how += (how.empty() ? "" : ", ") + b.name + " in [" + g3(b.low) + ", " + g3(b.high) + "]";
+          how += (how.empty() ? "" : ", ") + b.name + " required to end in [" + g3(b.low) + ", " + g3(b.high) + "]";
         md += "; fitted with " + how;
       }
       md += std::string(" → ") + (c.accepted ? "**accepted**" : "not accepted") + ": " +

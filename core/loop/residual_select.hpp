@@ -46,8 +46,8 @@ struct FingerprintCheck {
   std::string verdict;                  // found / not found and why
   // When found: effect parameters (own names) held at these values ...
   std::vector<std::pair<std::string, double>> held;
-  // ... and parameters started at the calibration estimate and bounded to [low, high] around it (evidence
-  // that model form can mimic: the whole-field fit must agree with it; a fit at the band's edge is vetoed).
+  // ... and parameters whose whole-field fit (started as without a fingerprint) must end within [low, high]
+  // around the estimate (evidence that model form can mimic: the fit must agree with it, else a veto).
   struct Band {
     std::string name;
     double estimate, low, high;
