@@ -327,7 +327,8 @@ TEST_CASE("subsurface fingerprint: depth from the fine-scale content against the
   CHECK(sb::grid_laplacian_energy(sensor(), one) == Approx(1.0 + 4.0 / 16.0));
 
   // Markers 1 mm deep (the effect: Gaussian smoothing, sigma 1 mm over a 2.09 mm pitch), exact model: the
-  // depth comes back within 2 % (bisection to 1e-7 m; the ratio is matched, not the field).
+  // Laplacians match exactly at 1 mm, so the depth comes back to the search's resolution (golden section to
+  // 1e-7 m after a 0.1 mm scan); 2 % leaves room for a flat minimum.
   constexpr double kExactModelTol = 0.02;
   FingerprintSample s = sharp_field();
   s.meas_px = apply_effect("subsurface_markers", {{"depth_m", 0.001}}, s.meas_px, 0.02);
@@ -337,7 +338,7 @@ TEST_CASE("subsurface fingerprint: depth from the fine-scale content against the
   CHECK(exact.measured_fine_fraction < exact.model_fine_fraction);
 
   SECTION("not fooled by a smooth model-form error or a gain") {
-    // The model is 30 % too strong (a ratio does not see a gain: attenuation and the model's stiffness drop
+    // The model is 30 % too strong (the match is up to a gain: attenuation and the model's stiffness drop
     // out) and wrong by a broad 1 px bump concentrated on the contact (sigma 4 mm = 63 px): almost no
     // fine-scale content. Depth within 10 %.
     constexpr double kModelErrorTol = 0.10;
