@@ -29,8 +29,8 @@ namespace {
 // Main parameters must be recovered within 30 % (the issue's criterion).
 constexpr double kMainParamRelTol = 0.30;
 constexpr int kHoldFrames = 50;         // 1 s at the twin's 0.02 s frames
-constexpr int kPerMotion = 1;
-constexpr double kTwinNoisePx = 0.05;   // the twin sets' tracking noise (dataset.json provenance)           // samples per motion and split: the CI slice
+constexpr int kPerMotion = 1;          // samples per motion and split: the CI slice
+constexpr double kTwinNoisePx = 0.05;   // the twin sets' tracking noise (dataset.json provenance)
 
 std::string data_root() {
   const char* env = std::getenv("SHEARBENCH_DATA");
@@ -139,25 +139,42 @@ const std::map<std::string, double> kSubsurface = {{"depth_m", 0.001}};
 
 }  // namespace
 
-// Today these fail for every model (issue 16, docs/residuals/README.md): with one sample per motion the
-// models' form error (0.3-3 px) drowns the injected effects' gains, and the whole-field fits use creep as
-// a slow gain (tau and creep_fraction at their bounds, which the bound verdict now vetoes). Hidden ([.])
-// so the suite stays green; run them by tag to see where the loop stands. Also [slow]: the sanitizer
-// pass filters with "~[slow]", and an exclusion-only filter selects hidden tests too.
-TEST_CASE("hard case: undeclared effects in FE twin data are selected and recovered", "[.][residual_hard][slow]") {
-  for (const std::string model : {"fots-reimpl", "tacsl", "hydroshear"}) {
-    SECTION(model + ": creep") { check_hard(model, "twin_sphere35", "viscoelastic_creep", "tau_s", 0.3, kCreep); }
-    SECTION(model + ": lens") { check_hard(model, "twin_sphere35", "lens_distortion", "k1", -0.15, kLens); }
-    SECTION(model + ": subsurface") {
-      check_hard(model, "twin_sphere35", "subsurface_markers", "depth_m", 0.001, kSubsurface);
-    }
-  }
+// Creep's fingerprint (core/loop/fingerprints.hpp) is the change of the measured field while the pose is held
+// and after release, which no rate-independent model's form error can produce: tau and c are estimated from it
+// alone (the SLS undone) and held there while the base is refitted; the candidate must explain the validation
+// drift (or pass the interval) and not make the whole field certainly worse. Found for all three models.
+TEST_CASE("hard case: undeclared creep in FE twin data is selected and its tau recovered", "[residual_hard][slow]") {
+  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
+  check_hard(model, "twin_sphere35", "viscoelastic_creep", "tau_s", 0.3, kCreep);
+}
+
+// Hidden ([.]): not found yet, for a reason the data show (docs/effects.md, "Fingerprints"). The lens
+// fingerprint (the residual of presses and twists that is not symmetric about the contact) reads the FE
+// gel's own asymmetry too: its finite pad makes an off-centre press asymmetric in a pattern fixed to the
+// image, like a lens. On twin_sphere35 (one sample per motion) it estimates, for the injected k1 = -0.15,
+// 0.03 / -0.14 (calibration / validation) with FOTS (re-impl.), -0.06 / -0.27 with TacSL and -0.09 / -0.14
+// with HydroShear, and on the untouched set already 0.24 / 0.01, 0.11 / -0.20 and 0.09 / 0.01: the splits
+// disagree, so the lens is not found (and on the untouched set not falsely found either).
+TEST_CASE("hard case: undeclared lens distortion in FE twin data is selected and k1 recovered", "[.][residual_hard][slow]") {
+  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
+  check_hard(model, "twin_sphere35", "lens_distortion", "k1", -0.15, kLens);
+}
+
+// Hidden ([.]): the subsurface fingerprint (the grid Laplacian of the measured field against the smoothed
+// model's) cannot tell markers below the surface from a model whose field is sharper than the gel's: on
+// the untouched twin_sphere35 it already reads 2.0 mm (FOTS re-impl.) and 1.1-1.2 mm (TacSL), and 0 for
+// HydroShear, whose Gaussian kernel (3.2 mm) is smoother than the FE field; with 1 mm injected: 2.0-2.1,
+// 1.3-1.4 and 0 mm. Model-form error fakes it, so it only bounds the depth a whole-field fit may use.
+TEST_CASE("hard case: undeclared subsurface markers in FE twin data are selected and their depth recovered",
+          "[.][residual_hard][slow]") {
+  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
+  check_hard(model, "twin_sphere35", "subsurface_markers", "depth_m", 0.001, kSubsurface);
 }
 
 // The untouched twin set holds none of the nuisance effects: the loop must not select any of them (before
 // the bound verdict and the screen it selected load_stiffening + viscoelastic_creep on twin_sphere35).
 TEST_CASE("hard case: untouched FE twin data select no nuisance effect", "[residual_hard][slow]") {
-  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl");
+  const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
   const auto r = run_hard(model, "twin_sphere35", "", {});
   INFO(model << ": " << sb::residual_to_json(r)["rounds"].dump(1));
   int nuisance = 0;

@@ -13,6 +13,7 @@
 
 #include "core/base/format.hpp"
 #include "core/loop/effects.hpp"
+#include "core/loop/fingerprints.hpp"
 #include "core/data/tsd.hpp"
 
 namespace sb {
@@ -37,11 +38,16 @@ std::unique_ptr<ShearModel> build_model(const std::string& model_id, const std::
   return wrap_with_effects(std::move(base), effects, sensor, ind);
 }
 
-std::vector<std::string> effect_free_params(const ParamSet& table, const std::string& effect_id) {
+// The parameters of `effect_id` a fit may move: all but the tracker's threshold and those a fingerprint
+// fixed (`held`, full names).
+std::vector<std::string> effect_free_params(const ParamSet& table, const std::string& effect_id,
+                                            const std::vector<std::string>& held = {}) {
   std::vector<std::string> out;
   const std::string prefix = effect_id + kEffectParamSeparator;
   for (const auto& s : table.specs())
-    if (s.name.rfind(prefix, 0) == 0 && !fixed_effect_param(s.name)) out.push_back(s.name);
+    if (s.name.rfind(prefix, 0) == 0 && !fixed_effect_param(s.name) &&
+        std::find(held.begin(), held.end(), s.name) == held.end())
+      out.push_back(s.name);
   return out;
 }
 
@@ -52,9 +58,10 @@ constexpr double kAtBoundFraction = 0.005;
 // The free parameters of `effect_id` that sit at a bound of their range ("name = value"), except a bound
 // that is the parameter's own "no effect" default (subsurface depth 0, edge strength 0): reaching that
 // means the effect switched itself off, not that it was pushed past physics.
-std::string params_at_bound(const ParamSet& params, const std::string& effect_id) {
+std::string params_at_bound(const ParamSet& params, const std::string& effect_id,
+                            const std::vector<std::string>& held) {
   std::string out;
-  for (const auto& name : effect_free_params(params, effect_id)) {
+  for (const auto& name : effect_free_params(params, effect_id, held)) {
     const ParamSpec& sp = params.specs()[static_cast<std::size_t>(params.index_of(name))];
     const double v = params.get(name);
     const bool lg = sp.log_scale && sp.min > 0;
@@ -167,6 +174,32 @@ std::vector<std::shared_ptr<const std::vector<FieldOutput>>> record_base(const s
       f.point_state.clear();
     }
     out[i] = std::move(frames);
+  });
+  return out;
+}
+
+// The fingerprints' view of the samples (core/loop/fingerprints.hpp), without the model's field: contact,
+// held frames (the held_drift rule), the contact centre in the image and its travel since first contact.
+std::vector<FingerprintSample> fingerprint_samples(const Sensor& sensor, const std::vector<FitSample>& samples) {
+  std::vector<FingerprintSample> out(samples.size());
+  tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+    const FitSample& s = samples[i];
+    FingerprintSample& f = out[i];
+    f.dt_s = s.dt_s;
+    f.meas_px = s.meas_px;
+    bool touched = false;
+    Vec2 first_px = Vec2::Zero();
+    for (std::size_t k = 0; k < s.X_EI.size(); ++k) {
+      const Penetration pen = indenter_penetration(*sensor.gel_sdf, *s.indenter, s.X_EI[k]);
+      const Vec2 centre_px = sensor.camera.px_from_E(pen.centre_E);
+      if (pen.penetrating && !touched) first_px = centre_px, touched = true;
+      const bool still = k > 0 && (s.X_EI[k].translation() - s.X_EI[k - 1].translation()).norm() < kHeldTranslationM &&
+                         (s.X_EI[k].linear() - s.X_EI[k - 1].linear()).norm() < kHeldRotation;
+      f.in_contact.push_back(pen.penetrating);
+      f.held.push_back(pen.penetrating && still);
+      f.contact_centre_px.push_back(centre_px);
+      f.travel_px.push_back(touched ? (centre_px - first_px).norm() : 0.0);
+    }
   });
   return out;
 }
@@ -570,6 +603,29 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     };
   };
 
+  // The fingerprints (core/loop/fingerprints.hpp): the samples' contact and hold flags once per split, the
+  // reference's field once per reference, each candidate's finding once per reference.
+  const std::vector<FingerprintSample> fp_cal = fingerprint_samples(*in.sensor, in.calibration);
+  const std::vector<FingerprintSample> fp_val = fingerprint_samples(*in.sensor, in.validation);
+  std::map<std::string, std::vector<std::string>> held_by_effect;   // parameters a fingerprint settled (full names)
+  const auto with_field = [&](std::vector<FingerprintSample> fs, const SampleModelFactory& make, const ParamSet& params,
+                              const std::vector<FitSample>& samples) {
+    tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
+      auto model = make(samples[i], static_cast<std::size_t>(i));
+      model->set_params(params);
+      fs[i].pred_px = simulate_sample(*model, samples[i]);
+    });
+    return fs;
+  };
+  const auto fingerprint_of = [&](const std::string& id, const std::vector<std::string>& warm) {
+    if (!fingerprint_needs_model(id)) return fingerprint_check(id, *in.sensor, fp_cal, fp_val);
+    const std::string warm_key = effect_set_key(warm);
+    const Recording& rec = recording(warm_key);
+    const ParamSet& p = rep.fits.at(warm_key).fit.params;
+    return fingerprint_check(id, *in.sensor, with_field(fp_cal, replay_model(warm, p, rec.cal), p, in.calibration),
+                             with_field(fp_val, replay_model(warm, p, rec.val), p, in.validation));
+  };
+
   const FitAndScore fit_and_score = [&](const std::vector<std::string>& ids) -> FitResult {
     const std::string key = effect_set_key(ids);
     if (auto it = rep.fits.find(key); it != rep.fits.end()) return it->second.fit;
@@ -584,12 +640,59 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       warm = prefix;
     }
     const std::string warm_key = effect_set_key(warm);
+    // The candidate's fingerprint, against the reference (the warm start's model). Found: its parameters are
+    // held at the estimate (evidence beyond model form), or fitted as without a fingerprint and checked
+    // against its band (evidence model form can mimic: it may add a verdict, never lift one). Not found:
+    // fitted alone for the report.
+    std::optional<FingerprintCheck> fingerprint;
+    const std::string candidate = ids.empty() ? "" : ids.back();
+    std::vector<std::string> held_now;   // the candidate's parameters held in this fit (full names)
+    const auto full = [&](const std::string& name) { return candidate + kEffectParamSeparator + name; };
+    const auto set_clamped = [&](const std::string& name, double value) {
+      const ParamSpec& sp = start.specs()[static_cast<std::size_t>(start.index_of(name))];
+      start.set(name, std::clamp(value, sp.min, sp.max));
+    };
+    if (!candidate.empty() && has_fingerprint(candidate) && warm.size() + 1 == ids.size()) {
+      o.progress("fingerprint " + candidate, static_cast<double>(rep.fits.size()) /
+                                                 static_cast<double>(candidates.size() * o.selection.max_effects + 1));
+      fingerprint = fingerprint_of(candidate, warm);
+      if (fingerprint->consistent) {
+        for (const auto& [name, value] : fingerprint->held) {
+          set_clamped(full(name), value);
+          held_now.push_back(full(name));
+        }
+        // Later rounds hold all of them at this fit's values.
+        auto& later = held_by_effect[candidate];
+        later = held_now;
+        for (const auto& b : fingerprint->band) later.push_back(full(b.name));
+      }
+    }
+    const auto held_of = [&](const std::string& id) {
+      if (id == candidate) return held_now;
+      auto it = held_by_effect.find(id);
+      return it == held_by_effect.end() ? std::vector<std::string>{} : it->second;
+    };
+    // A fingerprint that model form can mimic must agree with the whole-field fit: a fitted value outside its
+    // band is a verdict like a bound (the whole field wants something else than the evidence).
+    const auto outside_band = [&](const ParamSet& fitted) {
+      std::string out;
+      if (!fingerprint || !fingerprint->consistent) return out;
+      for (const auto& b : fingerprint->band) {
+        const double v = fitted.get(full(b.name));
+        if (v >= b.low && v <= b.high) continue;
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "%s%s = %.4g outside its fingerprint's band [%.4g, %.4g]", out.empty() ? "" : ", ",
+                      full(b.name).c_str(), v, b.low, b.high);
+        out += buf;
+      }
+      return out;
+    };
     std::vector<FitStage> stages;
     std::vector<std::string> joint = base_free;
     for (const auto& id : ids) {
-      const auto free = effect_free_params(start, id);
+      const auto free = effect_free_params(start, id, held_of(id));
       joint.insert(joint.end(), free.begin(), free.end());
-      if (std::find(warm.begin(), warm.end(), id) == warm.end())
+      if (std::find(warm.begin(), warm.end(), id) == warm.end() && !free.empty())
         stages.push_back({"effect:" + id, free, motions, false, {}});
     }
     o.progress("fit " + in.model_id + "+" + key, static_cast<double>(rep.fits.size()) /
@@ -599,21 +702,24 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     const ParamSet& base_params = rep.fits.at(warm_key).fit.params;
     const auto replay_cal = replay_model(ids, base_params, rec.cal);
     const auto replay_val = replay_model(ids, base_params, rec.val);
-    const CalibrationResult er =
-        run_fit_stages_per_sample(in.model_id + "+" + key, replay_cal, stages, in.calibration, start, fo);
+    CalibrationResult er{in.model_id + "+" + key, start, {}, false, 0};
+    if (!stages.empty()) er = run_fit_stages_per_sample(in.model_id + "+" + key, replay_cal, stages, in.calibration, start, fo);
     check_cancel(er);
     std::size_t free_count = 0;
     for (const auto& st : stages) free_count += st.params.size();
     EffectFit ef = finish(ids, er.params, free_count + rep.fits.at(warm_key).fit.free_params, ts, replay_cal, replay_val);
     // (2) Screen: the joint refit (every run reruns the base model) only for an effect that alone, over
-    // the reference's base, already buys part of the acceptance margin on validation. Joint refits may
-    // let the base parameters lean on the effect, but an effect the data hold shows on the base as fitted.
+    // the reference's base, already buys part of the acceptance margin on validation, or whose fingerprint
+    // was found. Joint refits may let the base parameters lean on the effect, but an effect the data hold
+    // shows on the base as fitted.
     const double ref_rmse = validation_rmse(rep.fits.at(warm_key).fit.validation);
     const double alone_pct = 100.0 * (ref_rmse - validation_rmse(ef.fit.validation)) / ref_rmse;
     const double fp = fingerprint_explained_pct(rep.fits.at(warm_key).fit, ef.fit, o.selection);
-    const bool fingerprint = std::isfinite(fp) && fp >= o.selection.min_fingerprint_pct;
-    if ((alone_pct < o.screen_min_pct && !fingerprint) || joint.size() == free_count) {
-      if (joint.size() > free_count) {
+    const bool drift = std::isfinite(fp) && fp >= o.selection.min_fingerprint_pct;
+    const bool promising = fingerprint ? fingerprint->consistent : (alone_pct >= o.screen_min_pct || drift);
+    const std::size_t joint_count = joint.size();
+    if (!promising || joint_count == free_count) {
+      if (joint_count > free_count && !fingerprint) {
         char why[160];
         std::snprintf(why, sizeof why, "screened: alone over the fitted base it gains %.2f%% (< %.2f%%), no joint refit",
                       alone_pct, o.screen_min_pct);
@@ -626,15 +732,20 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
             return build_model(in.model_id, ids, in.sensor, ind);
           }, joint_stage_only, in.calibration, er.params, fo);
       check_cancel(cr);
-      ef = finish(ids, cr.params, joint.size(), ts, full_model(ids), full_model(ids));
+      ef = finish(ids, cr.params, joint_count, ts, full_model(ids), full_model(ids));
     }
-    if (ef.fit.veto.empty()) {
-      const std::string bound = params_at_bound(ef.fit.params, ids.back());
+    if (ef.fit.veto.empty() && !candidate.empty()) {
+      const std::string bound = params_at_bound(ef.fit.params, candidate, held_of(candidate));
+      const std::string band = outside_band(ef.fit.params);
       if (!bound.empty()) {
         ef.fit.veto = "model-form symptom: " + bound + " at a bound of its physical range";
         ef.fit.model_form_symptom = true;
+      } else if (!band.empty()) {
+        ef.fit.veto = "model-form symptom: " + band + ": the whole field disagrees with the evidence";
+        ef.fit.model_form_symptom = true;
       }
     }
+    ef.fit.fingerprint = fingerprint;
     ef.time_s = seconds_since(ts);
     rep.fits[key] = ef;
     return rep.fits[key].fit;

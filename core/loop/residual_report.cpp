@@ -69,6 +69,22 @@ nlohmann::ordered_json structure_json(const ResidualStructure& s) {
           {"mean_field_px", mean}, {"pc1_px", pc1}};
 }
 
+nlohmann::ordered_json fingerprint_json(const FingerprintCheck& f) {
+  nlohmann::ordered_json held = nlohmann::ordered_json::object(), band = nlohmann::ordered_json::object();
+  for (const auto& [name, value] : f.held) held[name] = num(value);
+  for (const auto& b : f.band) band[b.name] = {num(b.low), num(b.high)};
+  return {{"evidence", f.evidence},
+          {"param", f.param},
+          {"calibration", num(f.calibration)},
+          {"validation", num(f.validation)},
+          {"signal_px", num(f.signal_px)},
+          {"found", f.consistent},
+          {"beyond_model_form", f.beyond_model_form},
+          {"verdict", f.verdict},
+          {"held_at", f.consistent ? held : nlohmann::ordered_json::object()},
+          {"must_end_in", f.consistent ? band : nlohmann::ordered_json::object()}};
+}
+
 const EffectFit* fit_of(const ResidualReport& r, const std::vector<std::string>& ids) {
   auto it = r.fits.find(effect_set_key(ids));
   return it == r.fits.end() ? nullptr : &it->second;
@@ -228,6 +244,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
       cj["accepted"] = c.accepted;
       cj["reason"] = c.reason;
       if (std::isfinite(c.fingerprint_pct)) cj["held_drift_explained_pct"] = num(c.fingerprint_pct);
+      if (c.fingerprint) cj["fingerprint"] = fingerprint_json(*c.fingerprint);
       if (!c.veto.empty()) cj["veto"] = c.veto;
       if (c.model_form_symptom) {
         cj["model_form_symptom"] = true;
@@ -347,6 +364,25 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
       md += ". The effect was compensating the base model's form, not measuring its own physics.\n";
     }
     md += "\n";
+    bool any_fingerprint = false;
+    for (const auto& c : row) {
+      if (!c.fingerprint) continue;
+      if (!any_fingerprint) md += "Fingerprints (each estimated on the calibration and, as a check, the validation split):\n\n";
+      any_fingerprint = true;
+      const FingerprintCheck& f = *c.fingerprint;
+      md += "- **" + c.candidate + "** — " + f.evidence + ": `" + f.param + "` " + g3(f.calibration) + " / " +
+            g3(f.validation) + " (evidence " + f3(f.signal_px) + " px); " + f.verdict;
+      if (f.consistent) {
+        std::string how;
+        for (const auto& [name, value] : f.held) how += (how.empty() ? "" : ", ") + name + " held at " + g3(value);
+        for (const auto& b : f.band)
+          how += (how.empty() ? "" : ", ") + b.name + " required to end in [" + g3(b.low) + ", " + g3(b.high) + "]";
+        md += "; fitted with " + how;
+      }
+      md += std::string(" → ") + (c.accepted ? "**accepted**" : "not accepted") + ": " +
+            c.reason.substr(c.reason.find(": ") + 2) + ".\n";
+    }
+    if (any_fingerprint) md += "\n";
   }
   if (r.selection.selected.empty()) {
     md += "**Selected: nothing.** No catalogued effect improves the validation error reliably at this data size; "

@@ -119,16 +119,41 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   s.fingerprint_pct = fingerprint_explained_pct(reference, candidate, options);
   const bool fingerprint_ok = std::isfinite(s.fingerprint_pct) && s.fingerprint_pct >= options.min_fingerprint_pct &&
                               s.improvement_pct > 0.0;
-  s.accepted = (interval_ok || fingerprint_ok) && bic_ok && s.veto.empty();
+  s.fingerprint = candidate.fingerprint;
+  // An effect with a fingerprint needs it found on both splits. Found evidence that lies beyond model form
+  // (the held drift) is judged where it lies: the effect, at the fingerprint's parameters, must explain the
+  // validation drift (or pass the whole-field interval: a base model that is not rate-independent, TacSL,
+  // predicts a drift of its own) and must not make the whole field certainly worse (the interval's upper end
+  // above 0); the whole-field gain and BIC measure the base model's form there more than the effect. Other
+  // evidence keeps the whole-field rule.
+  const bool own_evidence = !s.fingerprint || s.fingerprint->consistent;
+  const bool beyond_form = s.fingerprint && s.fingerprint->consistent && s.fingerprint->beyond_model_form;
+  const bool drift_ok = std::isfinite(s.fingerprint_pct) && s.fingerprint_pct >= options.min_fingerprint_pct;
+  const bool not_worse = s.improvement_ci_pct.high > 0.0;
+  if (beyond_form)
+    s.accepted = (drift_ok || interval_ok) && not_worse && s.veto.empty();
+  else
+    s.accepted = own_evidence && (interval_ok || fingerprint_ok) && bic_ok && s.veto.empty();
   std::ostringstream why;
   why << "improvement " << s.improvement_pct << "% [" << s.improvement_ci_pct.low << ", "
       << s.improvement_ci_pct.high << "], dBIC " << s.delta_bic;
   if (std::isfinite(s.fingerprint_pct)) why << ", held drift explained " << s.fingerprint_pct << "%";
+  if (s.fingerprint) why << ", fingerprint " << s.fingerprint->param << " " << s.fingerprint->calibration << " / "
+                         << s.fingerprint->validation << " (calibration / validation)";
   why << ": ";
-  if (s.accepted)
+  if (s.accepted && beyond_form)
+    why << "accepted on its fingerprint (the validation drift explained, the whole field not certainly worse)";
+  else if (s.accepted)
     why << (interval_ok ? "accepted" : "accepted on the held-drift fingerprint");
+  else if (!own_evidence)
+    why << "fingerprint not found (" << s.fingerprint->verdict << ")";
   else if (!s.veto.empty())
     why << s.veto;
+  else if (beyond_form && !drift_ok && !interval_ok)
+    why << "at the fingerprint's parameters it explains less than " << options.min_fingerprint_pct
+        << "% of the validation drift and the interval's lower bound is not above " << options.min_lower_bound_pct << "%";
+  else if (beyond_form)
+    why << "it makes the whole validation field certainly worse (interval below 0)";
   else if (!interval_ok)
     why << "interval lower bound not above " << options.min_lower_bound_pct << "%";
   else

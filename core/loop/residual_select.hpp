@@ -7,11 +7,16 @@
 // the data support: greedily, one at a time, each accepted only if
 //   (1) the paired bootstrap interval of its validation RMSE improvement lies above a margin, and
 //   (2) its BIC on the calibration data improves on the model it extends, and
-//   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict).
+//   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict), and
+//   (4) for an effect with a fingerprint (FitResult::fingerprint), the fingerprint was found on both splits
+//       and agrees: the effect's main parameter is then the fingerprint's estimate, not a whole-field fit's.
 // Selecting nothing is a valid outcome.
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/base/params.hpp"
@@ -23,6 +28,31 @@ namespace sb {
 struct ValidationErrors {
   std::vector<double> sq_err_px2;
   std::vector<double> count;
+};
+
+// A candidate effect's fingerprint (core/loop/fingerprints.hpp): its main parameter estimated, on each
+// split, from evidence that is not the whole-field fit, and whether the two estimates make a finding.
+struct FingerprintCheck {
+  std::string evidence;                 // what was looked at, for reports
+  std::string param;                    // the effect's main parameter ("tau_s")
+  double calibration = std::numeric_limits<double>::quiet_NaN();   // the estimate on each split
+  double validation = std::numeric_limits<double>::quiet_NaN();
+  double signal_px = std::numeric_limits<double>::quiet_NaN();     // size of the evidence (calibration)
+  bool consistent = false;              // found on both splits and agreeing: the fit uses `held` and `band`
+  // The evidence lies where the base model's form error cannot reach (the held drift of a rate-independent
+  // model): accepted on a positive gain without the interval margin. False when model-form error can mimic
+  // the evidence (docs/effects.md), and the margin still applies.
+  bool beyond_model_form = false;
+  std::string verdict;                  // found / not found and why
+  // When found: effect parameters (own names) held at these values ...
+  std::vector<std::pair<std::string, double>> held;
+  // ... and parameters whose whole-field fit (started as without a fingerprint) must end within [low, high]
+  // around the estimate (evidence that model form can mimic: the fit must agree with it, else a veto).
+  struct Band {
+    std::string name;
+    double estimate, low, high;
+  };
+  std::vector<Band> band;
 };
 
 struct FitResult {
@@ -40,6 +70,7 @@ struct FitResult {
   // and the marker-frames summed. A rate-independent model predicts no change there, so its model-form
   // error cannot explain a measured drift; an effect that does has evidence of its own.
   double held_sse_px2 = 0, held_signal_px2 = 0, held_count = 0;
+  std::optional<FingerprintCheck> fingerprint;   // set for effects that have one (the candidate of this fit)
 };
 
 using FitAndScore = std::function<FitResult(const std::vector<std::string>& effect_ids)>;
@@ -75,6 +106,7 @@ struct CandidateScore {
   double fingerprint_pct = 0.0;           // held-drift error explained (%), NaN when the data hold no drift
   std::string veto;                       // FitResult::veto of the candidate's fit
   bool model_form_symptom = false;
+  std::optional<FingerprintCheck> fingerprint;   // FitResult::fingerprint of the candidate's fit
   std::string reason;                     // why it passed or failed, for reports
 };
 

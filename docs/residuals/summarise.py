@@ -28,7 +28,12 @@ def best_rejected(d):
     c = max(cands, key=lambda c: c["improvement_pct"])
     lo, hi = c["ci95_pct"]
     why = ""
-    if c.get("model_form_symptom"):
+    fp = c.get("fingerprint")
+    if fp and not fp["found"]:
+        why = f" — fingerprint not found ({fp['param']} {fp['calibration']:.3g} / {fp['validation']:.3g}: " + \
+              fp["verdict"].split(" (")[0] + ")" if fp["calibration"] is not None and fp["validation"] is not None \
+              else " — fingerprint not found (" + fp["verdict"] + ")"
+    elif c.get("model_form_symptom"):
         why = " — model-form symptom: " + c["veto"].split(": ", 1)[-1].replace(" at a bound of its physical range", " at a bound")
     elif c.get("veto", "").startswith("screened"):
         why = " — screened"

@@ -1,0 +1,364 @@
+// Fingerprints (core/loop/fingerprints.hpp): each effect's main parameter estimated from the evidence that a
+// base model's form error cannot fake. Synthetic series with known parameters, then the same series with the
+// kind of error the fingerprint claims to see through (and, for lens and subsurface, a model-form-like error:
+// a smooth residual concentrated near the contact).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "core/loop/effects.hpp"
+#include "core/loop/fingerprints.hpp"
+
+using sb::FingerprintSample;
+using sb::Vec2;
+
+namespace {
+
+using Series = std::vector<std::vector<Vec2>>;   // [frame][marker]
+
+const sb::Sensor& sensor() {
+  static const sb::Sensor s = sb::make_default_sensor();   // 7 x 9 markers at 33 px = 2.09 mm
+  return s;
+}
+
+// Runs `effect` at `params` over a series frame by frame (as the effect wraps a model).
+Series apply_effect(const std::string& effect, const std::map<std::string, double>& params, const Series& in,
+                    double dt_s) {
+  auto e = sb::make_effect(effect);
+  sb::ParamSet p = e->params();
+  for (const auto& [name, value] : params) p.set(name, value);
+  e->set_params(p);
+  e->reset();
+  sb::EffectContext ctx;
+  ctx.sensor = &sensor();
+  Series out = in;
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    ctx.dt_s = k == 0 ? 0.0 : dt_s;
+    e->apply(ctx, out[k]);
+  }
+  return out;
+}
+
+void add_noise(Series* s, double sigma, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n(0.0, sigma);
+  for (auto& f : *s)
+    for (auto& d : f) d += Vec2(n(rng), n(rng));
+}
+
+// ------------------------------------------------------------------------------------------ creep
+
+// A press of `amplitude` px (marker j moves amplitude * (j % 7 + 1) / 7 along x and half that along y):
+// 5 frames free, a 10-frame ramp, a held press of `hold` frames, a 10-frame release, 30 frames free.
+struct Press {
+  Series glassy;
+  std::vector<std::uint8_t> in_contact, held;
+};
+
+Press press_series(double amplitude, int hold) {
+  Press p;
+  const std::size_t M = sensor().markers_rest_px.size();
+  std::vector<double> level;
+  for (int k = 0; k < 5; ++k) level.push_back(0);
+  for (int k = 1; k <= 10; ++k) level.push_back(k / 10.0);
+  for (int k = 0; k < hold; ++k) level.push_back(1);
+  for (int k = 9; k >= 0; --k) level.push_back(k / 10.0);
+  for (int k = 0; k < 30; ++k) level.push_back(0);
+  for (std::size_t k = 0; k < level.size(); ++k) {
+    std::vector<Vec2> f(M);
+    for (std::size_t j = 0; j < M; ++j) f[j] = amplitude * level[k] * (j % 7 + 1) / 7.0 * Vec2(1.0, 0.5);
+    p.glassy.push_back(f);
+    p.in_contact.push_back(level[k] > 0);
+    p.held.push_back(k > 0 && level[k] == 1 && level[k - 1] == 1);
+  }
+  return p;
+}
+
+FingerprintSample creep_sample(const Press& p, const Series& meas, double dt) {
+  FingerprintSample s;
+  s.dt_s = dt;
+  s.meas_px = meas;
+  s.in_contact = p.in_contact;
+  s.held = p.held;
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("sls_glassy_field undoes the viscoelastic_creep effect", "[fingerprints]") {
+  // One marker, a step to D = 2 px at frame 1, held; dt = 0.1 s, tau = 0.2 s, c = 0.5, a = exp(-0.5).
+  // Forward (docs/effects.md): x_1 = c d_0 (1 - a) = 0, so meas_1 = D; x_2 = c D (1 - a), meas_2 = D (1 + c (1 - a));
+  // x_3 = c D (1 - a) + a x_2 = c D (1 - a^2), meas_3 = D (1 + c (1 - a^2)). Undone: D on every frame >= 1.
+  constexpr double kExact = 1e-12;
+  const double D = 2.0, c = 0.5, a = std::exp(-0.5);
+  const Series meas = {{Vec2(0, 0)}, {Vec2(D, 0)}, {Vec2(D * (1 + c * (1 - a)), 0)}, {Vec2(D * (1 + c * (1 - a * a)), 0)}};
+  const Series d = sb::sls_glassy_field(meas, 0.1, 0.2, c);
+  CHECK(d[0][0].norm() < kExact);
+  for (int k = 1; k < 4; ++k) CHECK((d[k][0] - Vec2(D, 0)).norm() < kExact);
+  // On a whole press through the effect itself (every marker), it returns the glassy series.
+  const Press p = press_series(6.0, 20);
+  const Series filtered = apply_effect("viscoelastic_creep", {{"tau_s", 0.3}, {"creep_fraction", 0.3}}, p.glassy, 0.02);
+  const Series back = sb::sls_glassy_field(filtered, 0.02, 0.3, 0.3);
+  for (std::size_t k = 0; k < back.size(); ++k)
+    for (std::size_t j = 0; j < back[k].size(); ++j) CHECK((back[k][j] - p.glassy[k][j]).norm() < 1e-9);
+  CHECK_THROWS_AS(sb::sls_glassy_field(meas, 0.1, 0.0, c), std::invalid_argument);
+}
+
+TEST_CASE("creep fingerprint: an SLS-filtered held press gives tau and c back", "[fingerprints]") {
+  // tau 0.3 s, c 0.3 at 50 Hz, a 1 s hold, 0.05 px tracker noise: over the hold the field grows by
+  // c (1 - exp(-1 / 0.3)) = 29 % of itself (1.7 px at the 6 px markers) and after release the same decays; noise
+  // alone drifts ~0.1 px. Both parameters must come back within 5 % (the grid's pattern search stops at
+  // 1e-3 of a cell; the rest is noise).
+  constexpr double kRelTol = 0.05;
+  const Press p = press_series(6.0, 50);
+  Series meas = apply_effect("viscoelastic_creep", {{"tau_s", 0.3}, {"creep_fraction", 0.3}}, p.glassy, 0.02);
+  add_noise(&meas, 0.05, 1);
+  const sb::CreepFingerprint f = sb::creep_fingerprint({creep_sample(p, meas, 0.02)});
+  INFO("tau " << f.tau_s << " c " << f.creep_fraction << " signal " << f.signal_rms_px << " explained " << f.explained_pct);
+  CHECK(std::abs(f.tau_s - 0.3) < kRelTol * 0.3);
+  CHECK(std::abs(f.creep_fraction - 0.3) < kRelTol * 0.3);
+  CHECK(f.signal_rms_px > 0.15);
+  CHECK(f.explained_pct > 90);
+
+  SECTION("not fooled by a permanent set, lost markers or a field of another shape") {
+    // Adhesion leaves 0.5 px on every marker that moved from release on (constant: the release evidence is
+    // the change since release); a third of the markers are lost on every fifth frame; a model-form-like
+    // pattern (what a wrong base model would miss: 1 px more on odd markers) is in the glassy field
+    // whenever the indenter is in the gel, held or not. None changes while the pose is held.
+    Press q = press_series(6.0, 50);
+    for (std::size_t k = 0; k < q.glassy.size(); ++k)
+      for (std::size_t j = 0; j < q.glassy[k].size(); ++j)
+        if (q.in_contact[k] && j % 2) q.glassy[k][j] += Vec2(0, 1.0);
+    Series m = apply_effect("viscoelastic_creep", {{"tau_s", 0.3}, {"creep_fraction", 0.3}}, q.glassy, 0.02);
+    bool released = false;
+    for (std::size_t k = 0; k < m.size(); ++k) {
+      released = released || (k > 0 && q.in_contact[k - 1] && !q.in_contact[k]);
+      for (std::size_t j = 0; j < m[k].size(); ++j) {
+        if (released) m[k][j] += Vec2(0.5, 0.0);
+        if (k % 5 == 0 && j % 3 == 0) m[k][j] = Vec2(NAN, NAN);
+      }
+    }
+    add_noise(&m, 0.05, 2);
+    const sb::CreepFingerprint g = sb::creep_fingerprint({creep_sample(q, m, 0.02)});
+    INFO("tau " << g.tau_s << " c " << g.creep_fraction);
+    CHECK(std::abs(g.tau_s - 0.3) < kRelTol * 0.3);
+    CHECK(std::abs(g.creep_fraction - 0.3) < kRelTol * 0.3);
+  }
+
+  SECTION("an elastic gel has no creep fingerprint") {
+    Series still = p.glassy;
+    add_noise(&still, 0.05, 3);
+    const FingerprintSample s = creep_sample(p, still, 0.02);
+    const sb::CreepFingerprint g = sb::creep_fingerprint({s});
+    CHECK(g.signal_rms_px < 0.15);   // noise: sqrt(2) sigma per component difference = 0.1 px
+    const auto check = sb::fingerprint_check("viscoelastic_creep", sensor(), {s}, {s});
+    REQUIRE(check.has_value());
+    CHECK_FALSE(check->consistent);
+    CHECK(check->verdict.find("above noise") != std::string::npos);
+  }
+
+  SECTION("the finding: both splits agree, the fit holds tau and c") {
+    Series other = apply_effect("viscoelastic_creep", {{"tau_s", 0.3}, {"creep_fraction", 0.3}},
+                                press_series(4.0, 40).glassy, 0.02);
+    add_noise(&other, 0.05, 4);
+    const auto check = sb::fingerprint_check("viscoelastic_creep", sensor(), {creep_sample(p, meas, 0.02)},
+                                             {creep_sample(press_series(4.0, 40), other, 0.02)});
+    REQUIRE(check.has_value());
+    CHECK(check->consistent);
+    CHECK(check->beyond_model_form);
+    REQUIRE(check->held.size() == 2);
+    CHECK(check->held[0].first == "tau_s");
+    CHECK(check->held[0].second == Approx(f.tau_s));
+    // A validation split whose creep is twice as slow disagrees (ratio 2 > 1.5).
+    Series slow = apply_effect("viscoelastic_creep", {{"tau_s", 0.6}, {"creep_fraction", 0.3}}, p.glassy, 0.02);
+    add_noise(&slow, 0.05, 5);
+    const auto split = sb::fingerprint_check("viscoelastic_creep", sensor(), {creep_sample(p, meas, 0.02)},
+                                             {creep_sample(p, slow, 0.02)});
+    CHECK_FALSE(split->consistent);
+    CHECK(split->verdict.find("disagree") != std::string::npos);
+  }
+}
+
+// ------------------------------------------------------------------------------------------- lens
+
+namespace {
+
+// A press and twist of an axisymmetric indenter at `centre_px`: the field is symmetric about the contact,
+// radial part A s exp(1/2 - s^2/2) (s = rho / 40 px, peak A at 40 px) and tangential part B times the same
+// profile, both growing over 12 frames.
+FingerprintSample axisymmetric_press(const Vec2& centre_px, double A, double B) {
+  FingerprintSample s;
+  const auto& m = sensor().markers_rest_px;
+  for (int k = 1; k <= 12; ++k) {
+    std::vector<Vec2> f(m.size());
+    for (std::size_t j = 0; j < m.size(); ++j) {
+      const Vec2 out = m[j] - centre_px;
+      const double rho = out.norm(), sc = rho / 40.0;
+      const Vec2 radial = rho > 0 ? Vec2(out / rho) : Vec2(1, 0), tangential(-radial.y(), radial.x());
+      const double profile = sc * std::exp(0.5 - 0.5 * sc * sc) * k / 12.0;
+      f[j] = profile * (A * radial + B * tangential);
+    }
+    s.meas_px.push_back(f);
+    s.pred_px.push_back(f);
+    s.in_contact.push_back(1);
+    s.held.push_back(0);
+    s.contact_centre_px.push_back(centre_px);
+    s.travel_px.push_back(0.0);
+  }
+  return s;
+}
+
+// The samples as a camera with lens k1 sees them (the effect on each frame); pred stays the undistorted field.
+std::vector<FingerprintSample> through_lens(std::vector<FingerprintSample> samples, double k1) {
+  for (auto& s : samples) s.meas_px = apply_effect("lens_distortion", {{"k1", k1}}, s.meas_px, 0.02);
+  return samples;
+}
+
+// A contact model's error of a press: symmetric about the contact, 1 px radial, wider than the field
+// (peak at 70 px), plus a uniform 0.3 px offset.
+void add_symmetric_model_error(FingerprintSample* s) {
+  const auto& m = sensor().markers_rest_px;
+  for (std::size_t k = 0; k < s->pred_px.size(); ++k)
+    for (std::size_t j = 0; j < m.size(); ++j) {
+      const Vec2 out = m[j] - s->contact_centre_px[k];
+      const double rho = out.norm(), sc = rho / 70.0;
+      const Vec2 radial = rho > 0 ? Vec2(out / rho) : Vec2(1, 0);
+      s->pred_px[k][j] += (k + 1) / 12.0 * (sc * std::exp(0.5 - 0.5 * sc * sc) * radial + Vec2(0.3, 0.0));
+    }
+}
+
+}  // namespace
+
+TEST_CASE("lens fingerprint: k1 from the residual that is not symmetric about the contact", "[fingerprints]") {
+  // The pattern is the effect's k1 term: at rest m = (259.5, 119.5) (r = 100 / 200 = 0.5), a 10 px move along x
+  // is seen as D(m + d) - D(m) = 10 + k1 (110^3 - 100^3) / 200^2 = 10 + 8.275 k1 px (the test of the effect).
+  CHECK(sb::lens_k1_pattern(sensor().camera, Vec2(259.5, 119.5), Vec2(10, 0)).x() == Approx(8.275).epsilon(1e-12));
+  // Two presses off the principal point (the lens's asymmetric part grows with the contact's distance from it).
+  const std::vector<FingerprintSample> presses = {axisymmetric_press(Vec2(230, 80), 8.0, 0.0),
+                                                  axisymmetric_press(Vec2(90, 160), 6.0, 3.0)};
+  // Exact model, k1 = -0.15: the residual is k1 times the pattern of the model's field exactly (k2 = 0), and
+  // projecting both on the same nuisance fields keeps that: k1 back to rounding.
+  constexpr double kExactModelTol = 1e-9;
+  const auto exact = sb::lens_fingerprint(sensor(), through_lens(presses, -0.15));
+  INFO("k1 " << exact.k1 << " +- " << exact.k1_stderr << " signal " << exact.signal_rms_px << " px");
+  CHECK(std::abs(exact.k1 + 0.15) < kExactModelTol * 0.15);
+  CHECK(exact.frames == 24);
+
+  SECTION("not fooled by a symmetric model-form error and noise") {
+    // The model is wrong by a smooth, contact-centred field larger than the lens's whole effect (1 px against
+    // 0.1-0.4 px) and the tracker adds 0.05 px: k1 within 10 % (the noise's share: stderr ~ 0.005).
+    constexpr double kModelErrorTol = 0.10;
+    auto seen = through_lens(presses, -0.15);
+    std::uint64_t seed = 7;
+    for (auto& s : seen) {
+      add_symmetric_model_error(&s);
+      add_noise(&s.meas_px, 0.05, seed++);
+    }
+    const auto f = sb::lens_fingerprint(sensor(), seen);
+    INFO("k1 " << f.k1 << " +- " << f.k1_stderr);
+    CHECK(std::abs(f.k1 + 0.15) < kModelErrorTol * 0.15);
+    // The same model error without a lens reads as no lens.
+    auto none = presses;
+    for (auto& s : none) {
+      add_symmetric_model_error(&s);
+      add_noise(&s.meas_px, 0.05, seed++);
+    }
+    const auto z = sb::lens_fingerprint(sensor(), none);
+    INFO("k1 without lens " << z.k1 << " +- " << z.k1_stderr);
+    CHECK(std::abs(z.k1) < 0.02);
+    const auto check = sb::fingerprint_check("lens_distortion", sensor(), none, none);
+    CHECK_FALSE(check->consistent);
+  }
+
+  SECTION("a slide is not used: its field is not symmetric") {
+    auto slid = through_lens(presses, -0.15);
+    for (auto& s : slid)
+      for (auto& t : s.travel_px) t = 5.0;
+    CHECK(std::isnan(sb::lens_fingerprint(sensor(), slid).k1));
+  }
+
+  SECTION("the finding bounds k1 near its estimate and holds k2") {
+    const auto seen = through_lens(presses, -0.15);
+    const auto check = sb::fingerprint_check("lens_distortion", sensor(), seen, seen);
+    REQUIRE(check->consistent);
+    CHECK_FALSE(check->beyond_model_form);
+    REQUIRE(check->band.size() == 1);
+    CHECK(check->band[0].low == Approx(exact.k1 * 1.5));   // k1 < 0: [1.5 k1, k1 / 1.5]
+    CHECK(check->band[0].high == Approx(exact.k1 / 1.5));
+    REQUIRE(check->held.size() == 1);
+    CHECK(check->held[0].first == "k2");
+  }
+}
+
+// ------------------------------------------------------------------------------------- subsurface
+
+namespace {
+
+// A field with fine structure on the grid: two sharp bumps (peak at 0.9 pitch) that grow over 10 frames.
+FingerprintSample sharp_field() {
+  FingerprintSample s;
+  const auto& m = sensor().markers_rest_px;
+  for (int k = 1; k <= 10; ++k) {
+    std::vector<Vec2> f(m.size());
+    for (std::size_t j = 0; j < m.size(); ++j) {
+      f[j] = Vec2::Zero();
+      for (const auto& [c, dir] : {std::pair{Vec2(126.5, 86.5), Vec2(1.0, 0.3)}, {Vec2(225.5, 152.5), Vec2(-0.4, 1.0)}}) {
+        const double sc = (m[j] - c).norm() / 30.0;
+        f[j] += 4.0 * k / 10.0 * std::exp(-0.5 * sc * sc) * dir;
+      }
+    }
+    s.meas_px.push_back(f);
+    s.pred_px.push_back(f);
+    s.in_contact.push_back(1);
+    s.held.push_back(0);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("subsurface fingerprint: depth from the fine-scale content against the model's", "[fingerprints]") {
+  // The grid Laplacian by hand: one marker of an interior 4-neighbourhood moved by (1, 0), the rest still:
+  // that marker contributes |0 - 1|^2 = 1 and each of its 4 interior neighbours |1/4 - 0|^2 = 1/16 (marker 31 is
+  // the middle of the 7 x 9 grid, its neighbours 22, 30, 32, 40 are all interior).
+  std::vector<Vec2> one(sensor().markers_rest_px.size(), Vec2::Zero());
+  one[31] = Vec2(1, 0);
+  CHECK(sb::grid_laplacian_energy(sensor(), one) == Approx(1.0 + 4.0 / 16.0));
+
+  // Markers 1 mm deep (the effect: Gaussian smoothing, sigma 1 mm over a 2.09 mm pitch), exact model: the
+  // Laplacians match exactly at 1 mm, so the depth comes back to the search's resolution (golden section to
+  // 1e-7 m after a 0.1 mm scan); 2 % leaves room for a flat minimum.
+  constexpr double kExactModelTol = 0.02;
+  FingerprintSample s = sharp_field();
+  s.meas_px = apply_effect("subsurface_markers", {{"depth_m", 0.001}}, s.meas_px, 0.02);
+  const auto exact = sb::subsurface_fingerprint(sensor(), {s});
+  INFO("depth " << exact.depth_m);
+  CHECK(std::abs(exact.depth_m - 0.001) < kExactModelTol * 0.001);
+  CHECK(exact.measured_fine_fraction < exact.model_fine_fraction);
+
+  SECTION("not fooled by a smooth model-form error or a gain") {
+    // The model is 30 % too strong (the match is up to a gain: attenuation and the model's stiffness drop
+    // out) and wrong by a broad 1 px bump concentrated on the contact (sigma 4 mm = 63 px): almost no
+    // fine-scale content. Depth within 10 %.
+    constexpr double kModelErrorTol = 0.10;
+    FingerprintSample w = s;
+    const auto& m = sensor().markers_rest_px;
+    for (std::size_t k = 0; k < w.pred_px.size(); ++k)
+      for (std::size_t j = 0; j < m.size(); ++j) {
+        const double sc = (m[j] - Vec2(126.5, 86.5)).norm() / 63.0;
+        w.pred_px[k][j] = 1.3 * w.pred_px[k][j] + (k + 1) / 10.0 * std::exp(-0.5 * sc * sc) * Vec2(1.0, 0.0);
+      }
+    add_noise(&w.meas_px, 0.05, 11);
+    const auto f = sb::subsurface_fingerprint(sensor(), {w});
+    INFO("depth " << f.depth_m);
+    CHECK(std::abs(f.depth_m - 0.001) < kModelErrorTol * 0.001);
+  }
+
+  SECTION("markers on the surface: no depth") {
+    const FingerprintSample surface = sharp_field();
+    const auto f = sb::subsurface_fingerprint(sensor(), {surface});
+    CHECK(f.depth_m < 0.25 * 2.0922e-3);   // below a quarter pitch: the finding's floor
+    CHECK_FALSE(sb::fingerprint_check("subsurface_markers", sensor(), {surface}, {surface})->consistent);
+  }
+}
