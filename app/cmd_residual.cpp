@@ -28,6 +28,7 @@ struct ResidualArgs {
   std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
   int max_iterations = 30;
   int resamples = 2000;
+  bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
 };
@@ -60,6 +61,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   o.max_iterations = a.max_iterations;
   o.selection.bootstrap_resamples = a.resamples;
   o.candidates = a.effects;
+  o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
     in.base_params.update_from_json(params_for_model(jsonin::load_file(a.params), a.model, true, a.params), a.params);
     o.fit_base = false;
@@ -90,6 +92,9 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const MetricsResult b = rep.before.validation.overall.result(), f = rep.after.validation.overall.result();
+    if (!rep.model_form_selected.empty())
+      std::fprintf(stderr, "residual: model form selected: %s (validation RMSE %.4f px)\n", rep.model_form_selected.c_str(),
+                   validation_rmse(rep.model_form_fits.at(rep.model_form_selected).fit.validation));
     std::fprintf(stderr, "residual: selected [%s]; validation RMSE %.4f -> %.4f px (%.1f s); wrote %s, %s\n",
                  effect_set_key(rep.selection.selected).c_str(), b.rmse_px, f.rmse_px, rep.time_s,
                  a.json_out.c_str(), report.string().c_str());
@@ -108,6 +113,9 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
       ->delimiter(',');
   sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
+  sub.add_flag("--no-model-forms", a.no_model_forms,
+               "skip the model-form round (hydroshear: its layer, stick and layer+stick variants fitted and scored "
+               "against it; docs/effects.md)");
   sub.add_option("--json", a.json_out, "JSON result (written atomically)")->required();
   sub.add_option("--report", a.report_out, "Markdown report; PNG plots are written beside it")->required();
 }

@@ -417,6 +417,11 @@ FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
 
 }  // namespace
 
+std::vector<std::string> model_form_variants(const std::string& model_id) {
+  if (model_id == "hydroshear") return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
+  return {};
+}
+
 std::string effect_set_key(const std::vector<std::string>& ids) {
   std::string k;
   for (const auto& id : ids) k += (k.empty() ? "" : "+") + id;
@@ -575,6 +580,35 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       base = br.params;
     }
     rep.fits[""] = finish({}, base, base_free.size(), ts, full_model({}), full_model({}));
+  }
+
+  // The model-form round: each variant fitted like the base (its stages, then jointly), starting from the
+  // fitted base's values and the variant's own defaults, scored against the base by the selection rule.
+  if (o.model_forms && o.fit_base) {
+    const FitResult& base_fit = rep.fits.at("").fit;
+    double best_rmse_px = 0;
+    for (const std::string& v : model_form_variants(in.model_id)) {
+      o.progress("model form " + v, 0.0);
+      const auto ts = std::chrono::steady_clock::now();
+      ParamSet start = default_params(v);
+      copy_shared(base_fit.params, &start);
+      FitOptions vo = fo;
+      vo.joint = true;
+      const CalibrationResult vr = fit_model(v, in.sensor, in.calibration, start, vo);
+      check_cancel(vr);
+      const SampleModelFactory make = [&in, v](const FitSample& s, std::size_t) {
+        return build_model(v, {}, in.sensor, s.indenter);
+      };
+      EffectFit ef = finish({}, vr.params, joint_stage(v, false).params.size(), ts, make, make);
+      CandidateScore sc = score_candidate(base_fit, ef.fit, o.selection);
+      sc.candidate = v;
+      if (sc.accepted && (rep.model_form_selected.empty() || sc.rmse_px < best_rmse_px)) {
+        rep.model_form_selected = v;
+        best_rmse_px = sc.rmse_px;
+      }
+      rep.model_form_scores.push_back(std::move(sc));
+      rep.model_form_fits[v] = std::move(ef);
+    }
   }
 
   // The base field of a fitted effect set's base parameters, recorded once per set (calibration and

@@ -35,6 +35,9 @@ struct ResidualOptions {
   // every effect's parameters. false: the base parameters stay as given; only effect parameters are fit.
   bool fit_base = true;
   std::vector<std::string> candidates;   // effect ids to try; empty: the whole catalogue
+  // Try the base model's model-form variants (model_form_variants) against it, each fitted jointly on
+  // calibration and accepted by the same held-out rule as an effect (only with fit_base).
+  bool model_forms = true;
   SelectionOptions selection;
   int max_iterations = 30;               // Levenberg-Marquardt iterations per stage
   // A candidate gets its joint refit (base + effects, every run a full model run) only when its effect
@@ -92,11 +95,20 @@ struct ResidualReport {
   ResidualStructure structure_after;      // selected model, all samples
   SelectionResult selection;
   std::map<std::string, EffectFit> fits;  // keyed by the ids joined with '+' ("" = base)
+  // The model-form round (issue 17): each variant's fit and its score against the fitted base, and the
+  // best accepted one ("" when none is). The effect rounds run on the base model either way.
+  std::map<std::string, EffectFit> model_form_fits;
+  std::vector<CandidateScore> model_form_scores;
+  std::string model_form_selected;
   EffectFit before, after;
   double time_s = 0;
 };
 
 std::string effect_set_key(const std::vector<std::string>& ids);
+
+// The model-form corrections of `model_id` that are models of their own (docs/effects.md, "Model-form
+// effects"): for hydroshear its layer, stick and layer+stick variants; none for the others yet.
+std::vector<std::string> model_form_variants(const std::string& model_id);
 
 // The whole loop. Throws std::invalid_argument for empty splits or an unknown model / effect.
 ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions& options);

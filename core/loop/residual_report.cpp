@@ -266,6 +266,23 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   j["selected_params"] = sel_params;
   j["after"] = metrics_json(r.after);
   j["rounds"] = rounds;
+  if (!r.model_form_scores.empty()) {
+    nlohmann::ordered_json forms = nlohmann::ordered_json::array();
+    for (const auto& c : r.model_form_scores) {
+      nlohmann::ordered_json cj;
+      cj["model"] = c.candidate;
+      cj["validation_rmse_px"] = num(c.rmse_px);
+      cj["improvement_pct"] = num(c.improvement_pct);
+      cj["ci95_pct"] = {num(c.improvement_ci_pct.low), num(c.improvement_ci_pct.high)};
+      cj["delta_bic"] = num(c.delta_bic);
+      cj["accepted"] = c.accepted;
+      cj["reason"] = c.reason;
+      cj["fit"] = metrics_json(r.model_form_fits.at(c.candidate));
+      forms.push_back(cj);
+    }
+    j["model_forms"] = forms;
+    j["model_form_selected"] = r.model_form_selected;
+  }
   j["residual_before"] = structure_json(r.structure_before);
   j["residual_after"] = structure_json(r.structure_after);
   if (timings_in_outputs()) j["time_s"] = r.time_s;
@@ -299,6 +316,25 @@ std::vector<std::string> write_residual_plots(const ResidualReport& r, const std
   return names;
 }
 
+// The model-form round (issue 17): the base model's variants, each a model of its own, against the base.
+static std::string model_form_markdown(const ResidualReport& r) {
+  if (r.model_form_scores.empty()) return "";
+  std::string md = "\n## Which model form explains it\n\n";
+  md += "Each model-form variant of " + r.model_id + " (docs/effects.md, \"Model-form effects\") fitted like the base "
+        "(its stages, then jointly) on calibration, scored on validation with the same rule as the effects: the 95 % "
+        "paired-bootstrap interval of the improvement above the margin and a better calibration BIC.\n\n"
+        "| model | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted |\n|---|---|---|---|---|---|\n";
+  for (const auto& c : r.model_form_scores)
+    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" + f3(c.improvement_ci_pct.low) +
+          ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " + (c.accepted ? "yes" : "no") + " |\n";
+  md += "\n" + (r.model_form_selected.empty()
+                    ? std::string("**No model form selected**: no variant passes the rule.")
+                    : "**Selected model form: " + r.model_form_selected + "** (" + f3(r.model_form_scores.front().reference_rmse_px) +
+                          " -> " + f3(validation_rmse(r.model_form_fits.at(r.model_form_selected).fit.validation)) +
+                          " px validation). The effect rounds below run on the base model.") + "\n";
+  return md;
+}
+
 std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots) {
   std::string md;
   md += "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
@@ -325,6 +361,7 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
     md += "\n\n";
   }
   for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
+  md += model_form_markdown(r);
   md += "\n## Which effect explains it\n\n";
   md += "Each catalogued effect was wrapped around the base model and fitted alone over the base's recorded field, "
         "then (unless screened) jointly with it on calibration; accepted when the 95 % paired-bootstrap interval "

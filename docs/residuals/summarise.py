@@ -40,10 +40,22 @@ def best_rejected(d):
     return f"{c['effect']} {c['improvement_pct']:+.1f} % [{lo:.1f}, {hi:.1f}]{why}"
 
 
-print("| dataset | model | validation RMSE before -> after (px) | change | selected (fitted parameters) | best candidate not selected (95 % CI) |")
-print("|---|---|---|---|---|---|")
+def model_form(d):
+    """The model-form round (issue 17): the selected variant and its validation RMSE, or '-' (none tried)."""
+    forms = d.get("model_forms")
+    if not forms:
+        return "-"
+    sel = d.get("model_form_selected", "")
+    if not sel:
+        return "none passes"
+    c = next(c for c in forms if c["model"] == sel)
+    return f"{sel} {c['validation_rmse_px']:.3f} ({-c['improvement_pct']:+.1f} %)"
+
+
+print("| dataset | model | validation RMSE before -> after (px) | change | selected (fitted parameters) | best candidate not selected (95 % CI) | model form selected (val. RMSE px) |")
+print("|---|---|---|---|---|---|---|")
 for f in sorted(here.glob("*/residual.json")):
     d = json.loads(f.read_text())
     b, a = d["before"]["validation_rmse_px"], d["after"]["validation_rmse_px"]
     print(f"| [{d['dataset']}]({f.parent.name}/report.md) | {d['model']} | {b:.3f} -> {a:.3f} | {pct(b, a):+.1f} % | "
-          f"{fmt_effects(d)} | {best_rejected(d)} |")
+          f"{fmt_effects(d)} | {best_rejected(d)} | {model_form(d)} |")
