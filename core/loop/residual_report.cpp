@@ -23,6 +23,16 @@ namespace {
 // JSON has no NaN: empty metrics become null.
 nlohmann::ordered_json num(double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nullptr; }
 
+// A candidate's score against the model it extends (effects and model forms alike).
+void add_score_json(const CandidateScore& c, nlohmann::ordered_json* j) {
+  (*j)["validation_rmse_px"] = num(c.rmse_px);
+  (*j)["improvement_pct"] = num(c.improvement_pct);
+  (*j)["ci95_pct"] = {num(c.improvement_ci_pct.low), num(c.improvement_ci_pct.high)};
+  (*j)["delta_bic"] = num(c.delta_bic);
+  (*j)["accepted"] = c.accepted;
+  (*j)["reason"] = c.reason;
+}
+
 nlohmann::ordered_json metrics_json(const EffectFit& f) {
   nlohmann::ordered_json by = nlohmann::ordered_json::object();
   for (const auto& [motion, acc] : f.validation.per_motion) {
@@ -237,12 +247,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
       cj["effect"] = c.candidate;
       const EffectFit* f = fit_of(r, c.effect_ids);
       cj["params"] = f ? effect_params_json(f->fit.params, c.candidate) : nlohmann::ordered_json::object();
-      cj["validation_rmse_px"] = num(c.rmse_px);
-      cj["improvement_pct"] = num(c.improvement_pct);
-      cj["ci95_pct"] = {num(c.improvement_ci_pct.low), num(c.improvement_ci_pct.high)};
-      cj["delta_bic"] = num(c.delta_bic);
-      cj["accepted"] = c.accepted;
-      cj["reason"] = c.reason;
+      add_score_json(c, &cj);
       if (std::isfinite(c.fingerprint_pct)) cj["held_drift_explained_pct"] = num(c.fingerprint_pct);
       if (c.fingerprint) cj["fingerprint"] = fingerprint_json(*c.fingerprint);
       if (!c.veto.empty()) cj["veto"] = c.veto;
@@ -271,12 +276,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
     for (const auto& c : r.model_form_scores) {
       nlohmann::ordered_json cj;
       cj["model"] = c.candidate;
-      cj["validation_rmse_px"] = num(c.rmse_px);
-      cj["improvement_pct"] = num(c.improvement_pct);
-      cj["ci95_pct"] = {num(c.improvement_ci_pct.low), num(c.improvement_ci_pct.high)};
-      cj["delta_bic"] = num(c.delta_bic);
-      cj["accepted"] = c.accepted;
-      cj["reason"] = c.reason;
+      add_score_json(c, &cj);
       cj["fit"] = metrics_json(r.model_form_fits.at(c.candidate));
       forms.push_back(cj);
     }
