@@ -17,6 +17,7 @@
 #include "core/calibration/metrics.hpp"
 #include "core/models/model.hpp"
 #include "core/data/tsd.hpp"
+#include "core/loop/residual.hpp"
 
 namespace sb::app {
 
@@ -55,9 +56,14 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
   if (!o.open.beside_hydroshear.empty()) {
-    if (o.open.beside_hydroshear.rfind("hydroshear", 0) != 0)
-      throw InputError("--beside-hydroshear", "expected a HydroShear variant (hydroshear, hydroshear-layer, "
-                                              "hydroshear-stick, hydroshear-layer-stick), got '" + o.open.beside_hydroshear + "'");
+    // HydroShear or one of its model-form variants: the residual loop's list (one place names them).
+    std::vector<std::string> family = model_form_variants("hydroshear");
+    family.insert(family.begin(), "hydroshear");
+    if (std::find(family.begin(), family.end(), o.open.beside_hydroshear) == family.end()) {
+      std::string names;
+      for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
+      throw InputError("--beside-hydroshear", "expected one of " + names + ", got '" + o.open.beside_hydroshear + "'");
+    }
     ids.insert(ids.begin() + 1, o.open.beside_hydroshear);
   }
   for (const std::string& id : ids) {
