@@ -44,7 +44,10 @@ void add_noise(Series* s, double sigma, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& f : *s)
-    for (auto& d : f) d += Vec2(n(rng), n(rng));
+    for (auto& d : f) {
+      const double dx = n(rng);   // two statements: argument order is unspecified (gcc and clang differ)
+      d += Vec2(dx, n(rng));
+    }
 }
 
 // ------------------------------------------------------------------------------------------ creep
@@ -339,9 +342,11 @@ TEST_CASE("subsurface fingerprint: depth from the fine-scale content against the
 
   SECTION("not fooled by a smooth model-form error or a gain") {
     // The model is 30 % too strong (the match is up to a gain: attenuation and the model's stiffness drop
-    // out) and wrong by a broad 1 px bump concentrated on the contact (sigma 4 mm = 63 px): almost no
-    // fine-scale content. Depth within 10 %.
-    constexpr double kModelErrorTol = 0.10;
+    // out) and wrong by a broad 1 px bump concentrated on the contact (sigma 4 mm = 63 px). The bump is not
+    // free of fine-scale content on a 2.09 mm grid (its Laplacian over one pitch is ~ (33/63)^2 ~ 27 % of
+    // its height), which reads as shallower markers: without noise the depth comes back at 0.912 mm
+    // (-8.8 %); the 0.05 px noise spreads it by +-4 % (30 seeds: 0.874 .. 0.953 mm). Depth within 15 %.
+    constexpr double kModelErrorTol = 0.15;
     FingerprintSample w = s;
     const auto& m = sensor().markers_rest_px;
     for (std::size_t k = 0; k < w.pred_px.size(); ++k)

@@ -95,7 +95,10 @@ void simulate(std::vector<FitSample>* samples, const std::string& effect, const 
     model->set_params(p);
     s.meas_px = sb::simulate_sample(*model, s);
     for (auto& frame : s.meas_px)
-      for (auto& d : frame) d += Vec2(noise(rng), noise(rng));
+      for (auto& d : frame) {
+        const double dx = noise(rng);   // sequenced: argument order is unspecified
+        d += Vec2(dx, noise(rng));
+      }
   }
 }
 

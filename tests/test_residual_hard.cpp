@@ -229,7 +229,10 @@ TEST_CASE("model-form round: HydroShear's own field selects no variant", "[resid
       auto m = sb::make_model("hydroshear", t.sensor, s.indenter);
       s.meas_px = sb::simulate_sample(*m, s);
       for (auto& frame : s.meas_px)
-        for (auto& d : frame) d += Vec2(noise(rng), noise(rng));
+        for (auto& d : frame) {
+          const double dx = noise(rng);   // sequenced: argument order is unspecified
+          d += Vec2(dx, noise(rng));
+        }
     }
   const auto r = run_model_forms(std::move(t));
   INFO(sb::residual_to_json(r)["model_forms"].dump(1));
