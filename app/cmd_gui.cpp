@@ -69,7 +69,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
 
 int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   if (!ui::display_available()) return run_headless(a, g);
-  limit_malloc_arenas(2);   // before any thread starts: see core/base/free_memory.hpp
+  limit_malloc_arenas(1);   // before any thread starts: see core/base/free_memory.hpp
   const SessionOptions so{a.open, g.data_root_flag};
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);

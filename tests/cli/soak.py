@@ -529,6 +529,13 @@ class Soak:
         self.save(adopt=True)
 
     def act_kill(self):
+        if self.rng.random() < 0.5:
+            # Half the kills come after a stretch of unsaved work longer than the autosave interval, as a user
+            # who never presses Ctrl+S: then only the autosave can bring the edits back.
+            until = self.now() + self.a.autosave_interval + self.rng.uniform(3, 10)
+            while self.now() < until:
+                self.rng.choice([self.act_nudge, self.act_nudge, self.act_param, self.act_scrub])()
+                time.sleep(self.rng.uniform(0.5, 2.0))
         kill_t = self.now()
         os.kill(self.proc.pid, signal.SIGKILL)
         self.proc.wait()
@@ -629,6 +636,7 @@ class Soak:
         self.save(adopt=True)
         end = self.a.minutes * 60
         next_minute, minute = 60, 0
+        done = set()   # the action kinds run so far
         try:
             while self.now() < end:
                 f = self.rng.choices(funcs, weights)[0]
@@ -642,6 +650,13 @@ class Soak:
                     for t_fit, n in ((90, 1), (200, 2)):
                         if self.now() > t_fit and self.counts["fits_started"] < n:
                             f = self.act_fit
+                # Every other action the first life can take once in minutes 2-4 too: a first use (the
+                # first export's buffers, the first variant's model) is part of the reference.
+                if self.a.minutes >= 10 and 60 < self.now() < 240:
+                    missing = [g for g in funcs if g not in done and g not in
+                               (self.act_kill, self.act_reopen, self.act_open)]
+                    if missing and f not in missing and self.rng.random() < 0.5:
+                        f = missing[0]
                 if self.a.ensure_restarts:   # a short run still kills, reopens and opens once each
                     for frac, g, c in ((0.15, self.act_quick_save, "quick_saves"), (0.2, self.act_fit, "fits_started"),
                                        (0.3, self.act_kill, "kills"), (0.5, self.act_reopen, "reopens"),
@@ -652,6 +667,7 @@ class Soak:
                 pid = self.proc.pid
                 self.log.write(f"[{self.now():7.1f}s] {f.__name__[4:]}\n")   # every action, for a failure's context
                 f()
+                done.add(f)
                 self.counts["actions"] += 1
                 if not self.check_alive():
                     self.proc = None
