@@ -29,19 +29,26 @@
 namespace {
 std::atomic<bool> g_counting{false};
 std::atomic<long> g_allocations{0};
+std::atomic<long> g_bytes{0};
 }  // namespace
 
 // The replacement allocator counts while g_counting is set. Not under AddressSanitizer, which
 // supplies its own operator new (the release pass runs this test; the sanitizer pass skips it).
 #ifndef SB_TEST_ASAN
 void* operator new(std::size_t n) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (g_counting.load(std::memory_order_relaxed)) {
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    g_bytes.fetch_add(static_cast<long>(n), std::memory_order_relaxed);
+  }
   if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
   throw std::bad_alloc();
 }
 void* operator new[](std::size_t n) { return ::operator new(n); }
 void* operator new(std::size_t n, std::align_val_t a) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (g_counting.load(std::memory_order_relaxed)) {
+    g_allocations.fetch_add(1, std::memory_order_relaxed);
+    g_bytes.fetch_add(static_cast<long>(n), std::memory_order_relaxed);
+  }
   const std::size_t align = static_cast<std::size_t>(a);
   if (void* p = std::aligned_alloc(align, (n + align - 1) / align * align)) return p;
   throw std::bad_alloc();
@@ -134,5 +141,40 @@ TEST_CASE("the batched models allocate nothing per step once warm", "[models][al
     CHECK(second_pass_allocations(TacslBatch(true, sensor, peg, kSlots, default_params("tacsl-normalized")), kSlots,
                                   markers) == 0);
   }
+#endif
+}
+
+// The workbench clones every model every 16 steps (AppState's checkpoints, for seeks), for the whole length of
+// the user's path. A clone must copy the state (O(contact)), not what was built once from the indenter: with
+// the point tables copied, the hour's soak grew with the path (docs/reliability.md). So a clone of HydroShear
+// out of contact costs the same bytes whether its indenter has n or 4n points.
+TEST_CASE("a HydroShear clone (a workbench checkpoint) does not copy the indenter's point tables", "[models][alloc]") {
+#ifdef SB_TEST_ASAN
+  WARN("skipped: AddressSanitizer replaces operator new; the release pass runs this test");
+#else
+  auto sensor = std::make_shared<const Sensor>(make_default_sensor());
+  const auto peg_with = [](int copies) {
+    auto peg = std::make_shared<Indenter>();
+    peg->name = "bench_peg";
+    peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
+    const SurfaceSamples one = bench_peg_points();
+    for (int c = 0; c < copies; ++c) {   // the same surface, c times as many points
+      peg->samples.p_IS.insert(peg->samples.p_IS.end(), one.p_IS.begin(), one.p_IS.end());
+      peg->samples.n_IS.insert(peg->samples.n_IS.end(), one.n_IS.begin(), one.n_IS.end());
+    }
+    return peg;
+  };
+  const auto clone_bytes = [&](int copies) {
+    auto model = make_model("hydroshear", sensor, peg_with(copies));
+    g_bytes = 0;
+    g_counting = true;
+    auto copy = model->clone();
+    g_counting = false;
+    return g_bytes.load();
+  };
+  const long n = clone_bytes(1), n4 = clone_bytes(4);
+  INFO("clone bytes: " << n << " with the peg's points, " << n4 << " with 4 times as many ("
+                       << bench_peg_points().p_IS.size() << " points)");
+  CHECK(n4 == n);
 #endif
 }

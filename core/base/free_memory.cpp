@@ -1,5 +1,9 @@
 #include "core/base/free_memory.hpp"
 
+// <cstdlib> pulls in <features.h>, which defines __GLIBC__: without a libc header first the test below was
+// false and both functions compiled to nothing (found in the hour soak of 2026-11-25, third run).
+#include <cstdlib>
+
 #if defined(__GLIBC__)
 #include <malloc.h>
 #endif

@@ -78,11 +78,10 @@ void FotsBatch::set_params(const ParamSet& p) {
   lambda_t_ = p.get("lambda_t");
   const auto& M = sensor_->p_EM;
   const int n = static_cast<int>(M.size());
-  dil_x_.resize(static_cast<std::size_t>(n) * n);
-  dil_y_.resize(static_cast<std::size_t>(n) * n);
+  std::vector<double> dil_x(static_cast<std::size_t>(n) * n), dil_y(dil_x.size());
   auto set_dil = [&](int j, int k, double w, const Vec2& d) {
-    dil_x_[static_cast<std::size_t>(k) * n + j] = w * d.x();
-    dil_y_[static_cast<std::size_t>(k) * n + j] = w * d.y();
+    dil_x[static_cast<std::size_t>(k) * n + j] = w * d.x();
+    dil_y[static_cast<std::size_t>(k) * n + j] = w * d.y();
   };
   if (variant_ == FotsVariant::Original) {
     px_per_mm_ = p.get("px_per_mm");
@@ -102,6 +101,8 @@ void FotsBatch::set_params(const ParamSet& p) {
       for (int k = 0; k < n; ++k)
         set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
   }
+  dil_x_ = std::make_shared<const std::vector<double>>(std::move(dil_x));
+  dil_y_ = std::make_shared<const std::vector<double>>(std::move(dil_y));
 }
 
 void FotsBatch::reset() {
@@ -152,8 +153,8 @@ void FotsBatch::add_dilation(const Scratch& sc, double g, Vec2* disp) const {
   for (int k = 0; k < nm; ++k) {
     if (sc.phi_I[k] >= 0) continue;
     const double gh = g * -sc.phi_I[k];
-    const double* wx = &dil_x_[static_cast<std::size_t>(k) * nm];
-    const double* wy = &dil_y_[static_cast<std::size_t>(k) * nm];
+    const double* wx = &(*dil_x_)[static_cast<std::size_t>(k) * nm];
+    const double* wy = &(*dil_y_)[static_cast<std::size_t>(k) * nm];
     for (int j = 0; j < nm; ++j) disp[j] += Vec2(gh * wx[j], gh * wy[j]);
   }
 }

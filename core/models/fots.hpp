@@ -76,7 +76,7 @@ class FotsBatch {
   std::vector<Vec2> m_px_;                         // markers in image pixels (original)
   // Constant marker-to-marker dilation kernel, k-major: dil_x_[k * nm + j] = w(j, k) (x_j - x_k) (px
   // for the original, metres for the reimpl.) and the same for y.
-  std::vector<double> dil_x_, dil_y_;
+  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)
   PhaseProfile* profile_ = nullptr;
   std::vector<Slot> slots_;
   std::vector<Scratch> scratch_;                   // one per slot (63 markers: small)

@@ -155,14 +155,22 @@ HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
       grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_),
       dil_x_(o.dil_x_), dil_y_(o.dil_y_),
-      marker_z_max_(o.marker_z_max_), perm_(o.perm_), pos_of_(o.pos_of_), p_I_(o.p_I_), n_I_(o.n_I_), pIx_(o.pIx_), pIy_(o.pIy_),
-      pIz_(o.pIz_),
-      clusters_(o.clusters_), groups_(o.groups_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
+      marker_z_max_(o.marker_z_max_), table_(o.table_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
       pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}
 
 // Recursive median split along the longest axis of the bounding box until kClusterLeaf points remain:
 // spatially compact clusters whatever the sample order.
 void HydroShearBatch::build_clusters() {
+  auto table = std::make_shared<PointTable>();
+  auto& perm_ = table->perm;
+  auto& pos_of_ = table->pos_of;
+  auto& p_I_ = table->p_I;
+  auto& n_I_ = table->n_I;
+  auto& pIx_ = table->pIx;
+  auto& pIy_ = table->pIy;
+  auto& pIz_ = table->pIz;
+  auto& clusters_ = table->clusters;
+  auto& groups_ = table->groups;
   const auto& P = indenter_->samples.p_IS;
   const int n = static_cast<int>(P.size());
   perm_.resize(n);
@@ -215,6 +223,7 @@ void HydroShearBatch::build_clusters() {
     pIz_.push_back(p_I_[pos].z());
     n_I_[pos] = indenter_->samples.n_IS[perm_[pos]];
   }
+  table_ = std::move(table);
 }
 
 void HydroShearBatch::set_params(const ParamSet& params) {
@@ -228,14 +237,15 @@ void HydroShearBatch::set_params(const ParamSet& params) {
   const auto& m = sensor_->p_EM;
   const int n = static_cast<int>(m.size());
   const int stride = kernels::dilation_stride(n);
-  dil_x_.assign(static_cast<std::size_t>(n) * stride, 0.0);
-  dil_y_.assign(static_cast<std::size_t>(n) * stride, 0.0);
+  std::vector<double> dil_x(static_cast<std::size_t>(n) * stride, 0.0), dil_y(dil_x.size(), 0.0);
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j) {
       const double w = std::exp(-k_.lambda_d * (m[j] - m[k]).squaredNorm());
-      dil_x_[k * stride + j] = w * (m[j] - m[k]).x();
-      dil_y_[k * stride + j] = w * (m[j] - m[k]).y();
+      dil_x[k * stride + j] = w * (m[j] - m[k]).x();
+      dil_y[k * stride + j] = w * (m[j] - m[k]).y();
     }
+  dil_x_ = std::make_shared<const std::vector<double>>(std::move(dil_x));
+  dil_y_ = std::make_shared<const std::vector<double>>(std::move(dil_y));
   if (grid_.is_grid) {
     gauss_x_ = GaussianAxis(grid_.xs, k_.lambda_s);
     gauss_y_ = GaussianAxis(grid_.ys, k_.lambda_s);
@@ -280,8 +290,8 @@ std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
     const Pose& X = slots_.at(slot).X_prev;
     const int pos = c.pos[i];
     const Vec3 u(c.ux[i], c.uy[i], c.uz[i]);
-    const Vec3 n_hat = k_.normal_indenter ? Vec3(-(X.linear() * n_I_[pos])) : Vec3::UnitZ();
-    out[i] = {perm_[pos], phi_E(X * p_I_[pos]), u, std::max(u.dot(n_hat), 0.0),
+    const Vec3 n_hat = k_.normal_indenter ? Vec3(-(X.linear() * table_->n_I[pos])) : Vec3::UnitZ();
+    out[i] = {table_->perm[pos], phi_E(X * table_->p_I[pos]), u, std::max(u.dot(n_hat), 0.0),
               c.slip[i] ? PointState::Slip : PointState::Stick};
   }
   return out;
@@ -328,6 +338,7 @@ void HydroShearBatch::phi_columns(const double* x, const double* y, const double
 
 // The points that may be in the gel now (or at the augmented pose), with o_i in E and phi_E(o_i).
 void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
+  const PointTable& table = *table_;
   const Mat3 R = X_EI.linear();
   const Vec3 t = X_EI.translation();
   const bool aug = k_.g_aug > 0;
@@ -349,16 +360,16 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
       sc.ranges.emplace_back(c.begin, c.end);
     visited += c.end - c.begin;
   };
-  for (const Cluster& g : groups_) {
+  for (const Cluster& g : table.groups) {
     if (above(g)) continue;
     for (int ci = g.begin; ci < g.end; ++ci)
-      if (!above(clusters_[ci])) keep(clusters_[ci]);
+      if (!above(table.clusters[ci])) keep(table.clusters[ci]);
   }
   for (auto* v : {&sc.vx, &sc.vy, &sc.vz, &sc.vs}) v->resize(visited);
   const PoseArrays X(X_EI);
   int off = 0;
   for (const auto& [b, e] : sc.ranges) {
-    kernels::transform_points(X.r, X.t, &pIx_[b], &pIy_[b], &pIz_[b], e - b, &sc.vx[off], &sc.vy[off], &sc.vz[off]);
+    kernels::transform_points(X.r, X.t, &table.pIx[b], &table.pIy[b], &table.pIz[b], e - b, &sc.vx[off], &sc.vy[off], &sc.vz[off]);
     off += e - b;
   }
   phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), Vec3::Zero(), visited, sc.vs.data());
@@ -387,7 +398,7 @@ void HydroShearBatch::normals(const Mat3& R_EI, const std::vector<int>& pos, Ste
   if (!k_.normal_indenter) return;  // +z: the kernels do not read the columns
   const int n = static_cast<int>(pos.size());
   for (int j = 0; j < n; ++j) {
-    const Vec3 nh = -(R_EI * n_I_[pos[j]]);
+    const Vec3 nh = -(R_EI * table_->n_I[pos[j]]);
     in.nx[j] = nh.x();
     in.ny[j] = nh.y();
     in.nz[j] = nh.z();
@@ -675,7 +686,7 @@ void HydroShearBatch::dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseC
   const int stride = kernels::dilation_stride(nm);
   sc.dil_sum_x.resize(stride);
   sc.dil_sum_y.resize(stride);
-  kernels::dilation_sum(dil_x_.data(), dil_y_.data(), stride, sc.dil_k.data(), sc.dil_h.data(),
+  kernels::dilation_sum(dil_x_->data(), dil_y_->data(), stride, sc.dil_k.data(), sc.dil_h.data(),
                         static_cast<int>(sc.dil_k.size()), sc.dil_sum_x.data(), sc.dil_sum_y.data());
   const double* dx = sc.dil_sum_x.data();
   const double* dy = sc.dil_sum_y.data();

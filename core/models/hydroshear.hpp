@@ -147,16 +147,22 @@ class HydroShearBatch {
   GaussianAxis gauss_x2_, gauss_y2_;       // the layer kernel's near-field term (k_.beta_s > 0)
   // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
   // .y), rows padded with zeros to kernels::dilation_stride(nm).
-  std::vector<double> dil_x_, dil_y_;
+  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)
   double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
-  // The point order: pos -> index into samples.p_IS (perm_) and back (pos_of_); p_I_/n_I_ in that order.
-  std::vector<int> perm_, pos_of_;
-  std::vector<Vec3> p_I_, n_I_;
-  std::vector<double> pIx_, pIy_, pIz_;     // p_I_ as columns
-  std::vector<Cluster> clusters_;
-  // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
-  // their points: one test skips the whole group. begin/end index clusters_ here.
-  std::vector<Cluster> groups_;
+  // The indenter's points in the batch's order, built once and shared by copies: the workbench clones each
+  // model every 16 steps (a checkpoint for seeks), and copying these made a clone O(indenter) instead of
+  // O(contact) (docs/reliability.md, the soak's memory).
+  struct PointTable {
+    // The point order: pos -> index into samples.p_IS (perm) and back (pos_of); p_I/n_I in that order.
+    std::vector<int> perm, pos_of;
+    std::vector<Vec3> p_I, n_I;
+    std::vector<double> pIx, pIy, pIz;     // p_I as columns
+    std::vector<Cluster> clusters;
+    // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
+    // their points: one test skips the whole group. begin/end index clusters here.
+    std::vector<Cluster> groups;
+  };
+  std::shared_ptr<const PointTable> table_;
   double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
   bool cull_ = false;
   std::vector<Slot> slots_;
