@@ -158,21 +158,24 @@ void AppState::step_slot(Slot& slot, int k) {
   t.last_ms = ms;
   t.mean_ms = t.count == 0 ? ms : (1 - kTimingSmoothing) * t.mean_ms + kTimingSmoothing * ms;
   ++t.count;
-  if ((k + 1) % config_.checkpoint_every == 0) slot.checkpoints[k] = Checkpoint{slot.model->clone(), slot.out};
+  if ((k + 1) % config_.checkpoint_every == 0) slot.checkpoints[k] = Checkpoint{slot.model->clone()};
 }
 
 void AppState::rewind_slot(Slot& slot) {
   slot.model->reset();
   slot.out = FieldOutput{};
   slot.checkpoints.clear();
-  slot.checkpoints[-1] = Checkpoint{slot.model->clone(), FieldOutput{}};
+  slot.checkpoints[-1] = Checkpoint{slot.model->clone()};
 }
 
+// From the last checkpoint before the target (never at it, so the target's output, diagnostics included, is
+// always stepped afresh and a checkpoint keeps only the model's state: a path of thousands of steps costs
+// O(contact) per checkpoint, not a field output with every contact point; docs/reliability.md).
 void AppState::seek_slot(Slot& slot, int target) {
-  auto it = slot.checkpoints.upper_bound(target);  // first checkpoint after target; -1 always exists
-  --it;
+  auto it = slot.checkpoints.lower_bound(target);  // first checkpoint at or after target; -1 always exists
+  if (it != slot.checkpoints.begin()) --it;
   slot.model = it->second.model->clone();
-  slot.out = it->second.out;
+  slot.out = FieldOutput{};
   for (int k = it->first + 1; k <= target; ++k) step_slot(slot, k);
 }
 

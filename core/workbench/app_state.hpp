@@ -134,8 +134,7 @@ class AppState {
   using Edit = std::variant<SetParams, Seek, Drag, ReplacePath, ReplaceModel>;
 
   struct Checkpoint {
-    std::unique_ptr<ShearModel> model;
-    FieldOutput out;
+    std::unique_ptr<ShearModel> model;   // the state after that step (a seek steps on from it)
   };
   struct Slot {
     std::unique_ptr<ShearModel> model;
