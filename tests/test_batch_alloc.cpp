@@ -16,6 +16,7 @@
 #include "core/geometry/sdf.hpp"
 #include "core/sensor/sensor.hpp"
 #include "core/models/tacsl.hpp"
+#include "core/loop/effects.hpp"
 
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)
@@ -176,5 +177,35 @@ TEST_CASE("a HydroShear clone (a workbench checkpoint) does not copy the indente
   INFO("clone bytes: " << n << " with the peg's points, " << n4 << " with 4 times as many ("
                        << bench_peg_points().p_IS.size() << " points)");
   CHECK(n4 == n);
+#endif
+}
+
+// The same for a model with effects (a residual analysis opened in the workbench): its clone must not carry
+// anything that grows with the steps taken (the per-step penetration cache did: O(path) per checkpoint).
+TEST_CASE("an effect-wrapped model's clone costs the same after 10 steps as after 200", "[models][alloc]") {
+#ifdef SB_TEST_ASAN
+  WARN("skipped: AddressSanitizer replaces operator new; the release pass runs this test");
+#else
+  auto sensor = std::make_shared<const Sensor>(make_default_sensor());
+  auto peg = std::make_shared<Indenter>();
+  peg->name = "bench_peg";
+  peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
+  peg->samples = bench_peg_points();
+  const auto clone_bytes_after = [&](int steps) {
+    auto model = wrap_with_effects(make_model("hydroshear", sensor, peg), {"viscoelastic_creep", "lens_distortion"},
+                                   sensor, peg);
+    Pose X_EI = Pose::Identity();
+    X_EI.translation() = Vec3(0, 0, 0.01);   // 1 cm above the gel: every step is out of contact
+    FieldOutput out;
+    for (int k = 0; k < steps; ++k) model->step(X_EI, 0.01, &out);
+    g_bytes = 0;
+    g_counting = true;
+    auto copy = model->clone();
+    g_counting = false;
+    return g_bytes.load();
+  };
+  const long after10 = clone_bytes_after(10), after200 = clone_bytes_after(200);
+  INFO("clone bytes after 10 steps " << after10 << ", after 200 steps " << after200);
+  CHECK(after200 == after10);
 #endif
 }

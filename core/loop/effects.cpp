@@ -210,7 +210,8 @@ std::unique_ptr<ShearModel> EffectModel::clone() const {
   copy->time_s_ = time_s_;
   copy->previous_depth_m_ = previous_depth_m_;
   copy->last_penetration_ = last_penetration_;
-  copy->penetration_cache_ = penetration_cache_;
+  // Not the penetration cache: it only saves time, gives identical results when rebuilt, and grows with the
+  // steps taken, so copying it made the workbench's checkpoints (a clone every 16 steps) cost O(path) each.
   copy->step_index_ = step_index_;
   return copy;
 }
