@@ -379,11 +379,11 @@ void Frontend::keep_work_tick() {
   }
 }
 
-// Screenshots, exports, scene and residual loads free what they allocated, but glibc keeps the freed pages:
-// in the hour soak the heap climbed 15-25 MB between fits and fell back at each fit's trim (docs/reliability.md).
-// So the idle workbench hands them back once a minute (a few ms, outside any measured frame).
+// Screenshots, exports, drags, scene and residual loads free what they allocated, but glibc keeps the freed
+// pages: in the hour soak the heap (RssAnon) swung between 99 and 135 MB with a trim once a minute
+// (docs/reliability.md). So the idle workbench hands them back every 10 s (a few ms, outside any measured frame).
 void Frontend::trim_memory_when_idle() {
-  constexpr double kTrimEveryS = 60.0;
+  constexpr double kTrimEveryS = 10.0;
   const double now = now_s();
   if (now - last_trim_s_ < kTrimEveryS || workbench_.animating()) return;
   last_trim_s_ = now;
