@@ -16,16 +16,9 @@
 #include "core/geometry/sdf.hpp"
 #include "core/sensor/sensor.hpp"
 #include "core/models/tacsl.hpp"
+#include "tests/asan_detect.hpp"
 #include "core/loop/effects.hpp"
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SB_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define SB_TEST_ASAN 1
-#endif
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -102,6 +95,15 @@ long second_pass_allocations(Batch batch, int slots, std::size_t markers) {
   return counted;
 }
 
+// Bytes operator new hands out while `model` is cloned.
+long clone_bytes_of(const ShearModel& model) {
+  g_bytes = 0;
+  g_counting = true;
+  auto copy = model.clone();
+  g_counting = false;
+  return g_bytes.load();
+}
+
 }  // namespace
 
 TEST_CASE("the batched models allocate nothing per step once warm", "[models][alloc]") {
@@ -165,14 +167,7 @@ TEST_CASE("a HydroShear clone (a workbench checkpoint) does not copy the indente
     }
     return peg;
   };
-  const auto clone_bytes = [&](int copies) {
-    auto model = make_model("hydroshear", sensor, peg_with(copies));
-    g_bytes = 0;
-    g_counting = true;
-    auto copy = model->clone();
-    g_counting = false;
-    return g_bytes.load();
-  };
+  const auto clone_bytes = [&](int copies) { return clone_bytes_of(*make_model("hydroshear", sensor, peg_with(copies))); };
   const long n = clone_bytes(1), n4 = clone_bytes(4);
   INFO("clone bytes: " << n << " with the peg's points, " << n4 << " with 4 times as many ("
                        << bench_peg_points().p_IS.size() << " points)");
@@ -198,11 +193,7 @@ TEST_CASE("an effect-wrapped model's clone costs the same after 10 steps as afte
     X_EI.translation() = Vec3(0, 0, 0.01);   // 1 cm above the gel: every step is out of contact
     FieldOutput out;
     for (int k = 0; k < steps; ++k) model->step(X_EI, 0.01, &out);
-    g_bytes = 0;
-    g_counting = true;
-    auto copy = model->clone();
-    g_counting = false;
-    return g_bytes.load();
+    return clone_bytes_of(*model);
   };
   const long after10 = clone_bytes_after(10), after200 = clone_bytes_after(200);
   INFO("clone bytes after 10 steps " << after10 << ", after 200 steps " << after200);

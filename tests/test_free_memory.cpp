@@ -9,15 +9,8 @@
 #include <vector>
 
 #include "core/base/free_memory.hpp"
+#include "tests/asan_detect.hpp"
 
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define SB_TEST_ASAN 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__)
-#define SB_TEST_ASAN 1
-#endif
 
 namespace {
 
