@@ -43,14 +43,20 @@ park; shot all_panels
 # Each press held 50 ms and the two 150 ms apart, as a person double-clicks. The workbench times them from
 # the window's events (core/workbench/double_click.hpp), so a slow frame on a loaded machine does not
 # split them.
-xdotool mousemove --window "$wid" 690 690; sleep 0.3
-xdotool mousedown 1; sleep 0.05; xdotool mouseup 1; sleep 0.1; xdotool mousedown 1; sleep 0.05; xdotool mouseup 1
-sleep 1
-park; shot after_double_click
+# On a machine loaded far beyond two cores the X server itself can hand the two presses over more than the
+# double-click time apart (measured 0.57 s for presses made 0.2 s apart); then they are two single clicks,
+# which change nothing, and the double-click is tried again, three times at most, each attempt reported.
 s_before=$(ssim "$work/enlarged.png" "$work/all_panels.png")
-s_after=$(ssim "$work/enlarged.png" "$work/after_double_click.png")
-echo "SSIM with render --enlarge FOTS: before the double-click $s_before, after $s_after"
-above "$s_after" 0.95 || { echo "FAIL: the double-clicked panel is not drawn enlarged"; exit 1; }
+for attempt in 1 2 3; do
+  xdotool mousemove --window "$wid" 690 690; sleep 0.3
+  xdotool mousedown 1; sleep 0.05; xdotool mouseup 1; sleep 0.1; xdotool mousedown 1; sleep 0.05; xdotool mouseup 1
+  sleep 1
+  park; shot after_double_click
+  s_after=$(ssim "$work/enlarged.png" "$work/after_double_click.png")
+  echo "SSIM with render --enlarge FOTS: before the double-click $s_before, after attempt $attempt $s_after"
+  above "$s_after" 0.95 && break
+  [[ $attempt == 3 ]] && { echo "FAIL: the double-clicked panel is not drawn enlarged (3 attempts)"; exit 1; }
+done
 above 0.9 "$s_before" || { echo "FAIL: all panels already looked enlarged (the check cannot fail)"; exit 1; }
 echo "ok: a double-click enlarged FOTS"
 
