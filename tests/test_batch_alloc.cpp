@@ -16,9 +16,8 @@
 #include "core/geometry/sdf.hpp"
 #include "core/sensor/sensor.hpp"
 #include "core/models/tacsl.hpp"
-#include "tests/asan_detect.hpp"
 #include "core/loop/effects.hpp"
-
+#include "tests/asan_detect.hpp"
 
 namespace {
 std::atomic<bool> g_counting{false};
@@ -95,6 +94,19 @@ long second_pass_allocations(Batch batch, int slots, std::size_t markers) {
   return counted;
 }
 
+// The benchmark's peg, its surface sampled `copies` times over (the same surface, copies times the points).
+std::shared_ptr<Indenter> bench_peg(int copies = 1) {
+  auto peg = std::make_shared<Indenter>();
+  peg->name = "bench_peg";
+  peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
+  const SurfaceSamples one = bench_peg_points();
+  for (int c = 0; c < copies; ++c) {
+    peg->samples.p_IS.insert(peg->samples.p_IS.end(), one.p_IS.begin(), one.p_IS.end());
+    peg->samples.n_IS.insert(peg->samples.n_IS.end(), one.n_IS.begin(), one.n_IS.end());
+  }
+  return peg;
+}
+
 // Bytes operator new hands out while `model` is cloned.
 long clone_bytes_of(const ShearModel& model) {
   g_bytes = 0;
@@ -113,10 +125,7 @@ TEST_CASE("the batched models allocate nothing per step once warm", "[models][al
   constexpr int kEnvs = 4;
   constexpr int kSlots = kEnvs * kBenchSensors;
   auto sensor = std::make_shared<const Sensor>(make_default_sensor());
-  auto peg = std::make_shared<Indenter>();
-  peg->name = "bench_peg";
-  peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
-  peg->samples = bench_peg_points();
+  const auto peg = bench_peg();
   const std::size_t markers = sensor->p_EM.size();
 
   // Sanity of the counter itself: a vector that grows is seen.
@@ -156,18 +165,7 @@ TEST_CASE("a HydroShear clone (a workbench checkpoint) does not copy the indente
   WARN("skipped: AddressSanitizer replaces operator new; the release pass runs this test");
 #else
   auto sensor = std::make_shared<const Sensor>(make_default_sensor());
-  const auto peg_with = [](int copies) {
-    auto peg = std::make_shared<Indenter>();
-    peg->name = "bench_peg";
-    peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
-    const SurfaceSamples one = bench_peg_points();
-    for (int c = 0; c < copies; ++c) {   // the same surface, c times as many points
-      peg->samples.p_IS.insert(peg->samples.p_IS.end(), one.p_IS.begin(), one.p_IS.end());
-      peg->samples.n_IS.insert(peg->samples.n_IS.end(), one.n_IS.begin(), one.n_IS.end());
-    }
-    return peg;
-  };
-  const auto clone_bytes = [&](int copies) { return clone_bytes_of(*make_model("hydroshear", sensor, peg_with(copies))); };
+  const auto clone_bytes = [&](int copies) { return clone_bytes_of(*make_model("hydroshear", sensor, bench_peg(copies))); };
   const long n = clone_bytes(1), n4 = clone_bytes(4);
   INFO("clone bytes: " << n << " with the peg's points, " << n4 << " with 4 times as many ("
                        << bench_peg_points().p_IS.size() << " points)");
@@ -182,10 +180,7 @@ TEST_CASE("an effect-wrapped model's clone costs the same after 10 steps as afte
   WARN("skipped: AddressSanitizer replaces operator new; the release pass runs this test");
 #else
   auto sensor = std::make_shared<const Sensor>(make_default_sensor());
-  auto peg = std::make_shared<Indenter>();
-  peg->name = "bench_peg";
-  peg->sdf = make_capped_cylinder_sdf(kPegRadius, kPegLength);
-  peg->samples = bench_peg_points();
+  const auto peg = bench_peg();
   const auto clone_bytes_after = [&](int steps) {
     auto model = wrap_with_effects(make_model("hydroshear", sensor, peg), {"viscoelastic_creep", "lens_distortion"},
                                    sensor, peg);

@@ -4,32 +4,10 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
-#include <fstream>
-#include <string>
 #include <vector>
 
 #include "core/base/free_memory.hpp"
 #include "tests/asan_detect.hpp"
-
-
-namespace {
-
-// RssAnon of this process in kB, or -1 when /proc does not have it.
-long rss_anon_kb() {
-  std::ifstream status("/proc/self/status");
-  std::string key;
-  while (status >> key) {
-    if (key == "RssAnon:") {
-      long kb = -1;
-      status >> kb;
-      return kb;
-    }
-    status.ignore(1 << 12, '\n');
-  }
-  return -1;
-}
-
-}  // namespace
 
 TEST_CASE("return_free_memory_to_os hands a freed burst of small blocks back", "[base][memory]") {
 #if defined(SB_TEST_ASAN) || !defined(__GLIBC__)
@@ -49,10 +27,10 @@ TEST_CASE("return_free_memory_to_os hands a freed burst of small blocks back", "
   char* pin = blocks.back();
   blocks.pop_back();
   for (char* b : blocks) std::free(b);
-  const long before = rss_anon_kb();
+  const long before = sb::resident_parts().anon_kb;
   REQUIRE(before > 0);
   sb::return_free_memory_to_os();
-  const long after = rss_anon_kb();
+  const long after = sb::resident_parts().anon_kb;
   std::free(pin);
   INFO("RssAnon " << before << " kB -> " << after << " kB after the trim (burst " << kBurstKb << " kB)");
   // At least half the burst comes back (what stays is the pages glibc's chunk headers share with live data).

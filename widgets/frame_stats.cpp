@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/base/free_memory.hpp"
+
 namespace sb::ui {
 namespace {
 
@@ -80,21 +82,6 @@ long resident_kb() {
   return got == 2 ? resident * (sysconf(_SC_PAGESIZE) / 1024) : -1;
 }
 
-// RssAnon and RssFile of /proc/self/status (kB; -1 each when unreadable): heap growth shows in the first,
-// code and data pages touched for the first time (a first fit, a first mesh) in the second.
-std::pair<long, long> resident_anon_file_kb() {
-  std::FILE* f = std::fopen("/proc/self/status", "r");
-  if (f == nullptr) return {-1, -1};
-  long anon = -1, file = -1;
-  char line[256];
-  while (std::fgets(line, sizeof line, f) != nullptr) {
-    std::sscanf(line, "RssAnon: %ld", &anon);
-    std::sscanf(line, "RssFile: %ld", &file);
-  }
-  std::fclose(f);
-  return {anon, file};
-}
-
 int open_fds() {
   std::error_code ec;
   int n = 0;
@@ -118,13 +105,13 @@ void FrameStats::add(double frame_ms) {
 void FrameStats::write_line(double now_s) {
   std::sort(ms_.begin(), ms_.end());
   const auto gl = gl_object_counts();
-  const auto [anon_kb, file_kb] = resident_anon_file_kb();
+  const ResidentParts parts = resident_parts();
   char head[640];
   std::snprintf(head, sizeof head,
                 "{\"t_s\": %.2f, \"window_s\": %.2f, \"frames\": %zu, \"frame_ms_p50\": %.3f, \"frame_ms_p95\": %.3f, "
                 "\"frame_ms_max\": %.3f, \"rss_kb\": %ld, \"rss_anon_kb\": %ld, \"rss_file_kb\": %ld, \"fds\": %d, \"gl\": {",
                 now_s - start_s_, now_s - window_start_s_, ms_.size(), percentile(ms_, 0.5), percentile(ms_, 0.95),
-                ms_.back(), resident_kb(), anon_kb, file_kb, open_fds());
+                ms_.back(), resident_kb(), parts.anon_kb, parts.file_kb, open_fds());
   out_ << head;
   bool first = true;
   for (const auto& [kind, n] : gl) {

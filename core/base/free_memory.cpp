@@ -2,6 +2,7 @@
 
 // <cstdlib> pulls in <features.h>, which defines __GLIBC__: without a libc header first the test below was
 // false and both functions compiled to nothing (found in the hour soak of 2026-11-25, third run).
+#include <cstdio>
 #include <cstdlib>
 
 #if defined(__GLIBC__)
@@ -22,6 +23,19 @@ void limit_malloc_arenas(int arenas) {
 #else
   (void)arenas;
 #endif
+}
+
+ResidentParts resident_parts() {
+  ResidentParts r;
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return r;
+  char line[256];
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    std::sscanf(line, "RssAnon: %ld", &r.anon_kb);
+    std::sscanf(line, "RssFile: %ld", &r.file_kb);
+  }
+  std::fclose(f);
+  return r;
 }
 
 }  // namespace sb

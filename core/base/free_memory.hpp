@@ -17,4 +17,13 @@ void return_free_memory_to_os();
 // hour soak's workbench held 281 MB at minute 5 where it held 361 MB (docs/reliability.md). No-op off glibc.
 void limit_malloc_arenas(int arenas);
 
+// This process's resident memory in two parts (kB, from RssAnon and RssFile of /proc/self/status; -1 each
+// when unreadable): the heap (what a trim can give back, what grows with a leak) and file-backed pages
+// (code and mapped data, touched the first time a fit or a mesh needs them).
+struct ResidentParts {
+  long anon_kb = -1;
+  long file_kb = -1;
+};
+ResidentParts resident_parts();
+
 }  // namespace sb

@@ -397,8 +397,9 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
 void HydroShearBatch::normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const {
   if (!k_.normal_indenter) return;  // +z: the kernels do not read the columns
   const int n = static_cast<int>(pos.size());
+  const std::vector<Vec3>& n_I = table_->n_I;
   for (int j = 0; j < n; ++j) {
-    const Vec3 nh = -(R_EI * table_->n_I[pos[j]]);
+    const Vec3 nh = -(R_EI * n_I[pos[j]]);
     in.nx[j] = nh.x();
     in.ny[j] = nh.y();
     in.nz[j] = nh.z();
