@@ -1,0 +1,48 @@
+// Depth smoothing and the per-marker perspective map applied to every model's field (output_stage.hpp).
+#include "core/sensor/output_stage.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace sb {
+
+SensorOutputStage::SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EM, double markers_depth_m,
+                                     std::optional<double> pin_surface_centre_z) {
+  if (markers_depth_m > 0.0) {
+    smooth_ = true;
+    weights_ = depth_smoothing_weights(p_EM, markers_depth_m);
+  }
+  if (!camera.pinhole()) return;  // orthographic: J T / s_0 = I
+  const double s0 = camera.focal_px / (camera.distance_m - markers_depth_m);
+  A_.reserve(p_EM.size());
+  for (const Vec3& p : p_EM) {
+    Eigen::Matrix<double, 3, 2> T;
+    T.setZero();
+    T(0, 0) = T(1, 1) = 1.0;
+    if (pin_surface_centre_z) {
+      const double h = p.z() - *pin_surface_centre_z;  // > 0 on the upper half of the sphere
+      T(2, 0) = -p.x() / h;
+      T(2, 1) = -p.y() / h;
+    }
+    A_.push_back(camera.project_jacobian(p) * T / s0);
+  }
+}
+
+void SensorOutputStage::apply(std::vector<Vec2>& disp_px) const {
+  if (identity()) return;
+  const auto n = static_cast<Eigen::Index>(disp_px.size());
+  if ((smooth_ && weights_.rows() != n) || (!A_.empty() && A_.size() != disp_px.size()))
+    throw std::invalid_argument("sensor output stage: " + std::to_string(n) + " displacements for " +
+                                std::to_string(smooth_ ? weights_.rows() : static_cast<Eigen::Index>(A_.size())) +
+                                " markers");
+  if (smooth_) {
+    std::vector<Vec2> smoothed(disp_px.size(), Vec2::Zero());
+    for (Eigen::Index i = 0; i < n; ++i)
+      for (DepthSmoothingWeights::InnerIterator it(weights_, i); it; ++it)
+        smoothed[static_cast<std::size_t>(i)] += it.value() * disp_px[static_cast<std::size_t>(it.col())];
+    disp_px.swap(smoothed);
+  }
+  for (std::size_t i = 0; i < A_.size(); ++i) disp_px[i] = A_[i] * disp_px[i];
+}
+
+}  // namespace sb
