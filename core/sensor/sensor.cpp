@@ -91,9 +91,9 @@ std::vector<Vec3> markers_on_plane(const Camera& camera, const std::vector<Vec2>
   std::vector<Vec3> p_EM;
   p_EM.reserve(uv.size());
   for (const Vec2& m : uv) {
-    if (!camera.pinhole()) {  // as before depths existed: E_from_px, bit for bit
+    if (!camera.pinhole()) {  // as before depths existed: E_from_px, bit for bit (z = +0.0 at depth 0, not -0.0)
       const Vec2 xy = camera.E_from_px(m);
-      p_EM.emplace_back(xy.x(), xy.y(), -depth);
+      p_EM.emplace_back(xy.x(), xy.y(), depth > 0.0 ? -depth : 0.0);
       continue;
     }
     const auto ray = camera.back_project(m);
