@@ -197,14 +197,19 @@ TEST_CASE("every model's field goes through the sensor's output stage", "[sensor
   plain_copy->output_stage = sb::SensorOutputStage{};
   std::shared_ptr<const Sensor> plain = plain_copy;
   const auto ind = sbtest::sphere_indenter(0.006);
-  sb::Pose X_EI = sb::Pose::Identity();
-  X_EI.translation() = Vec3(0.0005, 0.0, 0.006 - 0.001);  // 1 mm into the apex, off-centre
+  // Pressed 1 mm into the apex, then slid 0.5 mm along x (a shear field; a pure press moves no marker).
+  sb::Pose pressed = sb::Pose::Identity();
+  pressed.translation() = Vec3(0.0, 0.0, 0.006 - 0.001);
+  sb::Pose slid = pressed;
+  slid.translation().x() = 0.0005;
   for (const std::string id : {"tacsl", "fots"}) {
     auto a = sb::make_model(id, staged, ind);
     auto b = sb::make_model(id, plain, ind);
     sb::FieldOutput fa, fb;
-    a->step(X_EI, 0.01, &fa);
-    b->step(X_EI, 0.01, &fb);
+    for (const sb::Pose& X_EI : {pressed, slid}) {
+      a->step(X_EI, 0.01, &fa);
+      b->step(X_EI, 0.01, &fb);
+    }
     staged->output_stage.apply(fb.disp_px);
     INFO(id);
     REQUIRE(fa.disp_px.size() == fb.disp_px.size());
