@@ -92,12 +92,15 @@ TEST_CASE("spherical cap with a pinhole camera: pins on the sphere R - depth, ba
   const std::vector<Vec2> markers = {{320, 240}, {470, 240}, {200, 400}, {420, 130}};
   const Sensor s = sb::make_sensor(cam, gel, markers);
   REQUIRE(s.p_EM.size() == markers.size());
+  // p_EM is the surface point over each pin (radius R about the centre c); the pin c + (p_EM - c) r_p / R.
+  const Vec3 c_E(0, 0, -0.025);
   for (std::size_t i = 0; i < markers.size(); ++i) {
-    CHECK((s.p_EM[i] - Vec3(0, 0, -0.025)).norm() == Approx(0.020).margin(kExactMetres));
-    CHECK((cam.project(s.p_EM[i]) - markers[i]).norm() < kExactPx);
+    CHECK((s.p_EM[i] - c_E).norm() == Approx(0.025).margin(kExactMetres));
+    const Vec3 pin = c_E + (s.p_EM[i] - c_E) * (0.020 / 0.025);
+    CHECK((cam.project(pin) - markers[i]).norm() < kExactPx);
     CHECK(s.p_EM[i].z() > -0.025);  // the upper crossing
   }
-  CHECK(s.p_EM[0].isApprox(Vec3(0, 0, -0.005), 1e-12));
+  CHECK(s.p_EM[0].norm() < 1e-15);
   CHECK(s.gel.size_m.x() == Approx(0.04).margin(1e-12));
   CHECK(s.gel.thickness_m == Approx(0.015).margin(1e-12));
   // A marker whose ray meets the pin sphere below the cap's rim is rejected, naming it.
@@ -158,7 +161,7 @@ TEST_CASE("output stage: the identity for the GelSight Mini, bit for bit", "[sen
   const Sensor d = sb::make_sensor(Camera{}, deep, mini.markers_rest_px);
   CHECK_FALSE(d.output_stage.identity());
   CHECK(d.output_stage.perspective_maps().empty());
-  CHECK(d.p_EM[0].z() == -1e-3);
+  CHECK(d.p_EM[0].z() == 0.0);  // the models see the surface point over the pin
 }
 
 TEST_CASE("output stage: depth smoothing then the perspective map, by hand for two pins on a dome",
@@ -169,7 +172,8 @@ TEST_CASE("output stage: depth smoothing then the perspective map, by hand for t
   Camera cam = pinhole_camera(0.0);
   cam.distance_m = 0.049;
   const Sensor s = sb::make_sensor(cam, cap(0.025, 0.02, 0.015, 0.005), {{320, 240}, {470, 240}});
-  REQUIRE(s.p_EM[1].isApprox(Vec3(0.012, 0, -0.009), 1e-12));
+  // The models see pin B at the surface point over it: c + (12, 0, 16) mm * 25 / 20 = (15, 0, -5) mm.
+  REQUIRE(s.p_EM[1].isApprox(Vec3(0.015, 0, -0.005), 1e-12));
   // (a) Smoothing, sigma = d: the pins are 12 mm apart in xy, e = exp(-12^2 / (2 * 5^2)) = exp(-2.88); rows
   //     normalised: A' = (d_A + e d_B) / (1 + e), B' = (e d_A + d_B) / (1 + e).
   // (b) With k1 = 0, J = f / w [I, -p_xy / w], T = [I; -p_xy^T / h] (h = z + R = 16 mm), s_0 = f / (D - d):

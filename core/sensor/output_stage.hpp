@@ -6,7 +6,7 @@
 // below the contact surface and/or that is seen by a perspective camera (the TacTip), this stage applies
 //   (a) the depth smoothing at the pin depth (depth_smoothing.hpp, the subsurface_markers effect's kernel), then
 //   (b) the perspective map: per marker the 2x2 matrix A_i = J_i T_i / s_0, where J_i is the camera's 2x3
-//       projection Jacobian at the pin p_EM, T_i = [I2; g_i^T] lifts an in-plane displacement (dx, dy) to the
+//       projection Jacobian at the pin p_EP, T_i = [I2; g_i^T] lifts an in-plane displacement (dx, dy) to the
 //       pin surface (on a spherical pin surface centred at z_c, dz = -(x dx + y dy) / (z - z_c); 0 on a plane),
 //       and s_0 = f / (D - depth) is the scale of the principal ray where it meets the pin surface, so A = I at
 //       the image centre and the models' kappa keeps its meaning.
@@ -24,7 +24,7 @@ namespace sb {
 class SensorOutputStage {
  public:
   SensorOutputStage() = default;  // the identity
-  // For markers p_EM at depth `markers_depth_m` seen by `camera`. `pin_surface_centre_z` is the z of the centre
+  // For the pins p_EP (at depth `markers_depth_m` below the surface) seen by `camera`. `pin_surface_centre_z` is the z of the centre
   // of the spherical pin surface (nullopt for a plane).
   SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EM, double markers_depth_m,
                     std::optional<double> pin_surface_centre_z);

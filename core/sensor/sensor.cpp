@@ -216,6 +216,19 @@ Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<V
   }
   if (camera.pinhole() || gel.markers_depth_m > 0.0)
     s.output_stage = SensorOutputStage(camera, s.p_EM, gel.markers_depth_m, pin_surface_centre_z);
+  // The models see each marker where its pin meets the contact surface (along the normal): they compute the
+  // surface field there, and the output stage (built from the pins above) carries it down to the pin and into
+  // the image. So p_EM is the surface point over each pin.
+  if (gel.markers_depth_m > 0.0) {
+    for (Vec3& p : s.p_EM) {
+      if (pin_surface_centre_z) {
+        const Vec3 c_E(0.0, 0.0, *pin_surface_centre_z);
+        p = c_E + (p - c_E) * (gel.radius_m / (gel.radius_m - gel.markers_depth_m));
+      } else {
+        p.z() += gel.markers_depth_m;
+      }
+    }
+  }
   return s;
 }
 

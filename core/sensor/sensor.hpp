@@ -45,7 +45,7 @@ struct Sensor {
   Camera camera;
   GelSpec gel;
   std::vector<Vec2> markers_rest_px;
-  std::vector<Vec3> p_EM;      // marker rest positions (on the gel surface, or the pins at depth), in E (metres)
+  std::vector<Vec3> p_EM;      // marker rest positions on the gel surface (over the pin, for pins at depth), in E (metres)
   SdfPtr gel_sdf;              // phi_E: negative inside the gel
   TriMesh gel_mesh;            // for display
   SensorOutputStage output_stage;  // applied to every model's field (the identity for the GelSight Mini)
@@ -57,8 +57,9 @@ Sensor make_default_sensor();
 // (surface "flat", no mesh) gets the analytic pad SDF and a box mesh. A spherical cap gets its generated mesh
 // and then goes the mesh gel's way. Markers: an orthographic camera puts them under their pixel (at the
 // surface, markers_depth_m lower); a pinhole camera back-projects each markers_rest_px ray onto the pin
-// surface (the plane z = -depth, or the sphere of radius R - depth about the cap's centre). A pinhole camera
-// needs a flat or spherical-cap gel (std::invalid_argument for a mesh file). A mesh gel gets make_mesh_sdf of the mesh,
+// surface (the plane z = -depth, or the sphere of radius R - depth about the cap's centre). The output stage is
+// built from those pins; p_EM is the surface point over each pin (along the normal), where the models compute
+// the field. A pinhole camera needs a flat or spherical-cap gel (std::invalid_argument for a mesh file). A mesh gel gets make_mesh_sdf of the mesh,
 // markers at the mesh surface height under them, and gel.size_m / thickness_m replaced by the mesh's footprint
 // and depth. Throws std::invalid_argument for a mesh surface without a mesh, and InputError when a marker lies
 // outside the mesh footprint.
