@@ -6,16 +6,16 @@
 
 namespace sb {
 
-SensorOutputStage::SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EM, double markers_depth_m,
+SensorOutputStage::SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EP, double markers_depth_m,
                                      std::optional<double> pin_surface_centre_z) {
   if (markers_depth_m > 0.0) {
     smooth_ = true;
-    weights_ = depth_smoothing_weights(p_EM, markers_depth_m);
+    weights_ = depth_smoothing_weights(p_EP, markers_depth_m);
   }
   if (!camera.pinhole()) return;  // orthographic: J T / s_0 = I
   const double s0 = camera.focal_px / (camera.distance_m - markers_depth_m);
-  A_.reserve(p_EM.size());
-  for (const Vec3& p : p_EM) {
+  A_.reserve(p_EP.size());
+  for (const Vec3& p : p_EP) {
     Eigen::Matrix<double, 3, 2> T;
     T.setZero();
     T(0, 0) = T(1, 1) = 1.0;
