@@ -7,6 +7,7 @@
 
 #include "core/base/error.hpp"
 #include "core/models/model.hpp"
+#include "core/sensor/output_stage.hpp"
 #include "core/sensor/sensor.hpp"
 #include "model_fixtures.hpp"
 
@@ -176,17 +177,40 @@ TEST_CASE("output stage: depth smoothing then the perspective map, by hand for t
   REQUIRE(s.p_EM[1].isApprox(Vec3(0.015, 0, -0.005), 1e-12));
   // (a) Smoothing, sigma = d: the pins are 12 mm apart in xy, e = exp(-12^2 / (2 * 5^2)) = exp(-2.88); rows
   //     normalised: A' = (d_A + e d_B) / (1 + e), B' = (e d_A + d_B) / (1 + e).
-  // (b) With k1 = 0, J = f / w [I, -p_xy / w], T = [I; -p_xy^T / h] (h = z + R = 16 mm), s_0 = f / (D - d):
-  //     A = ((D - d) / w) (I + p_xy p_xy^T / (w h)). Pin A: A = I. Pin B: (44 / 40) (1 + 144 / (40 * 16)) =
-  //     1.1 * 1.225 = 1.3475 along x, 1.1 along y.
+  // (b) With k1 = 0, J = f / w [I, -p_xy / w], s_0 = f / (D - d), and T the pole's tangent plane rotated onto
+  //     the pin's: pin B's normal is n = (12, 0, 16) / 20 = (0.6, 0, 0.8), a rotation about y by the polar angle
+  //     (sin 0.6, cos 0.8), so T = [(0.8, 0, -0.6), (0, 1, 0)]. Pin A: A = I. Pin B along x:
+  //     ((D - d) / w) (0.8 + (12 / 40) 0.6) = 1.1 * 0.98 = 1.078; along y: 1.1.
   std::vector<Vec2> field = {Vec2(0, 0), Vec2(1, 1)};
   s.output_stage.apply(field);
   const double e = std::exp(-2.88);
   constexpr double kHand = 1e-12;
   CHECK(field[0].x() == Approx(e / (1 + e)).margin(kHand));
   CHECK(field[0].y() == Approx(e / (1 + e)).margin(kHand));
-  CHECK(field[1].x() == Approx(1.3475 / (1 + e)).margin(kHand));
+  CHECK(field[1].x() == Approx(1.078 / (1 + e)).margin(kHand));
   CHECK(field[1].y() == Approx(1.1 / (1 + e)).margin(kHand));
+}
+
+TEST_CASE("output stage: an in-plane displacement is carried onto the pin sphere with its length kept",
+          "[sensor][output_stage]") {
+  // Sphere about c = (0, 0, -25) mm of radius 20 mm. At the pole n = ez: T = [ex, ey]. At the equator point
+  // (20, 0, -25) mm, n = ex: the rotation about y by 90 deg takes ex to -ez and keeps ey, so a radial
+  // displacement runs down the sphere with its length, never the unbounded lift dz = -x dx / (z - c_z).
+  constexpr double kRotation = 1e-12;
+  const double c_z = -0.025;
+  const auto pole = sb::tangent_frame_on_sphere(Vec3(0, 0, -0.005), c_z);
+  CHECK(pole.col(0).isApprox(Vec3::UnitX(), kRotation));
+  CHECK(pole.col(1).isApprox(Vec3::UnitY(), kRotation));
+  const auto equator = sb::tangent_frame_on_sphere(Vec3(0.02, 0, c_z), c_z);
+  CHECK((equator.col(0) - Vec3(0, 0, -1)).norm() < kRotation);
+  CHECK((equator.col(1) - Vec3(0, 1, 0)).norm() < kRotation);
+  // Anywhere: orthonormal columns, both tangent to the sphere.
+  const Vec3 p(0.011, -0.013, -0.025 + std::sqrt(0.02 * 0.02 - 0.011 * 0.011 - 0.013 * 0.013));
+  const auto T = sb::tangent_frame_on_sphere(p, c_z);
+  const Vec3 n = (p - Vec3(0, 0, c_z)).normalized();
+  CHECK((T.transpose() * T - Eigen::Matrix2d::Identity()).norm() < kRotation);
+  CHECK(std::abs(T.col(0).dot(n)) < kRotation);
+  CHECK(std::abs(T.col(1).dot(n)) < kRotation);
 }
 
 TEST_CASE("every model's field goes through the sensor's output stage", "[sensor][output_stage][models]") {

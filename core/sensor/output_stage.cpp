@@ -6,6 +6,15 @@
 
 namespace sb {
 
+// The model's in-plane displacement (dx, dy) is read as a displacement of the same length along the pin sphere:
+// the pole's tangent plane rotated onto the pin's, about ez x n by the pin's polar angle. Bounded everywhere
+// (|T d| = |d|), and to first order in the polar angle it is the vertical lift dz = -(x dx + y dy) / r.
+Eigen::Matrix<double, 3, 2> tangent_frame_on_sphere(const Vec3& p_EP, double centre_z) {
+  const Vec3 n = (p_EP - Vec3(0.0, 0.0, centre_z)).normalized();
+  const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), n).toRotationMatrix();
+  return R.leftCols<2>();
+}
+
 SensorOutputStage::SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EP, double markers_depth_m,
                                      std::optional<double> pin_surface_centre_z) {
   if (markers_depth_m > 0.0) {
@@ -19,11 +28,7 @@ SensorOutputStage::SensorOutputStage(const Camera& camera, const std::vector<Vec
     Eigen::Matrix<double, 3, 2> T;
     T.setZero();
     T(0, 0) = T(1, 1) = 1.0;
-    if (pin_surface_centre_z) {
-      const double h = p.z() - *pin_surface_centre_z;  // > 0 on the upper half of the sphere
-      T(2, 0) = -p.x() / h;
-      T(2, 1) = -p.y() / h;
-    }
+    if (pin_surface_centre_z) T = tangent_frame_on_sphere(p, *pin_surface_centre_z);
     A_.push_back(camera.project_jacobian(p) * T / s0);
   }
 }

@@ -6,8 +6,9 @@
 // below the contact surface and/or that is seen by a perspective camera (the TacTip), this stage applies
 //   (a) the depth smoothing at the pin depth (depth_smoothing.hpp, the subsurface_markers effect's kernel), then
 //   (b) the perspective map: per marker the 2x2 matrix A_i = J_i T_i / s_0, where J_i is the camera's 2x3
-//       projection Jacobian at the pin p_EP, T_i = [I2; g_i^T] lifts an in-plane displacement (dx, dy) to the
-//       pin surface (on a spherical pin surface centred at z_c, dz = -(x dx + y dy) / (z - z_c); 0 on a plane),
+//       projection Jacobian at the pin p_EP, T_i carries an in-plane displacement (dx, dy) onto the pin
+//       surface with its length kept (on a spherical pin surface: the pole's tangent plane rotated onto the
+//       pin's, tangent_frame_on_sphere; [I2; 0] on a plane),
 //       and s_0 = f / (D - depth) is the scale of the principal ray where it meets the pin surface, so A = I at
 //       the image centre and the models' kappa keeps its meaning.
 // For the GelSight Mini (orthographic, pins on the surface) the stage is the identity and is skipped; for an
@@ -20,6 +21,10 @@
 #include "core/sensor/depth_smoothing.hpp"
 
 namespace sb {
+
+// The 3x2 map of an in-plane displacement onto the tangent plane of a sphere centred at (0, 0, centre_z) at p_EP,
+// length-preserving (columns orthonormal); the identity's first two columns at the pole.
+Eigen::Matrix<double, 3, 2> tangent_frame_on_sphere(const Vec3& p_EP, double centre_z);
 
 class SensorOutputStage {
  public:
