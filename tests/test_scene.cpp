@@ -138,3 +138,39 @@ TEST_CASE("scene: every shipped scene loads", "[scene]") {
   }
   CHECK(n >= 10);
 }
+
+TEST_CASE("scene: a TacTip-like sensor (pinhole camera, spherical cap, pins at depth) and its errors", "[scene][sensor]") {
+  using Catch::Matchers::Contains;
+  nlohmann::json j = press_json();
+  j["sensor"] = {{"camera", {{"model", "pinhole"}, {"focal_px", 300}, {"principal_px", {320, 240}},
+                             {"distance_m", 0.03}, {"k1", -0.05}, {"image_size_px", {640, 480}}}},
+                 {"gel", {{"surface", "spherical_cap"}, {"radius_m", 0.02}, {"footprint_radius_m", 0.0175}, {"thickness_m", 0.025}}},
+                 {"markers_depth_m", 0.003},
+                 {"markers", "5x5"}};
+  const Scene scene = parse_scene(j, "scenes/x.json", data_root(), "");
+  CHECK(scene.sensor->camera.pinhole());
+  CHECK(scene.sensor->gel.surface == "spherical_cap");
+  CHECK(scene.sensor->p_EM.size() == 25);
+  CHECK(scene.sensor->p_EM[12].norm() < 1e-12);  // the centre marker: the apex over the centre pin
+  CHECK_FALSE(scene.sensor->output_stage.identity());
+  auto error_of = [](const nlohmann::json& j) -> std::string {
+    try {
+      parse_scene(j, "scenes/x.json", data_root(), "");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  nlohmann::json bad = j;
+  bad["sensor"]["gel"]["surface"] = "cone";
+  CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/gel/surface"));
+  bad = j;
+  bad["sensor"]["gel"]["radius_m"] = 0.01;
+  CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/gel/footprint_radius_m: must not exceed radius_m"));
+  bad = j;
+  bad["sensor"]["camera"]["focal_px"] = 0;
+  CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/camera/focal_px"));
+  bad = j;
+  bad["sensor"]["markers_depth_m"] = "deep";
+  CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/markers_depth_m"));
+}

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <unistd.h>
 
@@ -287,4 +288,86 @@ TEST_CASE("a binary header is quoted as printable text in the error", "[tsd]") {
   // Bytes 0x00 0xff and a newline-free run of 200 'a': the message shows \x00\xff, then cuts after 80 chars.
   CHECK(sb::printable(std::string("ab\0\xff", 4)) == "ab\\x00\\xff");
   CHECK(sb::printable(std::string(200, 'a')) == std::string(80, 'a') + "...");
+}
+
+TEST_CASE("tsd: a pinhole camera, a spherical-cap gel and pins at depth round-trip; a classic block is unchanged",
+          "[tsd][sensor]") {
+  TempDir t;
+  std::vector<SampleData> data;
+  Dataset ds = tiny_dataset(t.path, &data);
+  // The classic (orthographic, flat, depth 0) block has exactly the keys it always had.
+  const nlohmann::ordered_json classic = dataset_to_json(ds)["sensor"];
+  CHECK(classic["camera"].dump() == R"({"model":"orthographic","mm_per_px":0.0634,"principal_px":[159.5,119.5]})");
+  CHECK_FALSE(classic.contains("markers_depth_m"));
+  CHECK(classic["gel"].size() == 3);
+
+  ds.camera.model = CameraModel::Pinhole;
+  ds.camera.focal_px = 1.0 / 3.0 * 1000;
+  ds.camera.distance_m = 0.03;
+  ds.camera.k1 = -0.1 - 0.2;
+  ds.gel.surface = "spherical_cap";
+  ds.gel.radius_m = 0.02;
+  ds.gel.footprint_radius_m = 0.0175;
+  ds.gel.thickness_m = 0.025;
+  ds.gel.markers_depth_m = 0.0035;
+  write_dataset(t.path.string(), ds, data);
+  const Dataset back = read_dataset(t.path.string());
+  CHECK(back.camera.pinhole());
+  CHECK(same_bits(back.camera.focal_px, ds.camera.focal_px));
+  CHECK(same_bits(back.camera.distance_m, 0.03));
+  CHECK(same_bits(back.camera.k1, -0.1 - 0.2));
+  CHECK(back.gel.surface == "spherical_cap");
+  CHECK(same_bits(back.gel.radius_m, 0.02));
+  CHECK(same_bits(back.gel.footprint_radius_m, 0.0175));
+  CHECK(same_bits(back.gel.markers_depth_m, 0.0035));
+  CHECK_FALSE(back.sensor_extra.contains("markers_depth_m"));
+}
+
+TEST_CASE("tsd: bad camera, cap and depth values name the file and the JSON pointer", "[tsd][sensor]") {
+  using Catch::Matchers::Contains;
+  TempDir t;
+  std::vector<SampleData> data;
+  const Dataset ds = tiny_dataset(t.path, &data);
+  write_dataset(t.path.string(), ds, data);
+  const nlohmann::json good = nlohmann::json::parse(slurp(t.path / "dataset.json"));
+  auto error_of = [&](const std::function<void(nlohmann::json&)>& edit) -> std::string {
+    nlohmann::json j = good;
+    edit(j["sensor"]);
+    try {
+      parse_dataset_json(j, "x/dataset.json", t.path.string());
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  auto pinhole = [](nlohmann::json& s) {
+    s["camera"] = {{"model", "pinhole"}, {"focal_px", 300}, {"principal_px", {320, 240}}, {"distance_m", 0.03}};
+  };
+  auto capped = [](nlohmann::json& s) {
+    s["gel"] = {{"size_m", {0.04, 0.04}}, {"thickness_m", 0.025}, {"surface", "spherical_cap"}, {"radius_m", 0.02},
+                {"footprint_radius_m", 0.0175}};
+  };
+  CHECK(error_of([&](nlohmann::json& s) { pinhole(s); capped(s); s["markers_depth_m"] = 0.003; }).empty());
+  CHECK_THAT(error_of([](nlohmann::json& s) { s["camera"]["model"] = "fisheye"; }),
+             Contains("x/dataset.json: /sensor/camera/model: unknown camera model 'fisheye'"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"].erase("focal_px"); }),
+             Contains("x/dataset.json: /sensor/camera") && Contains("focal_px"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"]["distance_m"] = -1; }),
+             Contains("/sensor/camera/distance_m: expected a positive number"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"]["mm_per_px"] = 0.1; }),
+             Contains("/sensor/camera/mm_per_px"));
+  CHECK_THAT(error_of([](nlohmann::json& s) { s["camera"]["k1"] = 0.1; }),
+             Contains("/sensor/camera/k1: only a pinhole camera has this key"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"]["footprint_radius_m"] = 0.03; }),
+             Contains("/sensor/gel/footprint_radius_m: must not exceed radius_m"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"]["thickness_m"] = 0.001; }),
+             Contains("/sensor/gel/thickness_m: must exceed the cap height"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"].erase("radius_m"); }),
+             Contains("/sensor/gel") && Contains("radius_m"));
+  CHECK_THAT(error_of([](nlohmann::json& s) { s["gel"]["radius_m"] = 0.02; }),
+             Contains("/sensor/gel/radius_m: only a spherical_cap gel has this key"));
+  CHECK_THAT(error_of([](nlohmann::json& s) { s["markers_depth_m"] = -0.001; }),
+             Contains("x/dataset.json: /sensor/markers_depth_m: must be >= 0"));
+  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["markers_depth_m"] = 0.02; }),
+             Contains("/sensor/markers_depth_m: must be smaller than the gel's radius_m"));
 }

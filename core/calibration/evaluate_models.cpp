@@ -40,7 +40,7 @@ ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_i
   ParamSet param_set = default_params(model_id);
   param_set.update_from_json(params, params_where);
   std::shared_ptr<const Sensor> sensor;
-  if (ds.gel.surface == "flat") {
+  if (!gel_surface_is_mesh(ds.gel.surface)) {
     sensor = std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
   } else {
     GelSpec gel = ds.gel;

@@ -5,7 +5,7 @@
 namespace sb {
 
 std::shared_ptr<const Sensor> dataset_sensor(const Dataset& ds) {
-  if (ds.gel.surface == "flat") return std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
+  if (!gel_surface_is_mesh(ds.gel.surface)) return std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
   GelSpec gel = ds.gel;
   gel.surface = (std::filesystem::path(ds.dir) / ds.gel.surface).string();
   const TriMesh gel_E = gelsight_mini_gel_in_E(gel.surface);

@@ -22,7 +22,7 @@ void write_prediction_dataset(const std::string& dir, const PredictionExport& e)
   ds.provenance = e.provenance;
   ds.camera = e.sensor->camera;
   ds.gel = e.sensor->gel;
-  if (ds.gel.surface != "flat") ds.gel.surface = "meshes/gel.obj";
+  if (gel_surface_is_mesh(ds.gel.surface)) ds.gel.surface = "meshes/gel.obj";
   ds.markers_rest_px = e.sensor->markers_rest_px;
   if (!e.shearbench.is_null()) ds.extra["shearbench"] = e.shearbench;
   const std::string indenter_name = e.indenter->name.empty() ? "indenter" : e.indenter->name;
@@ -42,7 +42,7 @@ void write_prediction_dataset(const std::string& dir, const PredictionExport& e)
   data.markers_px = e.disp_px;
   fs::create_directories(fs::path(dir) / "meshes");
   save_obj(e.indenter->mesh, (fs::path(dir) / mesh_rel).string());
-  if (ds.gel.surface != "flat") save_obj(e.sensor->gel_mesh, (fs::path(dir) / ds.gel.surface).string());
+  if (gel_surface_is_mesh(ds.gel.surface)) save_obj(e.sensor->gel_mesh, (fs::path(dir) / ds.gel.surface).string());
   write_dataset(dir, ds, {data});
 }
 

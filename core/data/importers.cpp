@@ -454,7 +454,18 @@ namespace sb {
 namespace {
 
 constexpr double kTactipAboveM = 0.005;       // clearance of the "above" frame: more than a 25 deg tilted dome needs
-constexpr double kTactipMmPerPxNominal = 0.1;  // ~40 mm dome over ~400 px; nominal (orthographic stand-in)
+// The TacTip (midi/standard) as the public descriptions give it (docs/sensors.md has the sources):
+//  - skin: a hemispherical tip of 40 mm diameter (radius 20 mm; "a 1 mm thick silicone rubber hemisphere",
+//    Lepora group, J. Robot. Biomim. 2017, fig. 2), so the cap's footprint radius is the radius itself;
+//  - pins: on the skin's inner surface; their tips' depth below the contact surface is not stated in the public
+//    sources found: 3 mm (1 mm skin + ~2 mm pin) is an assumption to be fitted;
+//  - camera: tactile_gym's simulated TacTip camera has a 60 deg field of view over the (square) tactile image,
+//    taken as the focal length over this 420 px crop; its distance is set so that the pin sphere's equator
+//    (z_E = -R) is seen at the image's half-width, the edge of the authors' circular mask; no distortion.
+// Not fitted to the reference image (docs/sensors.md: what is short).
+constexpr double kTactipDomeRadiusM = 0.020;
+constexpr double kTactipPinDepthM = 0.003;
+constexpr double kTactipFieldOfViewDeg = 60.0;
 constexpr double kTactipDtS = 0.02;
 const char* kTactipSurface = "flat_surface";
 // E's x/y are the image's u/v: E = Rz(kTactipImageFromToolDeg) S. Measured on the calibration split (presses
@@ -699,6 +710,23 @@ TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, cons
 // (shear_x, shear_y, -above) above, (shear_x, shear_y, depth) pressed, (0, 0, depth) final, rotation
 // Rz(twist) Ry(ry) Rx(rx) (static x-y-z Euler angles) with the twist going to zero during the slide.
 // The path is X_SI = X_WS^-1.
+namespace {
+// The pinhole camera of the starting values above: f from the field of view over the image width, the distance D
+// such that the pin sphere's equator (radius r_p = R - depth about (0, 0, -R)) projects onto the image's
+// half-width: f r_p / (D - R) = width / 2.
+Camera tactip_camera(int width_px, int height_px, const Vec2& principal_px) {
+  Camera c;
+  c.model = CameraModel::Pinhole;
+  c.width_px = width_px;
+  c.height_px = height_px;
+  c.principal_px = principal_px;
+  const double half_width = 0.5 * width_px;
+  c.focal_px = half_width / std::tan(0.5 * kTactipFieldOfViewDeg * M_PI / 180.0);
+  c.distance_m = kTactipDomeRadiusM + c.focal_px * (kTactipDomeRadiusM - kTactipPinDepthM) / half_width;
+  return c;
+}
+}  // namespace
+
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
                                    int slide_steps) {
   auto X_WS = [&](double f, double z) {  // f = 1 at the start of the slide, 0 at its end
@@ -729,14 +757,18 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   ds.sensor_model = "TacTip midi";
   ds.width_px = ref_img.cols;
   ds.height_px = ref_img.rows;
-  ds.mm_per_px = kTactipMmPerPxNominal;
   ds.principal_px = Vec2((ds.width_px - 1) / 2.0, (ds.height_px - 1) / 2.0);
-  ds.gel_size_m = Vec2(0.04, 0.04);
-  ds.gel_thickness_m = 0.004;
+  ds.camera = tactip_camera(ds.width_px, ds.height_px, ds.principal_px);
+  ds.gel_surface = "spherical_cap";
+  ds.gel_radius_m = kTactipDomeRadiusM;
+  ds.gel_footprint_radius_m = kTactipDomeRadiusM;
+  ds.gel_size_m = Vec2(2 * kTactipDomeRadiusM, 2 * kTactipDomeRadiusM);
+  ds.gel_thickness_m = kTactipDomeRadiusM + 0.001;  // the hemisphere on a 1 mm base (a solid for the SDF)
+  ds.markers_depth_m = kTactipPinDepthM;
   ds.markers_rest_px = ref.rest_px;
   ds.sensor_extra["tactip"] = {
-      {"skin", "hemispherical dome, pins on its inner surface below the contact surface"},
-      {"camera", "perspective, looking along +z_E from inside; the orthographic camera above is a nominal stand-in"},
+      {"skin", "hemispherical dome, pins on its inner surface below the contact surface (gel: spherical_cap)"},
+      {"camera", "pinhole from inside along +z_E; starting values from public descriptions, not fitted (docs/sensors.md)"},
       {"pin_pitch_px", ref.pitch_px},
       {"pin_area_px", ref.area_px}};
   ds.indenters = {{kTactipSurface,
@@ -806,8 +838,10 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) Ry(pose_Ry) Rx(pose_Rx) "
       "static Euler as the robot library's sxyz; E = Rz(" + format_number(kTactipImageFromToolDeg, "%.1f") + " deg) S so that "
       "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per mm "
-      "of slide along the slide rotated by that angle; not mirrored). The camera is perspective; mm_per_px " + format_number(kTactipMmPerPxNominal, "%.2f") + " is a nominal "
-      "orthographic stand-in at the apex). Motion label: shear or twist by the larger normalised magnitude "
+      "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
+      format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " + format_number(kTactipPinDepthM * 1e3, "%.0f") +
+      " mm below the contact surface, seen by a pinhole camera (" + format_number(kTactipFieldOfViewDeg, "%.0f") +
+      " deg field of view): public starting values, not fitted (shearbench docs/sensors.md). Motion label: shear or twist by the larger normalised magnitude "
       "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
       "under 'targets' (mm, deg).";
   write_tsd_dataset(ds, out_dir);

@@ -5,6 +5,7 @@
 
 #include "core/base/data_root.hpp"
 #include "core/data/json_read.hpp"
+#include "core/data/sensor_json.hpp"
 #include "core/data/tsd.hpp"
 
 namespace fs = std::filesystem;
@@ -104,11 +105,13 @@ namespace {
 std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::string& where, const std::string& data_root,
                                            const std::string& base_dir) {
   const std::string ptr = "/sensor";
-  jsonin::reject_unknown_keys(j, {"gel", "markers", "camera"}, where, ptr);
+  jsonin::reject_unknown_keys(j, {"gel", "markers", "camera", "markers_depth_m"}, where, ptr);
   Camera camera;
   if (auto* c = jsonin::find(j, "camera")) {
     const std::string cptr = child(ptr, "camera");
-    jsonin::reject_unknown_keys(*c, {"mm_per_px", "principal_px", "image_size_px"}, where, cptr);
+    jsonin::reject_unknown_keys(*c, {"model", "mm_per_px", "principal_px", "image_size_px", "focal_px", "distance_m", "k1"},
+                                where, cptr);
+    parse_camera_model(*c, where, cptr, &camera);
     if (auto* v = jsonin::find(*c, "mm_per_px")) camera.mm_per_px = jsonin::positive_number(*v, where, child(cptr, "mm_per_px"));
     if (auto* v = jsonin::find(*c, "principal_px")) camera.principal_px = jsonin::vec2(*v, where, child(cptr, "principal_px"));
     if (auto* v = jsonin::find(*c, "image_size_px")) {
@@ -133,8 +136,22 @@ std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::s
     markers = marker_grid_px(MarkerGrid{}, camera);
   }
   GelSpec gel;
-  if (auto* g = jsonin::find(j, "gel")) {
+  const auto* g = jsonin::find(j, "gel");
+  if (g && g->is_object()) {  // {"surface": "spherical_cap", "radius_m", "footprint_radius_m", "thickness_m"}
+    const std::string gptr = child(ptr, "gel");
+    jsonin::reject_unknown_keys(*g, {"surface", "radius_m", "footprint_radius_m", "thickness_m"}, where, gptr);
+    gel.surface = jsonin::string(jsonin::member(*g, "surface", where, gptr), where, child(gptr, "surface"));
+    if (gel.surface != "spherical_cap")
+      jsonin::fail(where, child(gptr, "surface"), "a gel object describes a spherical_cap (give \"flat\" or a mesh path as a string)");
+    gel.thickness_m = jsonin::positive_number(jsonin::member(*g, "thickness_m", where, gptr), where, child(gptr, "thickness_m"));
+    parse_spherical_cap(*g, where, gptr, &gel);
+  }
+  if (auto* v = jsonin::find(j, "markers_depth_m"))
+    gel.markers_depth_m = parse_markers_depth(*v, gel, where, child(ptr, "markers_depth_m"));
+  if (g && !g->is_object()) {
     const std::string text = jsonin::string(*g, where, child(ptr, "gel"));
+    if (camera.pinhole() && text != "flat")
+      jsonin::fail(where, child(ptr, "gel"), "a pinhole camera needs a flat or spherical_cap gel, not a mesh file");
     if (text != "flat") {
       const std::string path = resolve_path(text, data_root, base_dir);
       if (!fs::exists(path))
@@ -194,7 +211,7 @@ void parse_dataset_replay(const nlohmann::json& d, const std::string& where, con
     scene->indenter_spec.shape = "mesh";
     scene->indenter_spec.mesh_path = ds.mesh_path(info.indenter);
   }
-  if (ds.gel.surface == "flat") {
+  if (!gel_surface_is_mesh(ds.gel.surface)) {
     scene->sensor = std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
   } else {
     GelSpec gel = ds.gel;

@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "core/data/json_read.hpp"
+#include "core/data/sensor_json.hpp"
 
 namespace fs = std::filesystem;
 
@@ -347,9 +348,9 @@ void parse_sensor(const nlohmann::json& j, const std::string& file, Dataset* ds)
 
   const std::string cptr = child(ptr, "camera");
   const auto& cam = jsonin::member(j, "camera", file, ptr);
-  if (auto* m = jsonin::find(cam, "model"); m && jsonin::string(*m, file, child(cptr, "model")) != "orthographic")
-    jsonin::fail(file, child(cptr, "model"), "only the orthographic camera is supported");
-  ds->camera.mm_per_px = jsonin::positive_number(jsonin::member(cam, "mm_per_px", file, cptr), file, child(cptr, "mm_per_px"));
+  parse_camera_model(cam, file, cptr, &ds->camera);
+  if (!ds->camera.pinhole())
+    ds->camera.mm_per_px = jsonin::positive_number(jsonin::member(cam, "mm_per_px", file, cptr), file, child(cptr, "mm_per_px"));
   ds->camera.principal_px = jsonin::vec2(jsonin::member(cam, "principal_px", file, cptr), file, child(cptr, "principal_px"));
 
   const std::string gptr = child(ptr, "gel");
@@ -358,7 +359,15 @@ void parse_sensor(const nlohmann::json& j, const std::string& file, Dataset* ds)
   if (!(ds->gel.size_m.array() > 0).all()) jsonin::fail(file, child(gptr, "size_m"), "expected two positive numbers");
   ds->gel.thickness_m = jsonin::positive_number(jsonin::member(gel, "thickness_m", file, gptr), file, child(gptr, "thickness_m"));
   if (auto* v = jsonin::find(gel, "surface")) ds->gel.surface = jsonin::string(*v, file, child(gptr, "surface"));
-  if (ds->gel.surface != "flat" && !fs::exists(fs::path(ds->dir) / ds->gel.surface))
+  if (ds->gel.surface == "spherical_cap") {
+    parse_spherical_cap(gel, file, gptr, &ds->gel);
+  } else {
+    for (const char* key : {"radius_m", "footprint_radius_m"})
+      if (jsonin::find(gel, key)) jsonin::fail(file, child(gptr, key), "only a spherical_cap gel has this key");
+  }
+  if (auto* v = jsonin::find(j, "markers_depth_m"))
+    ds->gel.markers_depth_m = parse_markers_depth(*v, ds->gel, file, child(ptr, "markers_depth_m"));
+  if (gel_surface_is_mesh(ds->gel.surface) && !fs::exists(fs::path(ds->dir) / ds->gel.surface))
     jsonin::fail(file, child(gptr, "surface"), "gel mesh '" + ds->gel.surface + "' not found in " + ds->dir);
 
   const std::string mptr = child(ptr, "markers_rest_px");
@@ -369,7 +378,8 @@ void parse_sensor(const nlohmann::json& j, const std::string& file, Dataset* ds)
     ds->markers_rest_px.push_back(jsonin::vec2(markers[i], file, child(mptr, i)));
 
   for (const auto& [k, v] : j.items())
-    if (k != "model" && k != "image_size_px" && k != "camera" && k != "gel" && k != "markers_rest_px")
+    if (k != "model" && k != "image_size_px" && k != "camera" && k != "gel" && k != "markers_rest_px" &&
+        k != "markers_depth_m")
       ds->sensor_extra[k] = v;
 }
 
@@ -522,12 +532,16 @@ nlohmann::ordered_json dataset_to_json(const Dataset& ds) {
   nlohmann::ordered_json sensor;
   sensor["model"] = ds.sensor_model;
   sensor["image_size_px"] = {ds.camera.width_px, ds.camera.height_px};
-  sensor["camera"] = {{"model", "orthographic"},
-                      {"mm_per_px", ds.camera.mm_per_px},
-                      {"principal_px", {ds.camera.principal_px.x(), ds.camera.principal_px.y()}}};
+  sensor["camera"] = camera_to_json(ds.camera);
   sensor["gel"] = {{"size_m", {ds.gel.size_m.x(), ds.gel.size_m.y()}},
                    {"thickness_m", ds.gel.thickness_m},
                    {"surface", ds.gel.surface}};
+  if (ds.gel.surface == "spherical_cap") {
+    sensor["gel"]["radius_m"] = ds.gel.radius_m;
+    sensor["gel"]["footprint_radius_m"] = ds.gel.footprint_radius_m;
+  }
+  // A GelSight-Mini-like sensor (orthographic, markers on the surface) keeps the block it always had.
+  if (!is_classic_sensor(ds.camera, ds.gel)) sensor["markers_depth_m"] = ds.gel.markers_depth_m;
   nlohmann::ordered_json markers = nlohmann::ordered_json::array();
   for (const Vec2& m : ds.markers_rest_px) markers.push_back({m.x(), m.y()});
   sensor["markers_rest_px"] = markers;

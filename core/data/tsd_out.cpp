@@ -34,6 +34,11 @@ Dataset as_dataset(const TsdDatasetOut& out) {
   ds.camera.principal_px = out.principal_px;
   ds.gel.size_m = out.gel_size_m;
   ds.gel.thickness_m = out.gel_thickness_m;
+  if (out.camera) ds.camera = *out.camera;
+  ds.gel.surface = out.gel_surface;
+  ds.gel.radius_m = out.gel_radius_m;
+  ds.gel.footprint_radius_m = out.gel_footprint_radius_m;
+  ds.gel.markers_depth_m = out.markers_depth_m;
   ds.markers_rest_px = out.markers_rest_px;
   ds.sensor_extra = out.sensor_extra;
   for (const auto& [name, entry] : out.indenters.items()) {

@@ -5,10 +5,12 @@
 // (frames/NNNNNN.png) and meshes. Every file is written atomically.
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/geometry/pose.hpp"
+#include "core/sensor/camera.hpp"
 
 namespace sb {
 
@@ -37,6 +39,12 @@ struct TsdDatasetOut {
   Vec2 principal_px{159.5, 119.5};
   Vec2 gel_size_m{0.02525, 0.02075};
   double gel_thickness_m = 0.0045;
+  // A camera that replaces the orthographic one above (width_px .. principal_px), e.g. the TacTip's pinhole.
+  std::optional<Camera> camera;
+  std::string gel_surface = "flat";        // or "spherical_cap" (a mesh file is not written by importers)
+  double gel_radius_m = 0.0;               // spherical_cap only
+  double gel_footprint_radius_m = 0.0;     // spherical_cap only
+  double markers_depth_m = 0.0;            // pins below the contact surface
   std::vector<Vec2> markers_rest_px;
   nlohmann::json sensor_extra = nlohmann::json::object();  // further keys of "sensor" (e.g. a TacTip's description)
   nlohmann::json indenters = nlohmann::json::object();

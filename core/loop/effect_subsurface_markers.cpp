@@ -4,13 +4,10 @@
 #include <cmath>
 
 #include "core/loop/effect_catalogue.hpp"
+#include "core/sensor/depth_smoothing.hpp"
 
 namespace sb::effects {
 namespace {
-
-// Gaussian weights beyond this many sigmas (< e^{-8} = 3e-4 of the centre weight) are dropped, which keeps
-// the kernel sparse for shallow markers on dense grids.
-constexpr double kKernelCutoffSigmas = 4.0;
 
 class SubsurfaceMarkers final : public Effect {
  public:
@@ -42,33 +39,16 @@ class SubsurfaceMarkers final : public Effect {
   std::unique_ptr<Effect> clone() const override { return std::make_unique<SubsurfaceMarkers>(*this); }
 
  private:
-  // Row-normalised Gaussian weights w_ij = exp(-|p_i - p_j|^2 / (2 h^2)) / sum_j(...), truncated at
-  // kKernelCutoffSigmas; rebuilt only when the depth or the markers change (fits change h, replays do not).
+  // The weights (core/sensor/depth_smoothing) are rebuilt only when the depth or the markers change (fits
+  // change h, replays do not).
   void update_weights(const std::vector<Vec3>& p_EM, double h) {
     if (h == cached_depth_ && p_EM == cached_markers_) return;
-    const auto n = static_cast<Eigen::Index>(p_EM.size());
-    const double cutoff2 = kKernelCutoffSigmas * kKernelCutoffSigmas * h * h;
-    std::vector<Eigen::Triplet<double>> entries;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      const std::size_t row_start = entries.size();
-      double row_sum = 0.0;
-      for (Eigen::Index j = 0; j < n; ++j) {
-        const double r2 = (p_EM[i] - p_EM[j]).head<2>().squaredNorm();
-        if (r2 > cutoff2) continue;
-        const double w = std::exp(-r2 / (2.0 * h * h));
-        entries.emplace_back(i, j, w);
-        row_sum += w;
-      }
-      for (std::size_t k = row_start; k < entries.size(); ++k)  // the diagonal keeps row_sum >= 1
-        entries[k] = Eigen::Triplet<double>(entries[k].row(), entries[k].col(), entries[k].value() / row_sum);
-    }
-    weights_.resize(n, n);
-    weights_.setFromTriplets(entries.begin(), entries.end());
+    weights_ = depth_smoothing_weights(p_EM, h);
     cached_depth_ = h;
     cached_markers_ = p_EM;
   }
 
-  Eigen::SparseMatrix<double, Eigen::RowMajor> weights_;
+  DepthSmoothingWeights weights_;
   Eigen::Matrix<double, Eigen::Dynamic, 2> field_, smoothed_;  // scratch, reused between steps
   double cached_depth_ = -1.0;
   std::vector<Vec3> cached_markers_;

@@ -12,11 +12,14 @@ namespace sb {
 
 namespace {
 
-// Adapts a batch with one slot to ShearModel. Batch: set_params, params, reset, step(span...).
+// Adapts a batch with one slot to ShearModel. Batch: set_params, params, reset, step(span...). The sensor's
+// output stage (pins at depth, a perspective camera; the identity for the GelSight Mini) is applied here, the
+// one place every model's field passes, so the batched kernels stay as they are.
 template <class Batch>
 class SingleSlotModel final : public ShearModel {
  public:
-  SingleSlotModel(std::string id, std::shared_ptr<Batch> batch) : id_(std::move(id)), batch_(std::move(batch)) {}
+  SingleSlotModel(std::string id, std::shared_ptr<Batch> batch, std::shared_ptr<const Sensor> sensor)
+      : id_(std::move(id)), batch_(std::move(batch)), sensor_(std::move(sensor)) {}
   std::string id() const override { return id_; }
   const ParamSet& params() const override { return batch_->params(); }
   void set_params(const ParamSet& params) override { batch_->set_params(params); }
@@ -25,17 +28,19 @@ class SingleSlotModel final : public ShearModel {
     disp_.resize(batch_->markers());
     if (out) {
       batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, std::span<FieldOutput>(out, 1));
+      if (!sensor_->output_stage.identity()) sensor_->output_stage.apply(out->disp_px);
     } else {
       batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, {});
     }
   }
   std::unique_ptr<ShearModel> clone() const override {
-    return std::make_unique<SingleSlotModel>(id_, std::make_shared<Batch>(*batch_));
+    return std::make_unique<SingleSlotModel>(id_, std::make_shared<Batch>(*batch_), sensor_);
   }
 
  private:
   std::string id_;
   std::shared_ptr<Batch> batch_;
+  std::shared_ptr<const Sensor> sensor_;
   std::vector<Vec2> disp_;
 };
 
@@ -69,13 +74,13 @@ std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<co
                                        std::shared_ptr<const Indenter> indenter) {
   const ParamSet p = default_params(id);
   if (id == "hydroshear" || id == "hydroshear-layer" || id == "hydroshear-stick" || id == "hydroshear-layer-stick")
-    return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p));
+    return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p), sensor);
   if (id == "fots" || id == "fots-reimpl") {
     const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;
-    return std::make_unique<SingleSlotModel<FotsBatch>>(id, std::make_shared<FotsBatch>(v, sensor, indenter, 1, p));
+    return std::make_unique<SingleSlotModel<FotsBatch>>(id, std::make_shared<FotsBatch>(v, sensor, indenter, 1, p), sensor);
   }
   return std::make_unique<SingleSlotModel<TacslBatch>>(
-      id, std::make_shared<TacslBatch>(id == "tacsl-normalized", sensor, indenter, 1, p));
+      id, std::make_shared<TacslBatch>(id == "tacsl-normalized", sensor, indenter, 1, p), sensor);
 }
 
 }  // namespace sb
