@@ -106,12 +106,14 @@ void FrameStats::write_line(double now_s) {
   std::sort(ms_.begin(), ms_.end());
   const auto gl = gl_object_counts();
   const ResidentParts parts = resident_parts();
-  char head[640];
+  const HeapUse heap = heap_use();
+  char head[720];
   std::snprintf(head, sizeof head,
                 "{\"t_s\": %.2f, \"window_s\": %.2f, \"frames\": %zu, \"frame_ms_p50\": %.3f, \"frame_ms_p95\": %.3f, "
-                "\"frame_ms_max\": %.3f, \"rss_kb\": %ld, \"rss_anon_kb\": %ld, \"rss_file_kb\": %ld, \"fds\": %d, \"gl\": {",
+                "\"frame_ms_max\": %.3f, \"rss_kb\": %ld, \"rss_anon_kb\": %ld, \"rss_file_kb\": %ld, \"heap_in_use_kb\": %ld, "
+                "\"heap_free_kb\": %ld, \"fds\": %d, \"gl\": {",
                 now_s - start_s_, now_s - window_start_s_, ms_.size(), percentile(ms_, 0.5), percentile(ms_, 0.95),
-                ms_.back(), resident_kb(), parts.anon_kb, parts.file_kb, open_fds());
+                ms_.back(), resident_kb(), parts.anon_kb, parts.file_kb, heap.in_use_kb, heap.free_kb, open_fds());
   out_ << head;
   bool first = true;
   for (const auto& [kind, n] : gl) {

@@ -25,6 +25,16 @@ void limit_malloc_arenas(int arenas) {
 #endif
 }
 
+HeapUse heap_use() {
+  HeapUse h;
+#if defined(__GLIBC__) && (__GLIBC__ > 2 || (__GLIBC__ == 2 && __GLIBC_MINOR__ >= 33))
+  const struct mallinfo2 m = mallinfo2();
+  h.in_use_kb = static_cast<long>((m.uordblks + m.hblkhd) / 1024);
+  h.free_kb = static_cast<long>(m.fordblks / 1024);
+#endif
+  return h;
+}
+
 ResidentParts resident_parts() {
   ResidentParts r;
   std::FILE* f = std::fopen("/proc/self/status", "r");

@@ -26,4 +26,13 @@ struct ResidentParts {
 };
 ResidentParts resident_parts();
 
+// What the malloc heap holds (kB, glibc's mallinfo2; -1 each off glibc): bytes in live allocations (heap chunks
+// and mmapped blocks) and bytes free inside the heap that a trim has not returned. A step in RssAnon that
+// stays after a trim is either live objects (in_use rises) or fragmentation (free rises).
+struct HeapUse {
+  long in_use_kb = -1;
+  long free_kb = -1;
+};
+HeapUse heap_use();
+
 }  // namespace sb
