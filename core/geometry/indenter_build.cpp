@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/geometry/indenter.hpp"
+#include "core/geometry/sdf_cache.hpp"
 
 namespace sb {
 
@@ -29,7 +30,7 @@ Indenter build_indenter(const IndenterSpec& spec, const std::string& data_root, 
     options.band_width = kIndenterSdfBand;
     const double diagonal = ind.mesh.bounds().diagonal().norm();
     options.voxel_size = std::clamp(diagonal / 200.0, kIndenterSdfMinVoxel, kIndenterSdfMaxVoxel);
-    ind.sdf = make_mesh_sdf(ind.mesh, options);
+    ind.sdf = cached_mesh_sdf(ind.mesh, options);   // a fit reloads its dataset: built once (sdf_cache.hpp)
   }
   return ind;
 }
