@@ -4,11 +4,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
 
+#include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/sensor/tactip_geometry_fit.hpp"
+#include "core/tracking/pin_tracker.hpp"
 
 using namespace sb;
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -176,5 +182,146 @@ TEST_CASE("TacTip geometry fit fails cleanly on what it cannot fit", "[sensor][t
     TactipGeometryFitOptions ortho = o;
     ortho.initial = Camera{};
     CHECK_THROWS_AS(fit_tactip_geometry(ring_pins(t, 5), ortho, "ref.png"), InputError);
+  }
+}
+
+namespace {
+
+// The rest pins of the real reference (../shared/data/raw/tactip_shear), as the import detects them.
+std::vector<Vec2> reference_pins() {
+  const char* env = std::getenv("SHEARBENCH_DATA");
+  const std::string root = env && *env ? std::string(env) : resolve_data_root();
+  const std::string path = (fs::path(root) / "raw/tactip_shear/calibration/images/image_0.png").string();
+  if (!fs::exists(path)) FAIL("test data missing: " << path << " (set SHEARBENCH_DATA)");
+  return make_pin_reference(cv::imread(path, cv::IMREAD_GRAYSCALE), PinTrackerOptions{}, path).rest_px;
+}
+
+// The import's starting values (importers.cpp): R 20 mm, pins 3 mm deep, f = 210 / tan 30 deg, D such that the
+// pin sphere's equator is seen at 210 px, k1 = 0.
+TactipGeometryFitOptions import_start() {
+  TactipGeometryFitOptions o;
+  o.initial.model = CameraModel::Pinhole;
+  o.initial.width_px = o.initial.height_px = 420;
+  o.initial.focal_px = 210.0 / std::tan(M_PI / 6.0);
+  o.initial.distance_m = 0.020 + o.initial.focal_px * 0.017 / 210.0;
+  o.initial.principal_px = Vec2(209.5, 209.5);
+  return o;
+}
+
+}  // namespace
+
+// What one image determines (docs/sensors.md, "The TacTip's geometry fitted from the reference image", whose
+// table these values are; `build/shearbench_tests "TacTip reference*" -s` prints them). The margins hold the
+// measured values to well under their sigmas, so a change of the detector or the fit shows here.
+TEST_CASE("TacTip reference: what its pin rings determine and what they cannot", "[sensor][tactip_fit]") {
+  const std::vector<Vec2> pins = reference_pins();
+  REQUIRE(pins.size() == 327);
+  constexpr double kDeg = 180.0 / M_PI;
+  const TactipGeometryFitOptions start = import_start();
+  // The import's choice: principal point, D (so a = (D - R) / r_p) and theta fitted; f and k1 fixed.
+  const TactipGeometryFit d = fit_tactip_geometry(pins, start, "image_0.png");
+  CHECK(d.pins_used == 327);
+  CHECK(d.rings.ring_radius_px.size() == 11);
+  CHECK(d.rms_px == Approx(0.452).margin(0.001));
+  CHECK(d.max_px == Approx(1.46).margin(0.01));
+  CHECK(d.camera.principal_px.x() == Approx(211.462).margin(0.002));
+  CHECK(d.camera.principal_px.y() == Approx(212.164).margin(0.002));
+  CHECK(d.sigma_principal_px.x() == Approx(0.018).margin(0.001));
+  CHECK(d.camera.distance_m * 1e3 == Approx(50.385).margin(0.002));
+  CHECK(d.sigma_distance_m * 1e3 == Approx(0.044).margin(0.001));
+  CHECK(d.ring_pitch_rad * kDeg == Approx(7.970).margin(0.001));
+  CHECK(d.outer_ring_polar_rad() * kDeg == Approx(79.70).margin(0.01));
+  CHECK(d.azimuth_rad * kDeg == Approx(-0.356).margin(0.001));
+  SECTION("the residual's structure: ring offsets and scatter, no sign of a tilted camera") {
+    // Per ring, the pins' residual split into radial (along the pin's image radius) and tangential parts; the
+    // radial part's mean, its first azimuthal harmonic (a ring off-centre: a camera tilted against the dome's
+    // axis shifts the rings by amounts growing with their radius) and its second (an elliptic ring).
+    double mean_inner_min = 1e9, mean_inner_max = -1e9, mean_mid_max = -1e9, h1_max = 0, h2_max = 0, tan_sd_max = 0;
+    for (int i = 1; i <= 10; ++i) {
+      std::vector<double> er, et, phi;
+      for (std::size_t j = 0; j < pins.size(); ++j) {
+        if (d.rings.sites[j].ring != i) continue;
+        const Vec2 m = tactip_pin_px(d.camera, 0.020, 0.003, d.ring_pitch_rad, d.azimuth_rad, d.rings.sites[j]);
+        const Vec2 radial = (m - d.camera.principal_px).normalized(), e = pins[j] - m;
+        er.push_back(e.dot(radial));
+        et.push_back(radial.x() * e.y() - radial.y() * e.x());
+        phi.push_back(std::atan2(radial.y(), radial.x()));
+      }
+      const double n = double(er.size());
+      double mean = 0, tmean = 0;
+      for (std::size_t k = 0; k < er.size(); ++k) {
+        mean += er[k] / n;
+        tmean += et[k] / n;
+      }
+      Eigen::Vector4d h = Eigen::Vector4d::Zero();
+      double tvar = 0;
+      for (std::size_t k = 0; k < er.size(); ++k) {
+        h += 2.0 / n * (er[k] - mean) *
+             Eigen::Vector4d(std::cos(phi[k]), std::sin(phi[k]), std::cos(2 * phi[k]), std::sin(2 * phi[k]));
+        tvar += (et[k] - tmean) * (et[k] - tmean) / n;
+      }
+      if (i <= 5) {
+        mean_inner_min = std::min(mean_inner_min, mean);
+        mean_inner_max = std::max(mean_inner_max, mean);
+      } else if (i <= 8) {
+        mean_mid_max = std::max(mean_mid_max, mean);
+      }
+      h1_max = std::max(h1_max, h.head<2>().norm());
+      h2_max = std::max(h2_max, h.tail<2>().norm());
+      tan_sd_max = std::max(tan_sd_max, std::sqrt(tvar));
+    }
+    // Measured: rings 1..5 sit +0.16 .. +0.34 px outside the model, rings 6..8 -0.08 .. -0.20 px inside; the
+    // first harmonic stays 0.12 .. 0.31 px up to ring 9 (0.41 on ring 10, four pins short), not growing with
+    // the radius; the second is at most 0.17 px; the tangential scatter grows to 0.49 px on ring 10.
+    CHECK(mean_inner_min == Approx(0.158).margin(0.002));
+    CHECK(mean_inner_max == Approx(0.343).margin(0.002));
+    CHECK(mean_mid_max == Approx(-0.084).margin(0.002));
+    CHECK(h1_max == Approx(0.408).margin(0.002));
+    CHECK(h2_max == Approx(0.168).margin(0.002));
+    CHECK(tan_sd_max == Approx(0.487).margin(0.002));
+  }
+  SECTION("the pin depth only moves D: a = (D - R) / r_p stays 1.787") {
+    TactipGeometryFitOptions o = start;
+    o.pin_depth_m = 0.001;
+    const TactipGeometryFit f1 = fit_tactip_geometry(pins, o, "image_0.png");
+    CHECK((f1.camera.distance_m - 0.020) / 0.019 == Approx((d.camera.distance_m - 0.020) / 0.017).epsilon(1e-6));
+    CHECK(f1.rms_px == Approx(d.rms_px).epsilon(1e-6));
+  }
+  SECTION("f with D (k1 = 0): determined only through fifth order, f = 438 +- 17 px for 0.015 px of RMS") {
+    TactipGeometryFitOptions o = start;
+    o.fit_focal = true;
+    const TactipGeometryFit fd = fit_tactip_geometry(pins, o, "image_0.png");
+    CHECK(fd.covariance_ok);
+    CHECK(fd.camera.focal_px == Approx(438.3).margin(0.1));
+    CHECK(fd.sigma_focal_px == Approx(17.3).margin(0.1));
+    CHECK(fd.camera.distance_m * 1e3 == Approx(51.73).margin(0.01));
+    CHECK(fd.ring_pitch_rad * kDeg == Approx(6.83).margin(0.01));
+    CHECK(fd.rms_px == Approx(0.437).margin(0.001));
+  }
+  SECTION("k1 with D (f fixed): k1 trades with a at third order, k1 = -0.17 +- 0.05, D = 45.2 +- 2.1 mm") {
+    TactipGeometryFitOptions o = start;
+    o.fit_k1 = true;
+    const TactipGeometryFit dk = fit_tactip_geometry(pins, o, "image_0.png");
+    CHECK(dk.covariance_ok);
+    CHECK(dk.camera.k1 == Approx(-0.168).margin(0.001));
+    CHECK(dk.sigma_k1 == Approx(0.050).margin(0.001));
+    CHECK(dk.camera.distance_m * 1e3 == Approx(45.25).margin(0.01));
+    CHECK(dk.sigma_distance_m * 1e3 == Approx(2.13).margin(0.01));
+    CHECK(dk.rms_px == Approx(0.437).margin(0.001));
+  }
+  SECTION("f, D and k1 together: not identifiable (no sigmas)") {
+    TactipGeometryFitOptions o = start;
+    o.fit_focal = o.fit_k1 = true;
+    const TactipGeometryFit all = fit_tactip_geometry(pins, o, "image_0.png");
+    CHECK_FALSE(all.covariance_ok);
+    CHECK(all.covariance_rcond < 1e-12);
+    CHECK(std::isnan(all.sigma_focal_px));
+  }
+  SECTION("f = 300 px puts the outer ring past the hemisphere's rim (92.6 deg)") {
+    TactipGeometryFitOptions o = start;
+    o.initial.focal_px = 300.0;
+    const TactipGeometryFit f300 = fit_tactip_geometry(pins, o, "image_0.png");
+    CHECK(f300.outer_ring_polar_rad() * kDeg == Approx(92.6).margin(0.1));
+    CHECK(f300.rms_px == Approx(0.556).margin(0.001));
   }
 }
