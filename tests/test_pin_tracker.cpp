@@ -11,6 +11,7 @@
 
 #include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
+#include "core/calibration/fit_data.hpp"
 #include "core/data/importers.hpp"
 #include "core/data/tsd.hpp"
 #include "core/tracking/pin_tracker.hpp"
@@ -142,6 +143,26 @@ TEST_CASE("tactip_shear import of three samples per split reads back as tsd/1", 
   for (const auto& m : s.markers_px[1]) CHECK(std::isnan(m.x()));       // pressed, not imaged
   CHECK(kept(s.markers_px.back()) == ds.samples[3].extra.at("pins_tracked").get<int>());
   CHECK(kept(s.markers_px.back()) >= int(std::ceil(0.95 * 327)));
+  // The camera fitted to the reference's pin rings (docs/sensors.md, "The TacTip's geometry fitted from the
+  // reference image"): principal point and distance fitted, f and k1 at their starting values. The values are
+  // the ones measured there; the margins are far below their sigmas (0.02 px, 0.04 mm) so a changed fit shows.
+  CHECK(ds.camera.pinhole());
+  CHECK(ds.camera.principal_px.x() == Approx(211.462).margin(0.005));
+  CHECK(ds.camera.principal_px.y() == Approx(212.164).margin(0.005));
+  CHECK(ds.camera.distance_m == Approx(0.050385).margin(2e-6));
+  CHECK(ds.camera.focal_px == Approx(210.0 / std::tan(M_PI / 6.0)));
+  CHECK(ds.camera.k1 == 0.0);
+  const auto& fit = ds.sensor_extra.at("tactip").at("geometry_fit");
+  CHECK(fit.at("pins_used").get<int>() == 327);
+  CHECK(fit.at("rings").get<int>() == 10);
+  CHECK(fit.at("rms_px").get<double>() < 0.5);
+  // The sensor builds from it: every pin's ray meets the pin sphere on the hemisphere, the outermost ones at the
+  // outer ring's polar angle, 10 ring pitches (79.7 deg) give or take their scatter (0.6 px of ring 10's RMS is
+  // about 0.3 deg there).
+  const auto sensor = dataset_sensor(ds);
+  double polar_max = 0;
+  for (const Vec3& p : sensor->p_EM) polar_max = std::max(polar_max, std::acos((p.z() + 0.020) / 0.020));
+  CHECK(polar_max * 180.0 / M_PI == Approx(fit.at("outer_ring_polar_deg").get<double>()).margin(1.0));
   fs::remove_all(out);
 }
 

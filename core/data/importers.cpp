@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "core/sensor/camera.hpp"
+#include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
 #include "core/tracking/lattice_check.hpp"
@@ -460,9 +461,10 @@ constexpr double kTactipAboveM = 0.005;       // clearance of the "above" frame:
 //  - pins: on the skin's inner surface; their tips' depth below the contact surface is not stated in the public
 //    sources found: 3 mm (1 mm skin + ~2 mm pin) is an assumption to be fitted;
 //  - camera: tactile_gym's simulated TacTip camera has a 60 deg field of view over the (square) tactile image,
-//    taken as the focal length over this 420 px crop; its distance is set so that the pin sphere's equator
-//    (z_E = -R) is seen at the image's half-width, the edge of the authors' circular mask; no distortion.
-// Not fitted to the reference image (docs/sensors.md: what is short).
+//    taken as the focal length over this 420 px crop (fixed: the image cannot tell it from the pins' angular
+//    pitch); no distortion (fixed: it trades with the distance at third order). The distance and the principal
+//    point are fitted to the reference image's pin rings at import (fit_tactip_geometry; docs/sensors.md), from
+//    the start where the pin sphere's equator (z_E = -R) is seen at the image's half-width.
 constexpr double kTactipDomeRadiusM = 0.020;
 constexpr double kTactipPinDepthM = 0.003;
 constexpr double kTactipFieldOfViewDeg = 60.0;
@@ -725,6 +727,53 @@ Camera tactip_camera(int width_px, int height_px, const Vec2& principal_px) {
   c.distance_m = kTactipDomeRadiusM + c.focal_px * (kTactipDomeRadiusM - kTactipPinDepthM) / half_width;
   return c;
 }
+
+// The camera fitted to the reference's pins (tactip_geometry_fit.hpp): the principal point and the distance D
+// (through (D - R) / r_p, the curvature of the rings' image radii) with the ring pitch; R, the pin depth, f and
+// k1 fixed at the starting values above (docs/sensors.md says why and what the others would give).
+TactipGeometryFit fit_tactip_camera(const std::vector<Vec2>& rest_px, int width_px, int height_px,
+                                    const std::string& where) {
+  TactipGeometryFitOptions o;
+  o.dome_radius_m = kTactipDomeRadiusM;
+  o.pin_depth_m = kTactipPinDepthM;
+  o.initial = tactip_camera(width_px, height_px, Vec2((width_px - 1) / 2.0, (height_px - 1) / 2.0));
+  o.fit_focal = false;
+  o.fit_distance = true;
+  o.fit_k1 = false;
+  return fit_tactip_geometry(rest_px, o, where);
+}
+
+nlohmann::json geometry_fit_json(const TactipGeometryFit& g) {
+  constexpr double kRadToDeg = 180.0 / M_PI;
+  return {{"fitted", {"principal_px", "distance_m", "ring_pitch_deg", "azimuth_deg"}},
+          {"fixed", {"focal_px", "k1", "gel.radius_m", "markers_depth_m"}},
+          {"pattern", "apex pin + rings i = 1.. of 6 i pins at polar angle i * ring_pitch on the pin sphere"},
+          {"rings", int(g.rings.ring_radius_px.size()) - 1},
+          {"pins_used", g.pins_used},
+          {"rms_px", g.rms_px},
+          {"max_px", g.max_px},
+          {"ring_pitch_deg", g.ring_pitch_rad * kRadToDeg},
+          {"outer_ring_polar_deg", g.outer_ring_polar_rad() * kRadToDeg},
+          {"azimuth_deg", g.azimuth_rad * kRadToDeg},
+          {"sigma_principal_px", {g.sigma_principal_px.x(), g.sigma_principal_px.y()}},
+          {"sigma_distance_m", g.sigma_distance_m},
+          {"sigma_ring_pitch_deg", g.sigma_pitch_rad * kRadToDeg}};
+}
+
+std::string geometry_fit_line(const TactipGeometryFit& g) {
+  const Camera& c = g.camera;
+  return "geometry fit on the reference's pin rings: " + std::to_string(g.pins_used) + " pins in " +
+         std::to_string(g.rings.ring_radius_px.size() - 1) + " rings, principal point (" +
+         format_number(c.principal_px.x(), "%.2f") + ", " + format_number(c.principal_px.y(), "%.2f") + ") +- " +
+         format_number(g.sigma_principal_px.x(), "%.2f") + " px, distance " +
+         format_number(c.distance_m * 1e3, "%.2f") + " +- " + format_number(g.sigma_distance_m * 1e3, "%.2f") +
+         " mm, ring pitch " + format_number(g.ring_pitch_rad * 180.0 / M_PI, "%.3f") + " deg (outer ring at " +
+         format_number(g.outer_ring_polar_rad() * 180.0 / M_PI, "%.1f") + " deg); fixed f " +
+         format_number(c.focal_px, "%.1f") + " px, k1 " + format_number(c.k1, "%.0f") + ", R " +
+         format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm, pin depth " +
+         format_number(kTactipPinDepthM * 1e3, "%.0f") + " mm; residual RMS " + format_number(g.rms_px, "%.3f") +
+         " px, max " + format_number(g.max_px, "%.2f") + " px";
+}
 }  // namespace
 
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
@@ -757,8 +806,9 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   ds.sensor_model = "TacTip midi";
   ds.width_px = ref_img.cols;
   ds.height_px = ref_img.rows;
-  ds.principal_px = Vec2((ds.width_px - 1) / 2.0, (ds.height_px - 1) / 2.0);
-  ds.camera = tactip_camera(ds.width_px, ds.height_px, ds.principal_px);
+  const TactipGeometryFit geometry = fit_tactip_camera(ref.rest_px, ds.width_px, ds.height_px, ref_path);
+  ds.camera = geometry.camera;
+  ds.principal_px = geometry.camera.principal_px;
   ds.gel_surface = "spherical_cap";
   ds.gel_radius_m = kTactipDomeRadiusM;
   ds.gel_footprint_radius_m = kTactipDomeRadiusM;
@@ -768,14 +818,17 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   ds.markers_rest_px = ref.rest_px;
   ds.sensor_extra["tactip"] = {
       {"skin", "hemispherical dome, pins on its inner surface below the contact surface (gel: spherical_cap)"},
-      {"camera", "pinhole from inside along +z_E; starting values from public descriptions, not fitted (docs/sensors.md)"},
+      {"camera", "pinhole from inside along +z_E; principal point and distance fitted to the reference's pin rings, "
+                 "focal length, k1, dome radius and pin depth fixed at public starting values (docs/sensors.md)"},
       {"pin_pitch_px", ref.pitch_px},
-      {"pin_area_px", ref.area_px}};
+      {"pin_area_px", ref.area_px},
+      {"geometry_fit", geometry_fit_json(geometry)}};
   ds.indenters = {{kTactipSurface,
                    {{"mesh", "meshes/flat_surface.obj"},
                     {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
   ds.mesh_files = {{"meshes/flat_surface.obj", box_obj(0.08, 0.08, 0.01)}};
   ImportReport report;
+  report.lines.push_back(geometry_fit_line(geometry));
   std::vector<TactipSplit> splits;
   for (const char* split : {"calibration", "validation"})
     splits.push_back(read_tactip_split(in, split, ref, ref_img, options, report));
@@ -840,8 +893,9 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per mm "
       "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
       format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " + format_number(kTactipPinDepthM * 1e3, "%.0f") +
-      " mm below the contact surface, seen by a pinhole camera (" + format_number(kTactipFieldOfViewDeg, "%.0f") +
-      " deg field of view): public starting values, not fitted (shearbench docs/sensors.md). Motion label: shear or twist by the larger normalised magnitude "
+      " mm below the contact surface, seen by a pinhole camera (focal length from a " + format_number(kTactipFieldOfViewDeg, "%.0f") +
+      " deg field of view, no distortion) whose distance and principal point are fitted to the reference image's "
+      "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the larger normalised magnitude "
       "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
       "under 'targets' (mm, deg).";
   write_tsd_dataset(ds, out_dir);
