@@ -15,13 +15,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 def main(src, out):
     rows = list(csv.DictReader(open(src)))
     m = [float(r["t_s"]) / 60 for r in rows]   # when the minute's row closed (rows close after an action)
-    rss = [float(r["rss_mb"]) for r in rows]
+    quiet = bool(rows and rows[0].get("rss_quiet_mb"))   # soaks since the quiet point: memory read after 12 s idle
+    rss = [float(r["rss_quiet_mb"] if quiet else r["rss_mb"]) for r in rows]
     p50 = [float(r["frame_ms_p50"]) for r in rows]
     p95 = [float(r["frame_ms_p95"]) for r in rows]
     fig, (a, b) = plt.subplots(2, 1, figsize=(10, 6.5), sharex=True)
-    a.plot(m, rss, "o-", ms=3, color="tab:blue", label="resident")
+    a.plot(m, rss, "o-", ms=3, color="tab:blue", label="resident" + (" (each minute's quiet point)" if quiet else ""))
     if rows and rows[0].get("rss_anon_mb"):   # soaks since the stats carry RssAnon: the heap part of it
-        a.plot(m, [float(r["rss_anon_mb"]) for r in rows], "o-", ms=3, color="tab:cyan", label="of which heap (RssAnon)")
+        anon = [float(r["rss_anon_quiet_mb"] if quiet else r["rss_anon_mb"]) for r in rows]
+        a.plot(m, anon, "o-", ms=3, color="tab:cyan", label="of which heap (RssAnon)")
         a.legend(loc="lower right", fontsize=8)
     a.set_ylabel("resident memory (MB)")
     a.set_ylim(0, max(rss) * 1.15)

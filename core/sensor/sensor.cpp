@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/geometry/indenter.hpp"
+#include "core/geometry/sdf_cache.hpp"
 
 namespace sb {
 
@@ -212,7 +213,7 @@ Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<V
     const Eigen::AlignedBox3d box = s.gel_mesh.bounds();
     s.gel.size_m = box.sizes().head<2>();
     s.gel.thickness_m = -box.min().z();
-    s.gel_sdf = make_mesh_sdf(s.gel_mesh);
+    s.gel_sdf = cached_mesh_sdf(s.gel_mesh, {});   // every dataset load builds its sensor: once per gel
   }
   if (camera.pinhole() || gel.markers_depth_m > 0.0)
     s.output_stage = SensorOutputStage(camera, s.p_EM, gel.markers_depth_m, pin_surface_centre_z);
