@@ -27,6 +27,16 @@ nlohmann::json press_json() {
       {"t_s": 0, "xyz_m": [0, 0, 0.005]},
       {"t_s": 0.25, "xyz_m": [0.001, 0, 0.0035], "rpy_deg": [0, 0, 90]}]}})");
 }
+
+// The InputError parse_scene throws for j read as "scenes/x.json" ("" when it parses).
+std::string error_of(const nlohmann::json& j) {
+  try {
+    parse_scene(j, "scenes/x.json", data_root(), "");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 }  // namespace
 
 TEST_CASE("scene: rpy_pose is extrinsic x-y-z", "[scene]") {
@@ -60,14 +70,6 @@ TEST_CASE("scene: trajectory sampling is linear + slerp and includes the last ke
 
 TEST_CASE("scene: errors name the file and the JSON pointer", "[scene]") {
   using Catch::Matchers::Contains;
-  auto error_of = [](const nlohmann::json& j) -> std::string {
-    try {
-      parse_scene(j, "scenes/x.json", data_root(), "");
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
   nlohmann::json j = press_json();
   j["trajectory"]["keyframes"][1]["xyz_m"] = {0, 0};
   CHECK_THAT(error_of(j), Contains("scenes/x.json: /trajectory/keyframes/1/xyz_m: expected 3 numbers"));
@@ -153,14 +155,6 @@ TEST_CASE("scene: a TacTip-like sensor (pinhole camera, spherical cap, pins at d
   CHECK(scene.sensor->p_EM.size() == 25);
   CHECK(scene.sensor->p_EM[12].norm() < 1e-12);  // the centre marker: the apex over the centre pin
   CHECK_FALSE(scene.sensor->output_stage.identity());
-  auto error_of = [](const nlohmann::json& j) -> std::string {
-    try {
-      parse_scene(j, "scenes/x.json", data_root(), "");
-    } catch (const InputError& e) {
-      return e.what();
-    }
-    return "";
-  };
   nlohmann::json bad = j;
   bad["sensor"]["gel"]["surface"] = "cone";
   CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/gel/surface"));
