@@ -17,7 +17,7 @@ struct EvaluateArgs {
   std::string dataset;
   std::string model;
   std::string params;
-  std::string param_set = kDefaultParamSet;
+  std::string param_set;   // empty: the default for the dataset's sensor
   std::string split = "all";
   std::string json_out;
   std::string markdown_out;
@@ -32,8 +32,9 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   else ids.push_back(a.model);
   const nlohmann::json params_file = a.params.empty() ? nlohmann::json() : jsonin::load_file(a.params);
 
-  const NamedParamSet set = load_param_set(a.param_set);
+  const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, ds.sensor_model));
   Warnings warnings;
+  if (const std::string w = sensor_mismatch(set, ds.sensor_model); !w.empty()) warnings.add(w);
   std::vector<EvaluationResult> results;
   for (const auto& id : ids) {
     // The set's table, then --params on top.

@@ -23,7 +23,7 @@ struct ResidualArgs {
   std::string dataset;
   std::string model;
   std::string params;
-  std::string param_set = kDefaultParamSet;
+  std::string param_set;   // empty: the default for the dataset's sensor
   std::vector<std::string> effects;
   std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
   int max_iterations = 30;
@@ -56,7 +56,8 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   default_params(a.model);   // unknown ids fail before any work
   // The base fit starts from the set's values (the default set unless told otherwise); with --params the
   // base is not fitted at all.
-  in.base_params = load_param_set(a.param_set).params(a.model);
+  const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, ds.sensor_model));
+  in.base_params = set.params(a.model);
   ResidualOptions o;
   o.max_iterations = a.max_iterations;
   o.selection.bootstrap_resamples = a.resamples;
@@ -70,6 +71,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
     if (std::find(effect_ids().begin(), effect_ids().end(), id) == effect_ids().end())
       throw InputError("--effects", "unknown effect '" + id + "'");
   Warnings warnings;
+  if (const std::string w = sensor_mismatch(set, ds.sensor_model); !w.empty()) warnings.add(w);
   in.sensor = dataset_sensor(ds);
   in.calibration = load_split(ds, root, "calibration", a.calibration_ids, &warnings);
   in.validation = load_split(ds, root, "validation", a.calibration_ids, &warnings);

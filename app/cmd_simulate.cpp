@@ -25,7 +25,7 @@ struct SimulateArgs {
   std::string scene;
   std::string model;
   std::string params;
-  std::string param_set = kDefaultParamSet;
+  std::string param_set;   // empty: the default for the scene's sensor
   std::string out;
 };
 
@@ -37,8 +37,10 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
       build_indenter(scene.indenter_spec, root, fs::path(a.scene).parent_path().string(), &warnings));
   if (indenter->name.empty()) indenter->name = "indenter";
 
-  // Parameters: the set (default twin_sphere35), then the scene's table for this model, then --params.
-  ParamSet params = load_param_set(a.param_set).params(a.model);
+  // Parameters: the set (default: the one for the scene's sensor), then the scene's table, then --params.
+  const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, scene.sensor_model));
+  if (const std::string w = sensor_mismatch(set, scene.sensor_model); !w.empty()) warnings.add(w);
+  ParamSet params = set.params(a.model);
   if (const auto it = scene.params.find(a.model); it != scene.params.end())
     params.update_from_json(it->second, a.scene + ": /params/" + a.model);
   if (!a.params.empty())

@@ -18,8 +18,8 @@ CLI::Option* add_params_flag(CLI::App& sub, std::string& params, const std::stri
 CLI::Option* add_param_set_flag(CLI::App& sub, std::string& param_set) {
   return sub.add_option("--param-set", param_set,
                         "parameter set to start from: a name in assets/params (see `shearbench params`) or a file; "
-                        "'published' = the authors' values")
-      ->capture_default_str();
+                        "'published' = the authors' values (default: twin_sphere35 for the GelSight Mini, the set "
+                        "fitted for the sensor otherwise, e.g. tactip_shear)");
 }
 
 }  // namespace sb::app

@@ -49,7 +49,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
       work_(options.autosave_interval_s),
       autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
-  workbench_.set_param_set(session_.param_set);
+  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
   workbench_.set_metrics(field_metrics());
   workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
@@ -66,7 +66,7 @@ void Frontend::reopen(const SessionOptions& session) {
   session_ = std::move(next);
   session_options_ = session;
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
-  workbench_.set_param_set(session_.param_set);
+  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
   baseline_pending_ = Baseline::Clean;
@@ -135,8 +135,9 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       o.open.dataset_dir = *req.open_dataset;
       o.open.sample_id.clear();
       o.open.scene_path.clear();
+      o.open.param_set.clear();   // a dataset starts from the set for its sensor (a Mini set is meaningless on a TacTip)
       reopen(o);
-      workbench_.set_message("opened " + *req.open_dataset);
+      workbench_.set_message("opened " + *req.open_dataset + " (parameter set " + session_.param_set.name + ")");
     }
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());

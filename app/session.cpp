@@ -102,7 +102,9 @@ void load_measured(Session& s, const std::string& data_root) {
 
 Session open_session(const SessionOptions& o) {
   Session s;
-  s.param_set = load_param_set(o.open.param_set);   // before anything else: a bad name is the first error
+  // A named set is read before anything else (a bad name is the first error); none named: the default for
+  // the scene's sensor, once the scene is read.
+  if (!o.open.param_set.empty()) s.param_set = load_param_set(o.open.param_set);
   const std::string root = resolve_data_root(o.data_root);
   double indenter_bottom_shift = 0;
   if (!o.open.dataset_dir.empty()) {
@@ -136,6 +138,7 @@ Session open_session(const SessionOptions& o) {
     s.scene.name += " [indenter: " + o.open.indenter_mesh + "]";
     indenter_bottom_shift = old_bottom;
   }
+  if (o.open.param_set.empty()) s.param_set = load_param_set(default_param_set_for(s.scene.sensor_model));
   const std::string base_dir = s.scene.path.empty() ? std::string() : fs::path(s.scene.path).parent_path().string();
   Warnings warnings;
   auto indenter = std::make_shared<const Indenter>(build_indenter(s.scene.indenter_spec, root, base_dir, &warnings));
@@ -201,10 +204,11 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
 }
 
 std::vector<std::string> source_arguments(const SessionSource& open) {
-  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots", open.fots_id, "--tacsl", open.tacsl_id, "--param-set", open.param_set};
+  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots", open.fots_id, "--tacsl", open.tacsl_id};
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) args.insert(args.end(), {flag, value});
   };
+  add("--param-set", open.param_set);
   add("--scene", open.scene_path);
   add("--dataset", open.dataset_dir);
   add("--sample", open.sample_id);

@@ -37,7 +37,7 @@ std::string message_of(const std::string& name_or_file) {
 
 TEST_CASE("the shipped sets load; the default is fitted and differs from the published values", "[param_sets]") {
   const auto names = sb::param_set_names();
-  for (const char* expected : {"published", "twin_sphere35", "twin_sphere8", "real_fots_pair"})
+  for (const char* expected : {"published", "twin_sphere35", "twin_sphere8", "real_fots_pair", "tactip_shear"})
     CHECK(std::find(names.begin(), names.end(), expected) != names.end());
   const sb::NamedParamSet def = sb::load_param_set(sb::kDefaultParamSet);
   CHECK(def.provenance.at("dataset") == "data:twin/twin_sphere35");
@@ -49,6 +49,17 @@ TEST_CASE("the shipped sets load; the default is fitted and differs from the pub
   const sb::NamedParamSet pub = sb::load_param_set("published");
   CHECK(pub.params("hydroshear").to_json() == sb::default_params("hydroshear").to_json());
   CHECK(def.params("hydroshear").to_json() != sb::default_params("hydroshear").to_json());
+}
+
+TEST_CASE("a dataset starts from the set fitted for its sensor; a named set is kept", "[param_sets]") {
+  CHECK(sb::default_param_set_for(sb::kDefaultSensorModel) == sb::kDefaultParamSet);
+  // The TacTip set records the sensor it was fitted on (import of raw/tactip_shear: "TacTip midi").
+  CHECK(sb::load_param_set("tactip_shear").provenance.at("sensor_model") == "TacTip midi");
+  CHECK(sb::default_param_set_for("TacTip midi") == "tactip_shear");
+  CHECK(sb::default_param_set_for("a sensor nobody fitted") == sb::kDefaultParamSet);
+  CHECK(sb::param_set_or_default("", "TacTip midi") == "tactip_shear");
+  CHECK(sb::param_set_or_default("published", "TacTip midi") == "published");
+  CHECK(sb::param_set_or_default("twin_sphere8", sb::kDefaultSensorModel) == "twin_sphere8");
 }
 
 TEST_CASE("bad parameter sets name the file and the place", "[param_sets]") {

@@ -371,3 +371,36 @@ TEST_CASE("tsd: bad camera, cap and depth values name the file and the JSON poin
   CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["markers_depth_m"] = 0.02; }),
              Contains("/sensor/markers_depth_m: must be smaller than the gel's radius_m"));
 }
+
+TEST_CASE("tsd: a calibration list reassigns the splits; with a validation list the other samples go", "[tsd]") {
+  Dataset ds;
+  ds.name = "five";
+  for (const char* id : {"a", "b", "c", "d", "e"}) {
+    TsdSampleInfo s;
+    s.id = id;
+    s.split = "validation";
+    ds.samples.push_back(s);
+  }
+  const auto ids_of = [](const Dataset& d, const std::string& split) {
+    std::string out;
+    for (const auto& s : d.samples)
+      if (s.split == split) out += s.id;
+    return out;
+  };
+  SECTION("calibration list only: every other sample validates") {
+    assign_calibration_split(ds, {"b", "d"}, "--calibration");
+    CHECK(ids_of(ds, "calibration") == "bd");
+    CHECK(ids_of(ds, "validation") == "ace");
+  }
+  SECTION("both lists: c and e are in neither and are dropped, the order kept") {
+    assign_calibration_split(ds, {"b"}, "--calibration", {"a", "d"});
+    CHECK(ds.samples.size() == 3);
+    CHECK(ids_of(ds, "calibration") == "b");
+    CHECK(ids_of(ds, "validation") == "ad");
+  }
+  SECTION("an id the dataset lacks names the option, in either list") {
+    CHECK_THROWS_WITH(assign_calibration_split(ds, {"b"}, "validation_samples", {"z"}),
+                      Catch::Contains("validation_samples") && Catch::Contains("no sample 'z'"));
+    CHECK_THROWS_WITH(assign_calibration_split(ds, {"y"}, "--calibration"), Catch::Contains("no sample 'y'"));
+  }
+}

@@ -445,6 +445,11 @@ void Workbench::draw_param_set_row(WorkbenchRequest& req) {
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", param_set_.summary().c_str());
+  if (!param_set_mismatch_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.3f, 1.0f));
+    ImGui::TextWrapped("%s", param_set_mismatch_.c_str());
+    ImGui::PopStyleColor();
+  }
   ImGui::Checkbox("show the published values", &show_published_);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the authors' published value beside each slider");
 }

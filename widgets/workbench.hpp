@@ -105,7 +105,12 @@ class Workbench {
   void set_data_root(std::string root) { data_root_ = std::move(root); }
   // The parameter set the models started from: named in the Parameters section (provenance as tooltip),
   // the value R resets a slider to.
-  void set_param_set(NamedParamSet set) { param_set_ = std::move(set); }
+  // The set the models started from, and the sensor of the open scene (a set fitted on another sensor is
+  // named as such under the combo).
+  void set_param_set(NamedParamSet set, const std::string& sensor_model) {
+    param_set_mismatch_ = sensor_mismatch(set, sensor_model);
+    param_set_ = std::move(set);
+  }
   std::string session_path() const { return session_path_; }
   ReplayUi& replay_ui() { return replay_; }
   // Where the 3D view and each field panel were drawn in the last frame.
@@ -176,6 +181,7 @@ class Workbench {
   char fit_dataset_[512] = "";
   int fit_model_ = 0;
   NamedParamSet param_set_ = published_param_set();
+  std::string param_set_mismatch_;   // sensor_mismatch() of the set and the open scene
   bool show_published_ = false;
   bool fit_joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
   int fit_iterations_ = 30;

@@ -27,6 +27,7 @@ std::string NamedParamSet::summary() const {
   std::string s = "parameter set '" + name + "'";
   if (const auto* d = provenance.is_object() ? &provenance : nullptr) {
     if (d->contains("description")) s += ": " + (*d)["description"].get<std::string>();
+    if (!sensor_model().empty()) s += "\nsensor: " + sensor_model();
     if (d->contains("command")) s += "\nmade by: " + (*d)["command"].get<std::string>();
     if (d->contains("validation")) {
       s += "\nvalidation RMSE / CS (overall) on " + d->value("dataset", std::string("its dataset")) + ":";
@@ -37,6 +38,11 @@ std::string NamedParamSet::summary() const {
     }
   }
   return s;
+}
+
+std::string NamedParamSet::sensor_model() const {
+  if (name == kPublishedParamSet && file.empty()) return "";
+  return provenance.is_object() ? provenance.value("sensor_model", std::string(kDefaultSensorModel)) : kDefaultSensorModel;
 }
 
 std::string param_sets_dir() {
@@ -59,6 +65,24 @@ NamedParamSet published_param_set() {
   s.provenance = {{"description", "the authors' values as their code sets them (BASELINES.md), tuned for their "
                                   "cameras and units, not fitted to our data"}};
   return s;
+}
+
+std::string default_param_set_for(const std::string& sensor_model) {
+  if (sensor_model == kDefaultSensorModel) return kDefaultParamSet;
+  for (const std::string& name : param_set_names())
+    if (name != kPublishedParamSet && load_param_set(name).sensor_model() == sensor_model) return name;
+  return kDefaultParamSet;
+}
+
+std::string sensor_mismatch(const NamedParamSet& set, const std::string& sensor_model) {
+  const std::string fitted_on = set.sensor_model();
+  if (fitted_on.empty() || fitted_on == sensor_model) return "";
+  return "parameter set '" + set.name + "' was fitted on a " + fitted_on + ", not on this " + sensor_model +
+         ": its values are not calibrated for this sensor";
+}
+
+std::string param_set_or_default(const std::string& requested, const std::string& sensor_model) {
+  return requested.empty() ? default_param_set_for(sensor_model) : requested;
 }
 
 NamedParamSet load_param_set(const std::string& name_or_file) {
@@ -115,20 +139,25 @@ ParamSetData param_set_data(const nlohmann::json& provenance, const std::string&
   d.dir = resolve_path(provenance["dataset"].get<std::string>(), data_root, "");
   if (provenance.contains("import")) {
     const std::string source = provenance["import"].get<std::string>();
-    if (source != "fots") throw InputError(where + ": /import", "unknown importer '" + source + "' (known: fots)");
+    if (source != "fots" && source != "tactip_shear")
+      throw InputError(where + ": /import", "unknown importer '" + source + "' (known: fots, tactip_shear)");
     const std::string out = (fs::path(work_dir) / "imported").string();
     fs::remove_all(out);
-    import_fots(d.dir, out);
+    if (source == "fots") import_fots(d.dir, out);
+    else import_tactip_shear(d.dir, out);
     d.dir = out;
   }
   if (provenance.contains("calibration_samples"))
     d.calibration_ids = provenance["calibration_samples"].get<std::vector<std::string>>();
+  if (provenance.contains("validation_samples"))
+    d.validation_ids = provenance["validation_samples"].get<std::vector<std::string>>();
   return d;
 }
 
 Dataset read_param_set_dataset(const ParamSetData& data) {
   Dataset ds = read_dataset(fs::absolute(data.dir).string());
-  if (!data.calibration_ids.empty()) assign_calibration_split(ds, data.calibration_ids, "calibration_samples");
+  if (!data.calibration_ids.empty())
+    assign_calibration_split(ds, data.calibration_ids, "calibration_samples", data.validation_ids);
   return ds;
 }
 

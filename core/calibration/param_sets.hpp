@@ -27,6 +27,9 @@ struct NamedParamSet {
   ParamSet params(const std::string& model_id) const;
   // One line per model a person can read (the workbench's tooltip, `params --list`).
   std::string summary() const;
+  // The sensor the set was fitted on (provenance "sensor_model"; absent: the GelSight Mini; empty for
+  // 'published', which is no sensor's).
+  std::string sensor_model() const;
 };
 
 // The folder of the shipped sets: ./assets/params when run from the repository root, else the source tree's.
@@ -36,14 +39,26 @@ std::vector<std::string> param_set_names();
 // file. Throws InputError naming the file and the JSON pointer of a bad entry.
 NamedParamSet load_param_set(const std::string& name_or_file);
 NamedParamSet published_param_set();
+
+// The set a dataset or scene starts from when none is named: kDefaultParamSet for the GelSight Mini, and for
+// another sensor the first shipped set (by name) whose provenance "sensor_model" is that sensor's model
+// (e.g. tactip_shear for "TacTip midi"; a set fitted on one sensor is meaningless on another). Falls back to
+// kDefaultParamSet when no set is fitted for that sensor.
+std::string default_param_set_for(const std::string& sensor_model);
+// `requested` when the user named a set, else default_param_set_for(sensor_model).
+std::string param_set_or_default(const std::string& requested, const std::string& sensor_model);
+// A warning when `set` was fitted on another sensor than `sensor_model` (empty when it was not).
+std::string sensor_mismatch(const NamedParamSet& set, const std::string& sensor_model);
 nlohmann::ordered_json param_set_to_json(const NamedParamSet& set);
 
 // Where a fitted set's data is, as its provenance records it: "dataset" (a data: path), and for a raw
-// recording published without splits "import" (the importer, e.g. "fots", run into `work_dir` first) and
+// recording "import" (the importer, "fots" or "tactip_shear", run into `work_dir` first) and
 // "calibration_samples" (the samples that calibrate; the others validate).
+// With "validation_samples" too, only the listed samples are kept (a fixed subset of a large set).
 struct ParamSetData {
   std::string dir;                              // a tsd/1 dataset folder
   std::vector<std::string> calibration_ids;     // empty: the dataset's own splits
+  std::vector<std::string> validation_ids;      // non-empty: these validate, samples in neither list are dropped
 };
 ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root, const std::string& work_dir);
 // That dataset read, with its splits as the set's fit used them.

@@ -77,7 +77,7 @@ std::vector<DatasetFidelity> run_fidelity(const FidelityOptions& o) {
   for (const auto& dir_in : o.dataset_dirs) {
     const auto t0 = std::chrono::steady_clock::now();
     Dataset ds = read_dataset(std::filesystem::absolute(dir_in).string());
-    if (!o.calibration_ids.empty()) assign_calibration_split(ds, o.calibration_ids, "calibration samples");
+    if (!o.calibration_ids.empty()) assign_calibration_split(ds, o.calibration_ids, "calibration samples", o.validation_ids);
     DatasetFidelity r;
     r.dataset = ds.name;
     r.dir = dir_in;

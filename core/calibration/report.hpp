@@ -24,6 +24,7 @@ struct FidelityOptions {
   std::vector<std::string> models;           // empty: all
   FitOptions fit;
   std::vector<std::string> calibration_ids;   // non-empty: these samples calibrate, the others validate
+  std::vector<std::string> validation_ids;    // non-empty (with calibration_ids): only these validate
   std::string data_root;
   std::function<void(const std::string&)> log;
 };

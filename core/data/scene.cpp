@@ -211,6 +211,7 @@ void parse_dataset_replay(const nlohmann::json& d, const std::string& where, con
     scene->indenter_spec.shape = "mesh";
     scene->indenter_spec.mesh_path = ds.mesh_path(info.indenter);
   }
+  scene->sensor_model = ds.sensor_model;
   if (!gel_surface_is_mesh(ds.gel.surface)) {
     scene->sensor = std::make_shared<const Sensor>(make_sensor(ds.camera, ds.gel, ds.markers_rest_px));
   } else {

@@ -46,6 +46,7 @@ struct Scene {
   std::string motion = "free";              // tsd/1 motion label (simulate writes it into the dataset)
   int substeps = 1;
   std::shared_ptr<const Sensor> sensor;
+  std::string sensor_model = kDefaultSensorModel;   // a dataset replay's sensor (picks the default parameter set)
   IndenterSpec indenter_spec;
   std::map<std::string, nlohmann::json> params;   // model id -> {name: value}
   double dt_s = 0.02;

@@ -431,12 +431,20 @@ Dataset parse_dataset_json(const nlohmann::json& j, const std::string& file, con
   return ds;
 }
 
-void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag) {
-  for (const auto& id : calibration_ids)
-    if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
-      throw InputError(flag, "no sample '" + id + "' in " + ds.json_path());
-  for (auto& info : ds.samples)
-    info.split = std::count(calibration_ids.begin(), calibration_ids.end(), info.id) ? "calibration" : "validation";
+void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag,
+                              const std::vector<std::string>& validation_ids) {
+  const auto listed = [](const std::vector<std::string>& ids, const std::string& id) {
+    return std::find(ids.begin(), ids.end(), id) != ids.end();
+  };
+  for (const auto* ids : {&calibration_ids, &validation_ids})
+    for (const auto& id : *ids)
+      if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
+        throw InputError(flag, "no sample '" + id + "' in " + ds.json_path());
+  if (!validation_ids.empty())
+    ds.samples.erase(std::remove_if(ds.samples.begin(), ds.samples.end(),
+                                    [&](const auto& s) { return !listed(calibration_ids, s.id) && !listed(validation_ids, s.id); }),
+                     ds.samples.end());
+  for (auto& info : ds.samples) info.split = listed(calibration_ids, info.id) ? "calibration" : "validation";
 }
 
 Dataset read_dataset(const std::string& dir, Warnings* warnings) {

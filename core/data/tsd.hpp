@@ -46,7 +46,7 @@ struct Dataset {
   std::string kind = "synthetic";  // real | synthetic
   std::string provenance;
   std::string license;
-  std::string sensor_model = "GelSight Mini";
+  std::string sensor_model = kDefaultSensorModel;
   Camera camera;                   // includes image_size_px (width_px, height_px)
   GelSpec gel;
   std::vector<Vec2> markers_rest_px;
@@ -80,8 +80,11 @@ struct SampleData {
 
 // Reassigns the splits of a dataset published without them (e.g. the FOTS press/shear pair): the listed
 // samples become the calibration split, every other sample the validation split. An id the dataset does
-// not have is an InputError naming `flag` (the option that gave it) and the dataset file.
-void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag);
+// not have is an InputError naming `flag` (the option that gave it) and the dataset file. With
+// `validation_ids` the listed samples validate and every sample in neither list is dropped (a fixed subset
+// of a large set, e.g. the TacTip set's parameter set).
+void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calibration_ids, const std::string& flag,
+                              const std::vector<std::string>& validation_ids = {});
 
 // Parses and validates dataset.json in `dir` (format, fields, motions, splits, indenter references and
 // that each referenced mesh file exists). Samples are not loaded.

@@ -11,6 +11,7 @@
 
 #include "core/geometry/pose.hpp"
 #include "core/sensor/camera.hpp"
+#include "core/sensor/sensor.hpp"
 
 namespace sb {
 
@@ -33,7 +34,7 @@ struct TsdDatasetOut {
   std::string kind = "real";
   std::string provenance;
   std::string license;
-  std::string sensor_model = "GelSight Mini";
+  std::string sensor_model = kDefaultSensorModel;
   int width_px = 320, height_px = 240;
   double mm_per_px = 0.0634;
   Vec2 principal_px{159.5, 119.5};

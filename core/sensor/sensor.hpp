@@ -12,6 +12,9 @@
 
 namespace sb {
 
+// The sensor every dataset and scene has unless it says otherwise (tsd/1 "sensor": {"model"}).
+inline constexpr const char* kDefaultSensorModel = "GelSight Mini";
+
 struct GelSpec {
   Vec2 size_m{0.02525, 0.02075};
   double thickness_m = 0.0045;

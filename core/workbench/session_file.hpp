@@ -26,7 +26,7 @@ struct SessionSource {
   std::string beside_hydroshear;
   std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
   double indenter_scale = 0.002;    // file units to metres for indenter_mesh
-  std::string param_set = kDefaultParamSet;   // the parameter set the models start from
+  std::string param_set;   // the parameter set the models start from (empty: the default for the sensor)
 };
 
 struct SessionFile {
