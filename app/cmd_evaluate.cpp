@@ -35,6 +35,7 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, ds.sensor_model));
   Warnings warnings;
   if (const std::string w = sensor_mismatch(set, ds.sensor_model); !w.empty()) warnings.add(w);
+  if (!g.quiet) std::fprintf(stderr, "evaluate: parameter set '%s'%s\n", set.name.c_str(), a.params.empty() ? "" : (", then " + a.params).c_str());
   std::vector<EvaluationResult> results;
   for (const auto& id : ids) {
     // The set's table, then --params on top.

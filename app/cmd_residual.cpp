@@ -76,8 +76,8 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   in.calibration = load_split(ds, root, "calibration", a.calibration_ids, &warnings);
   in.validation = load_split(ds, root, "validation", a.calibration_ids, &warnings);
   if (!g.quiet)
-    std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples\n", a.model.c_str(),
-                 ds.name.c_str(), in.calibration.size(), in.validation.size());
+    std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples, from parameter set '%s'\n",
+                 a.model.c_str(), ds.name.c_str(), in.calibration.size(), in.validation.size(), set.name.c_str());
   InterruptScope interrupt;   // Ctrl-C: sb::Cancelled, exit 130, nothing written
   o.progress.cancel = interrupt.flag();
   if (!g.quiet)

@@ -1,6 +1,4 @@
 // subsurface_markers: markers printed below the gel surface see a smoothed, attenuated field.
-#include <Eigen/Core>
-#include <Eigen/SparseCore>
 #include <cmath>
 
 #include "core/loop/effect_catalogue.hpp"
@@ -30,11 +28,8 @@ class SubsurfaceMarkers final : public Effect {
     }
     require_marker_count(ctx, disp_px, "subsurface_markers");
     update_weights(ctx.sensor->p_EM, h);
-    const auto n = static_cast<Eigen::Index>(disp_px.size());
-    field_.resize(n, 2);
-    for (Eigen::Index i = 0; i < n; ++i) field_.row(i) = disp_px[i].transpose();
-    smoothed_.noalias() = weights_ * field_;
-    for (Eigen::Index i = 0; i < n; ++i) disp_px[i] = a * smoothed_.row(i).transpose();
+    disp_px = depth_smoothed(weights_, disp_px);
+    for (Vec2& d : disp_px) d *= a;
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<SubsurfaceMarkers>(*this); }
 
@@ -49,7 +44,6 @@ class SubsurfaceMarkers final : public Effect {
   }
 
   DepthSmoothingWeights weights_;
-  Eigen::Matrix<double, Eigen::Dynamic, 2> field_, smoothed_;  // scratch, reused between steps
   double cached_depth_ = -1.0;
   std::vector<Vec3> cached_markers_;
 };

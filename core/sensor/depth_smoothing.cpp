@@ -27,4 +27,12 @@ DepthSmoothingWeights depth_smoothing_weights(const std::vector<Vec3>& p_EM, dou
   return weights;
 }
 
+std::vector<Vec2> depth_smoothed(const DepthSmoothingWeights& weights, const std::vector<Vec2>& field_px) {
+  std::vector<Vec2> smoothed(field_px.size(), Vec2::Zero());
+  for (Eigen::Index i = 0; i < weights.rows(); ++i)
+    for (DepthSmoothingWeights::InnerIterator it(weights, i); it; ++it)
+      smoothed[static_cast<std::size_t>(i)] += it.value() * field_px[static_cast<std::size_t>(it.col())];
+  return smoothed;
+}
+
 }  // namespace sb

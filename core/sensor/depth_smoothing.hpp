@@ -17,5 +17,8 @@ inline constexpr double kDepthKernelCutoffSigmas = 4.0;
 using DepthSmoothingWeights = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 // The n x n weights for markers p_EM (xy distances) at depth h > 0; every row sums to 1.
 DepthSmoothingWeights depth_smoothing_weights(const std::vector<Vec3>& p_EM, double depth_m);
+// The field each marker at that depth sees: row i is sum_j w_ij field_j. `field_px` has one entry per row of
+// `weights` (the caller checks).
+std::vector<Vec2> depth_smoothed(const DepthSmoothingWeights& weights, const std::vector<Vec2>& field_px);
 
 }  // namespace sb

@@ -40,13 +40,7 @@ void SensorOutputStage::apply(std::vector<Vec2>& disp_px) const {
     throw std::invalid_argument("sensor output stage: " + std::to_string(n) + " displacements for " +
                                 std::to_string(smooth_ ? weights_.rows() : static_cast<Eigen::Index>(A_.size())) +
                                 " markers");
-  if (smooth_) {
-    std::vector<Vec2> smoothed(disp_px.size(), Vec2::Zero());
-    for (Eigen::Index i = 0; i < n; ++i)
-      for (DepthSmoothingWeights::InnerIterator it(weights_, i); it; ++it)
-        smoothed[static_cast<std::size_t>(i)] += it.value() * disp_px[static_cast<std::size_t>(it.col())];
-    disp_px.swap(smoothed);
-  }
+  if (smooth_) disp_px = depth_smoothed(weights_, disp_px);
   for (std::size_t i = 0; i < A_.size(); ++i) disp_px[i] = A_[i] * disp_px[i];
 }
 
