@@ -10,6 +10,7 @@
 //   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict), and
 //   (4) for an effect with a fingerprint (FitResult::fingerprint), the fingerprint was found on both splits
 //       and agrees: the effect's main parameter is then the fingerprint's estimate, not a whole-field fit's.
+// A fingerprint beyond model form replaces (1) and (2) by its own rule (FingerprintCheck::Acceptance).
 // Selecting nothing is a valid outcome.
 #include <cstdint>
 #include <functional>
@@ -43,6 +44,12 @@ struct FingerprintCheck {
   // model): accepted on a positive gain without the interval margin. False when model-form error can mimic
   // the evidence (docs/effects.md), and the margin still applies.
   bool beyond_model_form = false;
+  // How found evidence beyond model form is judged on validation. kHeldDrift (creep): the effect must explain
+  // the validation held drift (or pass the interval), since its evidence lies in the field. kPositiveGain (the
+  // rest-grid lens): the evidence is not in the displacement field at all (the rest positions), so the effect,
+  // held at it, needs only a positive validation gain. Both: the whole field not certainly worse, no veto.
+  enum class Acceptance { kHeldDrift, kPositiveGain };
+  Acceptance acceptance = Acceptance::kHeldDrift;
   std::string verdict;                  // found / not found and why
   // When found: effect parameters (own names) held at these values ...
   std::vector<std::pair<std::string, double>> held;
