@@ -330,8 +330,8 @@ TEST_CASE("lens fingerprint: a rest grid that is a lattice is the evidence, what
   CHECK(flat->verdict.find("not found, k1 is none") != std::string::npos);
 
   // The rest grid as a lens with k1 = -0.15 images it (p_EM kept: the markers are where they are): found from
-  // the rest positions alone (exact: to rounding), the same on both splits, held with k2 = 0, judged on a
-  // positive validation gain; the residual of presses without any lens does not matter.
+  // the rest positions alone (exact: to rounding), the same on both splits, held with k2 = 0, accepted on that
+  // evidence; the residual of presses without any lens does not matter.
   sb::Sensor bent = sb::make_default_sensor();
   for (Vec2& m : bent.markers_rest_px) m = sb::lens_distort_px(bent.camera, -0.15, m);
   constexpr double kExactTol = 1e-9;
@@ -339,7 +339,7 @@ TEST_CASE("lens fingerprint: a rest grid that is a lattice is the evidence, what
   INFO(check->verdict);
   REQUIRE(check->consistent);
   CHECK(check->beyond_model_form);
-  CHECK(check->acceptance == sb::FingerprintCheck::Acceptance::kPositiveGain);
+  CHECK(check->acceptance == sb::FingerprintCheck::Acceptance::kEvidence);
   CHECK(std::abs(check->calibration + 0.15) < kExactTol);
   CHECK(check->validation == check->calibration);
   CHECK(check->band.empty());

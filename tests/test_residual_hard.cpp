@@ -179,7 +179,8 @@ TEST_CASE("hard case: undeclared creep in FE twin data is selected and its tau r
 
 // The lens's fingerprint is the rest grid (core/loop/rest_grid_lens.hpp): the printed lattice the dataset records,
 // bent by the lens about the principal point, which no contact model touches. k1 is read there, held while the
-// base is refitted, and the candidate needs a positive validation gain. (The residual's asymmetry about the
+// base is refitted, and the candidate is accepted on that evidence (the whole-field change is the base's form:
+// HydroShear + the true lens is 3.3 % worse on validation than HydroShear alone). (The residual's asymmetry about the
 // contact, the fingerprint before, read the FE pad's own asymmetry too: 0.03 / -0.14 with FOTS re-impl. for the
 // injected -0.15, 0.24 / 0.01 on the untouched set; it is kept only for rest grids that are not a lattice.)
 TEST_CASE("hard case: undeclared lens distortion in FE twin data is selected and k1 recovered", "[residual_hard][slow]") {

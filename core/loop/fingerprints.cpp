@@ -557,7 +557,7 @@ FingerprintCheck check_rest_grid_lens(const RestGridLens& g, const FingerprintRu
   c.calibration = c.validation = g.k1;
   c.signal_px = g.shift_rms_px;
   c.beyond_model_form = true;
-  c.acceptance = FingerprintCheck::Acceptance::kPositiveGain;
+  c.acceptance = FingerprintCheck::Acceptance::kEvidence;
   const std::string missing = rest_grid_missing(g, r);
   c.verdict = "rest grid: " + describe(g) + (missing.empty() ? ": found" : ": not found, " + missing);
   c.consistent = missing.empty();

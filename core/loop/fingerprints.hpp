@@ -140,7 +140,7 @@ bool fingerprint_needs_model(const std::string& effect_id, const Sensor& sensor)
 // creep_fraction at the calibration estimate (evidence beyond model form). Lens, when the sensor's rest grid is
 // a lattice: the rest grid is the evidence, the same on both splits; found when |k1| >= rules.min_k1 and
 // >= rules.k1_sigmas standard errors, then k1 is held at it and k2 at 0 (evidence beyond model form, accepted on
-// a positive validation gain); not found whatever the residual says. Lens on a rest grid that is not a lattice:
+// it: FingerprintCheck::Acceptance::kEvidence); not found whatever the residual says. Lens on a rest grid that is not a lattice:
 // the residual's asymmetry; the whole-field fit of k1 must end within the agreement ratio of its estimate, k2
 // held at 0 (a second radial term is not identified on a marker grid this coarse). Subsurface as that lens,
 // with depth_m. nullopt for an effect without a fingerprint. The samples need pred_px when

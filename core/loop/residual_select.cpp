@@ -130,11 +130,10 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   const bool beyond_form = s.fingerprint && s.fingerprint->consistent && s.fingerprint->beyond_model_form;
   const bool drift_ok = std::isfinite(s.fingerprint_pct) && s.fingerprint_pct >= options.min_fingerprint_pct;
   const bool not_worse = s.improvement_ci_pct.high > 0.0;
-  // The rest-grid lens: its evidence is not in the field, so a positive gain at its k1 is all the field owes it.
-  const bool gain_rule = beyond_form && s.fingerprint->acceptance == FingerprintCheck::Acceptance::kPositiveGain;
-  const bool gain_ok = s.improvement_pct > 0.0;
-  if (gain_rule)
-    s.accepted = gain_ok && not_worse && s.veto.empty();
+  // The rest-grid lens: its evidence is not in the field, and the field's verdict on it is the base's form.
+  const bool evidence_rule = beyond_form && s.fingerprint->acceptance == FingerprintCheck::Acceptance::kEvidence;
+  if (evidence_rule)
+    s.accepted = s.veto.empty();
   else if (beyond_form)
     s.accepted = (drift_ok || interval_ok) && not_worse && s.veto.empty();
   else
@@ -146,9 +145,9 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   if (s.fingerprint) why << ", fingerprint " << s.fingerprint->param << " " << s.fingerprint->calibration << " / "
                          << s.fingerprint->validation << " (calibration / validation)";
   why << ": ";
-  if (s.accepted && gain_rule)
-    why << "accepted on its fingerprint (held at its evidence, a positive validation gain, the whole field not "
-           "certainly worse)";
+  if (s.accepted && evidence_rule)
+    why << "accepted on its fingerprint (held at its evidence, which lies outside the displacement field; the "
+           "whole-field change is reported, not required)";
   else if (s.accepted && beyond_form)
     why << "accepted on its fingerprint (the validation drift explained, the whole field not certainly worse)";
   else if (s.accepted)
@@ -157,8 +156,6 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
     why << "fingerprint not found (" << s.fingerprint->verdict << ")";
   else if (!s.veto.empty())
     why << s.veto;
-  else if (gain_rule && !gain_ok)
-    why << "held at its fingerprint it does not improve the validation field";
   else if (beyond_form && !drift_ok && !interval_ok)
     why << "at the fingerprint's parameters it explains less than " << options.min_fingerprint_pct
         << "% of the validation drift and the interval's lower bound is not above " << options.min_lower_bound_pct << "%";
