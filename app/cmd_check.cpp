@@ -1,5 +1,6 @@
 // `shearbench check --dataset DIR`: validates a tsd/1 dataset (metadata, every sample's CSVs, mesh and
-// frame files) and prints a summary. Exit 2 when anything is malformed; all errors are listed.
+// frame files) and prints a summary, with the rest grid's lattice fit (core/loop/rest_grid_lens.hpp: is it a
+// printed lattice, and the lens k1 it shows). Exit 2 when anything is malformed; all errors are listed.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include "app/command.hpp"
 #include "core/base/data_root.hpp"
 #include "core/data/tsd.hpp"
+#include "core/loop/rest_grid_lens.hpp"
 
 namespace sb::app {
 namespace {
@@ -51,6 +53,7 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
               ds.sensor_model.c_str(), ds.camera.width_px, ds.camera.height_px, ds.camera.mm_per_px,
               ds.gel.size_m.x() * 1e3, ds.gel.size_m.y() * 1e3, ds.gel.thickness_m * 1e3, ds.gel.surface.c_str(),
               ds.markers_rest_px.size());
+  std::printf("  rest grid: %s\n", describe(rest_grid_lens(ds.camera, ds.markers_rest_px)).c_str());
   std::printf("  indenters:");
   for (const auto& [name, ind] : ds.indenters) std::printf(" %s (%s)", name.c_str(), ind.mesh.c_str());
   std::printf("\n  %zu samples:\n", ds.samples.size());

@@ -9,6 +9,7 @@
 
 #include "core/loop/effects.hpp"
 #include "core/loop/fingerprints.hpp"
+#include "core/loop/rest_grid_lens.hpp"
 
 using sb::FingerprintSample;
 using sb::Vec2;
@@ -24,14 +25,14 @@ const sb::Sensor& sensor() {
 
 // Runs `effect` at `params` over a series frame by frame (as the effect wraps a model).
 Series apply_effect(const std::string& effect, const std::map<std::string, double>& params, const Series& in,
-                    double dt_s) {
+                    double dt_s, const sb::Sensor& on = sensor()) {
   auto e = sb::make_effect(effect);
   sb::ParamSet p = e->params();
   for (const auto& [name, value] : params) p.set(name, value);
   e->set_params(p);
   e->reset();
   sb::EffectContext ctx;
-  ctx.sensor = &sensor();
+  ctx.sensor = &on;
   Series out = in;
   for (std::size_t k = 0; k < out.size(); ++k) {
     ctx.dt_s = k == 0 ? 0.0 : dt_s;
@@ -190,9 +191,9 @@ namespace {
 // A press and twist of an axisymmetric indenter at `centre_px`: the field is symmetric about the contact,
 // radial part A s exp(1/2 - s^2/2) (s = rho / 40 px, peak A at 40 px) and tangential part B times the same
 // profile, both growing over 12 frames.
-FingerprintSample axisymmetric_press(const Vec2& centre_px, double A, double B) {
+FingerprintSample axisymmetric_press(const Vec2& centre_px, double A, double B, const sb::Sensor& on = sensor()) {
   FingerprintSample s;
-  const auto& m = sensor().markers_rest_px;
+  const auto& m = on.markers_rest_px;
   for (int k = 1; k <= 12; ++k) {
     std::vector<Vec2> f(m.size());
     for (std::size_t j = 0; j < m.size(); ++j) {
@@ -213,9 +214,24 @@ FingerprintSample axisymmetric_press(const Vec2& centre_px, double A, double B) 
 }
 
 // The samples as a camera with lens k1 sees them (the effect on each frame); pred stays the undistorted field.
-std::vector<FingerprintSample> through_lens(std::vector<FingerprintSample> samples, double k1) {
-  for (auto& s : samples) s.meas_px = apply_effect("lens_distortion", {{"k1", k1}}, s.meas_px, 0.02);
+std::vector<FingerprintSample> through_lens(std::vector<FingerprintSample> samples, double k1,
+                                            const sb::Sensor& on = sensor()) {
+  for (auto& s : samples) s.meas_px = apply_effect("lens_distortion", {{"k1", k1}}, s.meas_px, 0.02, on);
   return samples;
+}
+
+// The default sensor with its rest grid no longer a lattice (each marker moved by up to a fifth of the pitch
+// along a fixed pseudo-random direction; p_EM kept): the lens fingerprint falls back on the residual.
+const sb::Sensor& scattered_sensor() {
+  static const sb::Sensor s = [] {
+    sb::Sensor out = sb::make_default_sensor();
+    for (std::size_t j = 0; j < out.markers_rest_px.size(); ++j) {
+      const double a = 2.399963 * double(j);   // the golden angle: no two directions alike
+      out.markers_rest_px[j] += 6.6 * std::fmod(0.618034 * double(j), 1.0) * Vec2(std::cos(a), std::sin(a));
+    }
+    return out;
+  }();
+  return s;
 }
 
 // A contact model's error of a press: symmetric about the contact, 1 px radial, wider than the field
@@ -270,8 +286,6 @@ TEST_CASE("lens fingerprint: k1 from the residual that is not symmetric about th
     const auto z = sb::lens_fingerprint(sensor(), none);
     INFO("k1 without lens " << z.k1 << " +- " << z.k1_stderr);
     CHECK(std::abs(z.k1) < 0.02);
-    const auto check = sb::fingerprint_check("lens_distortion", sensor(), none, none);
-    CHECK_FALSE(check->consistent);
   }
 
   SECTION("a slide is not used: its field is not symmetric") {
@@ -281,16 +295,72 @@ TEST_CASE("lens fingerprint: k1 from the residual that is not symmetric about th
     CHECK(std::isnan(sb::lens_fingerprint(sensor(), slid).k1));
   }
 
-  SECTION("the finding bounds k1 near its estimate and holds k2") {
-    const auto seen = through_lens(presses, -0.15);
-    const auto check = sb::fingerprint_check("lens_distortion", sensor(), seen, seen);
+  SECTION("on a rest grid that is not a lattice, the finding bounds k1 near its estimate and holds k2") {
+    const sb::Sensor& on = scattered_sensor();
+    REQUIRE(sb::fingerprint_needs_model("lens_distortion", on));
+    const std::vector<FingerprintSample> scattered = {axisymmetric_press(Vec2(230, 80), 8.0, 0.0, on),
+                                                      axisymmetric_press(Vec2(90, 160), 6.0, 3.0, on)};
+    const auto seen = through_lens(scattered, -0.15, on);
+    const auto check = sb::fingerprint_check("lens_distortion", on, seen, seen);
+    INFO(check->evidence << ": " << check->verdict);
     REQUIRE(check->consistent);
+    CHECK(std::abs(check->calibration + 0.15) < kExactModelTol * 0.15);
+    CHECK(check->evidence.find("the rest grid is not a lattice") != std::string::npos);
     CHECK_FALSE(check->beyond_model_form);
     REQUIRE(check->band.size() == 1);
-    CHECK(check->band[0].low == Approx(exact.k1 * 1.5));   // k1 < 0: [1.5 k1, k1 / 1.5]
-    CHECK(check->band[0].high == Approx(exact.k1 / 1.5));
+    CHECK(check->band[0].low == Approx(check->calibration * 1.5));   // k1 < 0: [1.5 k1, k1 / 1.5]
+    CHECK(check->band[0].high == Approx(check->calibration / 1.5));
     REQUIRE(check->held.size() == 1);
     CHECK(check->held[0].first == "k2");
+  }
+}
+
+TEST_CASE("lens fingerprint: a rest grid that is a lattice is the evidence, whatever the residual says",
+          "[fingerprints]") {
+  const std::vector<FingerprintSample> presses = {axisymmetric_press(Vec2(230, 80), 8.0, 0.0),
+                                                  axisymmetric_press(Vec2(90, 160), 6.0, 3.0)};
+  // The default sensor's rest grid is a perfect lattice: k1 = 0 there, so a lens the residual reads (-0.15
+  // exactly, test above) is not found, and no model's field is needed.
+  REQUIRE_FALSE(sb::fingerprint_needs_model("lens_distortion", sensor()));
+  const auto seen = through_lens(presses, -0.15);
+  const auto flat = sb::fingerprint_check("lens_distortion", sensor(), seen, seen);
+  INFO(flat->verdict);
+  CHECK_FALSE(flat->consistent);
+  CHECK(flat->verdict.find("rest grid: a lattice of 63 markers") == 0);
+  CHECK(flat->verdict.find("not found, k1 is none") != std::string::npos);
+
+  // The rest grid as a lens with k1 = -0.15 images it (p_EM kept: the markers are where they are): found from
+  // the rest positions alone (exact: to rounding), the same on both splits, held with k2 = 0, accepted on that
+  // evidence; the residual of presses without any lens does not matter.
+  sb::Sensor bent = sb::make_default_sensor();
+  for (Vec2& m : bent.markers_rest_px) m = sb::lens_distort_px(bent.camera, -0.15, m);
+  constexpr double kExactTol = 1e-9;
+  const auto check = sb::fingerprint_check("lens_distortion", bent, presses, presses);
+  INFO(check->verdict);
+  REQUIRE(check->consistent);
+  CHECK(check->beyond_model_form);
+  CHECK(check->acceptance == sb::FingerprintCheck::Acceptance::kEvidence);
+  CHECK(std::abs(check->calibration + 0.15) < kExactTol);
+  CHECK(check->validation == check->calibration);
+  CHECK(check->band.empty());
+  REQUIRE(check->held.size() == 2);
+  CHECK(check->held[0].first == "k1");
+  CHECK(check->held[0].second == check->calibration);
+  CHECK(check->held[1] == std::pair<std::string, double>("k2", 0.0));
+  CHECK(check->evidence.find("rest grid") != std::string::npos);
+
+  SECTION("a small lens within its noise is not found") {
+    // k1 = 0.001 with 0.05 px noise on the rest grid: its standard error is 0.00035 (test_rest_grid_lens), so
+    // the estimate is below both min_k1 (0.02) and 3 standard errors' worth of a finding.
+    sb::Sensor faint = sb::make_default_sensor();
+    std::vector<std::vector<Vec2>> rest{faint.markers_rest_px};
+    for (Vec2& m : rest[0]) m = sb::lens_distort_px(faint.camera, 0.001, m);
+    add_noise(&rest, 0.05, 99);
+    faint.markers_rest_px = rest[0];
+    const auto c = sb::fingerprint_check("lens_distortion", faint, presses, presses);
+    INFO(c->verdict);
+    CHECK_FALSE(c->consistent);
+    CHECK(std::abs(c->calibration - 0.001) < 0.002);
   }
 }
 

@@ -185,3 +185,41 @@ TEST_CASE("selection: the held-drift fingerprint accepts a small gain, only when
   CHECK(std::isnan(fingerprint_explained_pct(ref, cand, o)));
   CHECK(!score_candidate(ref, cand, o).accepted);
 }
+
+TEST_CASE("selection: evidence beyond model form, the held-drift rule (creep) and the evidence rule (rest-grid lens)",
+          "[effects][residual_select]") {
+  const ValidationErrors base = base_errors();
+  const SelectionOptions o;
+  const FitResult ref = fit(base, 1000.0, 3);
+  // 0.5 % less squared error on every sample: a 0.25 % RMSE gain whose interval is [0.25, 0.25] %, under the
+  // 1 % margin; BIC worse (calibration SSE unchanged, 2 more parameters).
+  FitResult cand = fit(scaled(base, [](std::size_t) { return 0.995; }), 1000.0, 5);
+  FingerprintCheck f;
+  f.consistent = true;
+  f.beyond_model_form = true;
+  cand.fingerprint = f;
+  // Creep's rule: no drift in the data and the interval under the margin: not accepted.
+  CHECK_FALSE(score_candidate(ref, cand, o).accepted);
+  // The rest-grid lens: the evidence is not in the field; accepted on it ...
+  cand.fingerprint->acceptance = FingerprintCheck::Acceptance::kEvidence;
+  const CandidateScore s = score_candidate(ref, cand, o);
+  CHECK(s.accepted);
+  CHECK(s.improvement_pct == Approx(100.0 * (1.0 - std::sqrt(0.995))));
+  CHECK(s.reason.find("accepted on its fingerprint (held at its evidence") != std::string::npos);
+  // ... also when the whole field is certainly worse (the base's form leaning on the lens; reported) ...
+  FitResult worse = cand;
+  worse.validation = scaled(base, [](std::size_t) { return 1.05; });
+  const CandidateScore w = score_candidate(ref, worse, o);
+  CHECK(w.improvement_ci_pct.high < 0.0);
+  CHECK(w.accepted);
+  // ... never with a veto, nor when the fingerprint was not found.
+  FitResult vetoed = cand;
+  vetoed.veto = "model-form symptom: x at a bound";
+  CHECK_FALSE(score_candidate(ref, vetoed, o).accepted);
+  FitResult missing = cand;
+  missing.fingerprint->consistent = false;
+  missing.fingerprint->verdict = "rest grid: a lattice with k1 0.001 +- 0.0003: not found, k1 is none";
+  const CandidateScore m = score_candidate(ref, missing, o);
+  CHECK_FALSE(m.accepted);
+  CHECK(m.reason.find("fingerprint not found (rest grid") != std::string::npos);
+}

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/loop/effects.hpp"
+#include "core/loop/rest_grid_lens.hpp"
 
 namespace sb {
 
@@ -541,9 +542,33 @@ std::string lens_missing(const LensFingerprint& f, const FingerprintRules& r) {
   return "";
 }
 
-FingerprintCheck check_lens(const LensFingerprint& cal, const LensFingerprint& val, const FingerprintRules& r) {
+// The rest grid's lens: one estimate for both splits (the rest positions are the sensor's).
+std::string rest_grid_missing(const RestGridLens& g, const FingerprintRules& r) {
+  if (!(std::abs(g.k1) >= r.min_k1)) return "k1 is none (|k1| < " + number(r.min_k1) + ")";
+  if (!(std::abs(g.k1) >= r.k1_sigmas * g.k1_stderr)) return "k1 within " + number(r.k1_sigmas) + " standard errors of 0";
+  if (!(std::abs(g.k1) < 1)) return "k1 outside the lens range";
+  return "";
+}
+
+FingerprintCheck check_rest_grid_lens(const RestGridLens& g, const FingerprintRules& r) {
   FingerprintCheck c;
-  c.evidence = "residual not symmetric about the contact (presses and twists)";
+  c.evidence = "the rest grid, a printed lattice bent by the lens (the same on both splits)";
+  c.param = "k1";
+  c.calibration = c.validation = g.k1;
+  c.signal_px = g.shift_rms_px;
+  c.beyond_model_form = true;
+  c.acceptance = FingerprintCheck::Acceptance::kEvidence;
+  const std::string missing = rest_grid_missing(g, r);
+  c.verdict = "rest grid: " + describe(g) + (missing.empty() ? ": found" : ": not found, " + missing);
+  c.consistent = missing.empty();
+  c.held = {{"k1", g.k1}, {"k2", 0.0}};
+  return c;
+}
+
+FingerprintCheck check_lens(const LensFingerprint& cal, const LensFingerprint& val, const FingerprintRules& r,
+                            const RestGridLens& grid) {
+  FingerprintCheck c;
+  c.evidence = "residual not symmetric about the contact (presses and twists; the rest grid is " + describe(grid) + ")";
   c.param = "k1";
   c.calibration = cal.k1, c.validation = val.k1;
   c.signal_px = cal.signal_rms_px;
@@ -582,8 +607,9 @@ bool has_fingerprint(const std::string& effect_id) {
   return effect_id == "viscoelastic_creep" || effect_id == "lens_distortion" || effect_id == "subsurface_markers";
 }
 
-bool fingerprint_needs_model(const std::string& effect_id) {
-  return effect_id == "lens_distortion" || effect_id == "subsurface_markers";
+bool fingerprint_needs_model(const std::string& effect_id, const Sensor& sensor) {
+  if (effect_id == "lens_distortion") return !rest_grid_lens(sensor.camera, sensor.markers_rest_px).is_lattice;
+  return effect_id == "subsurface_markers";
 }
 
 std::optional<FingerprintCheck> fingerprint_check(const std::string& effect_id, const Sensor& sensor,
@@ -592,8 +618,11 @@ std::optional<FingerprintCheck> fingerprint_check(const std::string& effect_id, 
                                                   const FingerprintRules& rules) {
   if (effect_id == "viscoelastic_creep")
     return check_creep(creep_fingerprint(calibration), creep_fingerprint(validation), rules);
-  if (effect_id == "lens_distortion")
-    return check_lens(lens_fingerprint(sensor, calibration), lens_fingerprint(sensor, validation), rules);
+  if (effect_id == "lens_distortion") {
+    const RestGridLens grid = rest_grid_lens(sensor.camera, sensor.markers_rest_px);
+    if (grid.is_lattice) return check_rest_grid_lens(grid, rules);
+    return check_lens(lens_fingerprint(sensor, calibration), lens_fingerprint(sensor, validation), rules, grid);
+  }
   if (effect_id == "subsurface_markers")
     return check_subsurface(sensor, subsurface_fingerprint(sensor, calibration),
                             subsurface_fingerprint(sensor, validation), rules);

@@ -652,7 +652,7 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
     return fs;
   };
   const auto fingerprint_of = [&](const std::string& id, const std::vector<std::string>& warm) {
-    if (!fingerprint_needs_model(id)) return fingerprint_check(id, *in.sensor, fp_cal, fp_val);
+    if (!fingerprint_needs_model(id, *in.sensor)) return fingerprint_check(id, *in.sensor, fp_cal, fp_val);
     const std::string warm_key = effect_set_key(warm);
     const Recording& rec = recording(warm_key);
     const ParamSet& p = rep.fits.at(warm_key).fit.params;

@@ -130,7 +130,11 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   const bool beyond_form = s.fingerprint && s.fingerprint->consistent && s.fingerprint->beyond_model_form;
   const bool drift_ok = std::isfinite(s.fingerprint_pct) && s.fingerprint_pct >= options.min_fingerprint_pct;
   const bool not_worse = s.improvement_ci_pct.high > 0.0;
-  if (beyond_form)
+  // The rest-grid lens: its evidence is not in the field, and the field's verdict on it is the base's form.
+  const bool evidence_rule = beyond_form && s.fingerprint->acceptance == FingerprintCheck::Acceptance::kEvidence;
+  if (evidence_rule)
+    s.accepted = s.veto.empty();
+  else if (beyond_form)
     s.accepted = (drift_ok || interval_ok) && not_worse && s.veto.empty();
   else
     s.accepted = own_evidence && (interval_ok || fingerprint_ok) && bic_ok && s.veto.empty();
@@ -141,7 +145,10 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   if (s.fingerprint) why << ", fingerprint " << s.fingerprint->param << " " << s.fingerprint->calibration << " / "
                          << s.fingerprint->validation << " (calibration / validation)";
   why << ": ";
-  if (s.accepted && beyond_form)
+  if (s.accepted && evidence_rule)
+    why << "accepted on its fingerprint (held at its evidence, which lies outside the displacement field; the "
+           "whole-field change is reported, not required)";
+  else if (s.accepted && beyond_form)
     why << "accepted on its fingerprint (the validation drift explained, the whole field not certainly worse)";
   else if (s.accepted)
     why << (interval_ok ? "accepted" : "accepted on the held-drift fingerprint");

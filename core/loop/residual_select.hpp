@@ -10,6 +10,7 @@
 //   (3) the caller did not veto the fit (FitResult::veto: a parameter at a bound is a verdict), and
 //   (4) for an effect with a fingerprint (FitResult::fingerprint), the fingerprint was found on both splits
 //       and agrees: the effect's main parameter is then the fingerprint's estimate, not a whole-field fit's.
+// A fingerprint beyond model form replaces (1) and (2) by its own rule (FingerprintCheck::Acceptance).
 // Selecting nothing is a valid outcome.
 #include <cstdint>
 #include <functional>
@@ -43,6 +44,14 @@ struct FingerprintCheck {
   // model): accepted on a positive gain without the interval margin. False when model-form error can mimic
   // the evidence (docs/effects.md), and the margin still applies.
   bool beyond_model_form = false;
+  // How found evidence beyond model form is judged on validation. kHeldDrift (creep): its evidence lies in the
+  // field, so the effect must explain the validation held drift (or pass the interval) and not make the whole
+  // field certainly worse. kEvidence (the rest-grid lens): its evidence is not in the displacement field at
+  // all (the rest positions, measured to a small fraction of k1), so the found effect is accepted on it, with
+  // no veto; the whole-field gain is reported, not required: on the FE twin it measures how the base model's
+  // form error leans on the lens (HydroShear + the true lens is certainly worse there, docs/effects.md).
+  enum class Acceptance { kHeldDrift, kEvidence };
+  Acceptance acceptance = Acceptance::kHeldDrift;
   std::string verdict;                  // found / not found and why
   // When found: effect parameters (own names) held at these values ...
   std::vector<std::pair<std::string, double>> held;
