@@ -84,8 +84,8 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   write_prediction_dataset(a.out, e);
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    std::printf("%s on %s: %zu frames in %.3f s (%.2f ms/frame) -> %s\n", a.model.c_str(), scene.name.c_str(),
-                scene.X_EI.size(), seconds, 1e3 * seconds / std::max<std::size_t>(1, scene.X_EI.size()), a.out.c_str());
+    std::printf("%s on %s: %zu frames in %.3g ms (%.3g ms/frame) -> %s\n", a.model.c_str(), scene.name.c_str(),
+                scene.X_EI.size(), 1e3 * seconds, 1e3 * seconds / std::max<std::size_t>(1, scene.X_EI.size()), a.out.c_str());
   }
   return 0;
 }

@@ -36,7 +36,7 @@ val = [s["pins_tracked"] / n for s in ds["samples"] if s["split"] == "validation
 print(f"ok: {len(val)} validation images, min kept {min(val):.4f}")
 PY
 
-"$exe" evaluate --dataset "$work/tactip" --model hydroshear --split validation >"$work/eval.txt" 2>"$work/eval_err.txt"
+"$exe" evaluate --dataset "$work/tactip" --model hydroshear --split validation --json "$work/eval.json" >"$work/eval.txt" 2>"$work/eval_err.txt"
 grep -q "parameter set 'tactip_shear'" "$work/eval_err.txt" || { echo "FAIL: evaluate did not start from tactip_shear:"; cat "$work/eval_err.txt"; exit 1; }
 rmse=$(awk '$1 == "hydroshear" && $2 == "RMSE" {print $3}' "$work/eval.txt")
 # The set records 5.49 px on every 5th validation image (assets/params/tactip_shear.json); all 999 give 5.5.
