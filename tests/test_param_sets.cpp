@@ -60,6 +60,14 @@ TEST_CASE("a dataset starts from the set fitted for its sensor; a named set is k
   CHECK(sb::param_set_or_default("", "TacTip midi") == "tactip_shear");
   CHECK(sb::param_set_or_default("published", "TacTip midi") == "published");
   CHECK(sb::param_set_or_default("twin_sphere8", sb::kDefaultSensorModel) == "twin_sphere8");
+  // A set used on another sensor is named as such; the published values belong to no sensor.
+  const sb::NamedParamSet tactip = sb::load_param_set("tactip_shear");
+  CHECK_THAT(sb::sensor_mismatch(tactip, sb::kDefaultSensorModel),
+             Catch::Contains("'tactip_shear'") && Catch::Contains("TacTip midi") && Catch::Contains("GelSight Mini"));
+  CHECK(sb::sensor_mismatch(tactip, "TacTip midi").empty());
+  CHECK(sb::sensor_mismatch(sb::load_param_set(sb::kDefaultParamSet), sb::kDefaultSensorModel).empty());
+  CHECK_FALSE(sb::sensor_mismatch(sb::load_param_set(sb::kDefaultParamSet), "TacTip midi").empty());
+  CHECK(sb::sensor_mismatch(sb::load_param_set("published"), "TacTip midi").empty());
 }
 
 TEST_CASE("bad parameter sets name the file and the place", "[param_sets]") {
