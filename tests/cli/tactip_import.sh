@@ -14,6 +14,12 @@ raw="$data/raw/tactip_shear"
 
 "$exe" -q import --source tactip_shear --in "$raw" --out "$work/tactip" >"$work/stdout.txt"
 "$exe" -q check --dataset "$work/tactip" >"$work/check.txt"
+# The pins are rings on a dome, not a printed lattice: no rest-grid lens evidence (core/loop/rest_grid_lens).
+grep -q "rest grid: not a lattice" "$work/check.txt" || { echo "FAIL: check did not report the pins as not a lattice:"; cat "$work/check.txt"; exit 1; }
+# ... while the FE twin's 7 x 9 markers are a perfect lattice with no lens.
+"$exe" -q check --dataset data:twin/twin_sphere35 >"$work/check_twin.txt"
+grep -q "rest grid: a lattice of 63 markers (9 x 7 indices, pitch 33.0 px) with k1 0.0000" "$work/check_twin.txt" ||
+  { echo "FAIL: check did not report twin_sphere35's rest grid as a lattice without a lens:"; cat "$work/check_twin.txt"; exit 1; }
 python3 - "$work/tactip/dataset.json" <<'PY'
 import json, math, sys
 ds = json.load(open(sys.argv[1]))
