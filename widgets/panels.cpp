@@ -124,8 +124,11 @@ ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
   int step = snap.step;
   ImGui::SetNextItemWidth(-1);
   char label[64];
-  std::snprintf(label, sizeof label, "step %%d / %d  (t = %.2f s)", snap.num_steps - 1,
-                std::max(0, snap.step) * snap.dt_s);
+  // Step -1 is the state before the first step (nothing simulated yet): said in words, not as a step number.
+  if (snap.step < 0)
+    std::snprintf(label, sizeof label, "before the first step (of %d)", snap.num_steps - 1);
+  else
+    std::snprintf(label, sizeof label, "step %%d / %d  (t = %.2f s)", snap.num_steps - 1, snap.step * snap.dt_s);
   if (ImGui::SliderInt("##timeline", &step, -1, std::max(0, snap.num_steps - 1), label)) req.seek_to = step;
   return req;
 }
@@ -133,7 +136,8 @@ ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
 void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
   std::string text;
   char buf[128];
-  std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
+  if (snap.step < 0) std::snprintf(buf, sizeof buf, "before the first step (of %d)", snap.num_steps - 1);
+  else std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
   text += buf;
   if (show_timings) {
     for (const auto& m : snap.models) {

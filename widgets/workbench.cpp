@@ -435,13 +435,31 @@ void Workbench::draw_rmse_plots() {
 // Calibration on a worker thread (core/calibration/fit_job.hpp): the panel polls its status each frame.
 // The parameter set every model started from: a combo to start again from another, its provenance as a
 // tooltip (what it was fitted on, by which command, its validation RMSE), and the published values.
+// A set's name in the combo, with the sensor it was fitted on when that is not the GelSight Mini (read once
+// per set: the combo lists them every frame while it is open).
+std::string Workbench::param_set_label(const std::string& name) {
+  auto it = param_set_labels_.find(name);
+  if (it == param_set_labels_.end()) {
+    std::string sensor;
+    try {
+      sensor = load_param_set(name).sensor_model();
+    } catch (const std::exception&) {
+      sensor.clear();   // a broken file is reported when chosen, not while listing
+    }
+    const bool other = !sensor.empty() && sensor != kDefaultSensorModel;
+    it = param_set_labels_.emplace(name, other ? name + "  (" + sensor + ")" : name).first;
+  }
+  return it->second;
+}
+
 void Workbench::draw_param_set_row(WorkbenchRequest& req) {
   ImGui::TextUnformatted("parameter set");
   ImGui::SameLine();
   ImGui::SetNextItemWidth(-1);
   if (ImGui::BeginCombo("##param_set", param_set_.name.c_str())) {
     for (const std::string& name : param_set_names())
-      if (ImGui::Selectable(name.c_str(), name == param_set_.name) && name != param_set_.name) req.param_set = name;
+      if (ImGui::Selectable(param_set_label(name).c_str(), name == param_set_.name) && name != param_set_.name)
+        req.param_set = name;
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", param_set_.summary().c_str());

@@ -4,6 +4,7 @@
 // panels (HydroShear | FOTS | TacSL | Measured) below it, and a status bar. `shearbench gui` and
 // `shearbench render` both call draw(), so a headless render shows exactly what the GUI shows.
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -138,6 +139,7 @@ class Workbench {
   void update_rmse_series();
   void draw_fit_panel();
   void draw_param_set_row(WorkbenchRequest& req);
+  std::string param_set_label(const std::string& name);
   void draw_residual_panel(WorkbenchRequest& req);
   void draw_contact_frame_tables(const ResidualSummary& r);
   void draw_variant_switches(WorkbenchRequest& req);
@@ -182,6 +184,7 @@ class Workbench {
   int fit_model_ = 0;
   NamedParamSet param_set_ = published_param_set();
   std::string param_set_mismatch_;   // sensor_mismatch() of the set and the open scene
+  std::map<std::string, std::string> param_set_labels_;   // set name -> its combo label
   bool show_published_ = false;
   bool fit_joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
   int fit_iterations_ = 30;
