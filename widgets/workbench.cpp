@@ -432,9 +432,6 @@ void Workbench::draw_rmse_plots() {
   }
 }
 
-// Calibration on a worker thread (core/calibration/fit_job.hpp): the panel polls its status each frame.
-// The parameter set every model started from: a combo to start again from another, its provenance as a
-// tooltip (what it was fitted on, by which command, its validation RMSE), and the published values.
 // A set's name in the combo, with the sensor it was fitted on when that is not the GelSight Mini (read once
 // per set: the combo lists them every frame while it is open).
 std::string Workbench::param_set_label(const std::string& name) {
@@ -452,6 +449,8 @@ std::string Workbench::param_set_label(const std::string& name) {
   return it->second;
 }
 
+// The parameter set every model started from: a combo to start again from another, its provenance as a
+// tooltip (what it was fitted on, by which command, its validation RMSE), and the published values.
 void Workbench::draw_param_set_row(WorkbenchRequest& req) {
   ImGui::TextUnformatted("parameter set");
   ImGui::SameLine();
@@ -472,6 +471,7 @@ void Workbench::draw_param_set_row(WorkbenchRequest& req) {
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the authors' published value beside each slider");
 }
 
+// Calibration on a worker thread (core/calibration/fit_job.hpp): the panel polls its status each frame.
 void Workbench::draw_fit_panel() {
   if (fit_dataset_[0] == '\0' && !replay_.dataset_dir.empty())
     std::snprintf(fit_dataset_, sizeof fit_dataset_, "%s", replay_.dataset_dir.c_str());
