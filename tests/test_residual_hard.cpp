@@ -189,15 +189,33 @@ TEST_CASE("hard case: undeclared lens distortion in FE twin data is selected and
   check_hard(model, "twin_sphere35", "lens_distortion", "k1", -0.15, kLens);
 }
 
-// Hidden ([.]): the subsurface fingerprint (the grid Laplacian of the measured field against the smoothed
-// model's) cannot tell markers below the surface from a model whose field is sharper than the gel's: on
-// the untouched twin_sphere35 it already reads 2.0 mm (FOTS re-impl.) and 1.1-1.2 mm (TacSL), and 0 for
-// HydroShear, whose Gaussian kernel (3.2 mm) is smoother than the FE field; with 1 mm injected: 2.0-2.1,
-// 1.3-1.4 and 0 mm. Model-form error fakes it, so it only bounds the depth a whole-field fit may use.
-TEST_CASE("hard case: undeclared subsurface markers in FE twin data are selected and their depth recovered",
-          "[.][residual_hard][slow]") {
+// Markers below the surface low-pass the field on the marker grid, and so does a model whose field is
+// smoother than the gel's, while a sharper model reads as depth: the fine-scale fingerprint reads 2.0-2.1 mm
+// (FOTS re-impl.), 1.1-1.4 mm (TacSL) and 0 (HydroShear) with or without 1 mm injected. No evidence outside the
+// displacement field tells them apart, so the reading counts only where the model, smoothed, explains the
+// measured field's grid-scale content down to the tracker noise (1.0x the noise's with the model exact,
+// test_residual.cpp). On the FE twin every model leaves 100-150x: the loop must report the depth as read
+// against a model wrong at the grid scale and select nothing (before this rule FOTS re-impl. took 4.9 mm for
+// 3 mm injected, and TacSL 1.5 mm on the untouched twin_sphere8). Release, 2 cores: about 25 s for the three.
+TEST_CASE("hard case: subsurface markers under a model wrong at the grid scale are reported, not selected",
+          "[residual_hard][slow]") {
   const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
-  check_hard(model, "twin_sphere35", "subsurface_markers", "depth_m", 0.001, kSubsurface);
+  const auto r = run_hard(model, "twin_sphere35", "subsurface_markers", kSubsurface);
+  const auto j = sb::residual_to_json(r);
+  INFO(model << ": " << j["rounds"].dump(1));
+  for (const auto& id : r.selection.selected) CHECK(id != "subsurface_markers");
+  const auto& first_round = j["rounds"].at(0);
+  bool reported = false;
+  for (const auto& c : first_round)
+    if (c["effect"] == "subsurface_markers") {
+      reported = true;
+      CHECK_FALSE(c["accepted"].get<bool>());
+      const std::string verdict = c["fingerprint"]["verdict"];
+      // HydroShear's Gaussian kernel is smoother than the FE field: it reads no depth at all.
+      if (model == "hydroshear") CHECK(verdict.find("not smoother than the model's") != std::string::npos);
+      else CHECK(verdict.find("wrong at the grid scale") != std::string::npos);
+    }
+  CHECK(reported);
 }
 
 // The untouched twin set holds none of the nuisance effects: the loop must not select any of them (before

@@ -396,6 +396,23 @@ Eigen::VectorXd laplacian_values(const std::vector<std::vector<int>>& nb, const 
 
 }  // namespace
 
+double tracker_noise_px(const std::vector<FingerprintSample>& samples) {
+  std::vector<double> second;
+  for (const auto& s : samples)
+    for (std::size_t k = 1; k + 1 < s.meas_px.size(); ++k)
+      for (std::size_t j = 0; j < s.meas_px[k].size(); ++j) {
+        const Vec2 e = s.meas_px[k + 1][j] - 2.0 * s.meas_px[k][j] + s.meas_px[k - 1][j];
+        if (!e.allFinite()) continue;
+        second.push_back(std::abs(e.x()));
+        second.push_back(std::abs(e.y()));
+      }
+  if (second.empty()) return kFingerprintNaN;
+  const auto mid = second.begin() + static_cast<std::ptrdiff_t>(second.size() / 2);
+  std::nth_element(second.begin(), mid, second.end());
+  constexpr double kMadToSigma = 0.6744897501960817;   // median |N(0, 1)|
+  return *mid / (kMadToSigma * std::sqrt(6.0));
+}
+
 SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::vector<FingerprintSample>& samples) {
   const auto nb = interior_neighbours(sensor);
   const auto energy = [](const std::vector<Vec2>& f) {
@@ -418,6 +435,10 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
       for (std::size_t j = 0; j < s.meas_px[k].size(); ++j)
         if (!s.meas_px[k][j].allFinite()) meas_lap.back().segment<2>(2 * static_cast<Eigen::Index>(j)).setZero();
       fp.measured_energy_px2 += meas_lap.back().squaredNorm();
+      for (std::size_t i = 0; i < nb.size(); ++i)
+        if (!nb[i].empty() && meas_lap.back().segment<2>(2 * static_cast<Eigen::Index>(i)).allFinite() &&
+            s.meas_px[k][i].allFinite())
+          fp.noise_weight += 2.0 * (1.0 + 1.0 / static_cast<double>(nb[i].size()));
       fp.model_energy_px2 += laplacian_energy(nb, s.pred_px[k]);
       meas_total += energy(s.meas_px[k]);
       pred_total += energy(s.pred_px[k]);
@@ -467,6 +488,8 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
   }
   const double refined = 0.5 * (lo + hi);
   fp.depth_m = misfit(refined) < best ? refined : best_h;
+  fp.fine_misfit_px2 = misfit(fp.depth_m);
+  fp.noise_px = tracker_noise_px(samples);
   return fp;
 }
 
@@ -578,12 +601,23 @@ FingerprintCheck check_lens(const LensFingerprint& cal, const LensFingerprint& v
   return c;
 }
 
-std::string subsurface_missing(const SubsurfaceFingerprint& f, double min_depth_m) {
+// The grid-scale misfit left at the depth over the noise's own (at least rules.min_noise_px of noise).
+double fine_misfit_over_noise(const SubsurfaceFingerprint& f, const FingerprintRules& r) {
+  const double sigma = std::isfinite(f.noise_px) ? std::max(f.noise_px, r.min_noise_px) : r.min_noise_px;
+  return f.noise_weight > 0 ? f.fine_misfit_px2 / (sigma * sigma * f.noise_weight) : kFingerprintNaN;
+}
+
+std::string subsurface_missing(const SubsurfaceFingerprint& f, double min_depth_m, const FingerprintRules& r) {
   if (!std::isfinite(f.depth_m)) return "no frame in which a marker moved";
   if (!(f.depth_m >= min_depth_m))
     return "the measured field is not smoother than the model's (depth " + number(1e3 * f.depth_m) + " mm < " +
            number(1e3 * min_depth_m) + " mm)";
   if (!(f.depth_m < 0.005)) return "depth at the bound (5 mm): the model's field is far sharper than any depth smooths";
+  const double over_noise = fine_misfit_over_noise(f, r);
+  if (!(over_noise <= r.max_fine_misfit_over_noise))
+    return "depth " + number(1e3 * f.depth_m) + " mm read against a model wrong at the grid scale: smoothed, it leaves " +
+           number(over_noise) + "x the tracker noise's fine-scale content (> " + number(r.max_fine_misfit_over_noise) +
+           "x; noise " + number(f.noise_px) + " px), so the reading is its form error as much as depth";
   return "";
 }
 
@@ -595,7 +629,7 @@ FingerprintCheck check_subsurface(const Sensor& sensor, const SubsurfaceFingerpr
   c.calibration = cal.depth_m, c.validation = val.depth_m;
   c.signal_px = std::sqrt(cal.measured_energy_px2 / std::max(1.0, cal.frames));
   const double min_depth = r.min_depth_fraction * marker_pitch_px(sensor) * sensor.camera.metres_per_px();
-  conclude(&c, subsurface_missing(cal, min_depth), subsurface_missing(val, min_depth),
+  conclude(&c, subsurface_missing(cal, min_depth, r), subsurface_missing(val, min_depth, r),
            agree(cal.depth_m, val.depth_m, r.agreement), r);
   c.band = {band("depth_m", cal.depth_m, r.agreement)};
   return c;

@@ -102,6 +102,12 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
 // (at the grid pitch) of |mean of the neighbours - the marker|^2 (px^2).
 double grid_laplacian_energy(const Sensor& sensor, const std::vector<Vec2>& field_px);
 
+// The tracker's noise per image component (px), read from the measurement alone: the second difference in time
+// of every measured marker series, x_{k+1} - 2 x_k + x_{k-1}, has standard deviation sqrt(6) sigma for white
+// noise of sigma and far less for the smooth motion of a quasi-static load; its median absolute value (robust
+// to the jumps of slip and of lost markers) over 0.6745 sqrt(6). NaN when no marker has 3 finite frames in a row.
+double tracker_noise_px(const std::vector<FingerprintSample>& samples);
+
 struct SubsurfaceFingerprint {
   double depth_m = kFingerprintNaN;
   double measured_energy_px2 = 0;   // grid Laplacian energy of the measured fields (frames where a marker moved)
@@ -109,6 +115,14 @@ struct SubsurfaceFingerprint {
   double measured_fine_fraction = kFingerprintNaN;   // those over the fields' own energy sum |d|^2 (diagnostic)
   double model_fine_fraction = kFingerprintNaN;
   double frames = 0;
+  // Whether the reading is evidence: what the best gain times the model's field smoothed at depth_m leaves of
+  // the measured Laplacian (px^2), against what the tracker noise alone would leave there: sigma^2 times
+  // noise_weight, the sum over the Laplacian components used of (1 + 1/n), n the marker's neighbours (sigma =
+  // tracker_noise_px). Near 1 the model explains the grid-scale content up to noise and the depth is read; far
+  // above it, the model's form is wrong at the grid scale and the reading is as much that error as depth.
+  double fine_misfit_px2 = kFingerprintNaN;
+  double noise_weight = 0;
+  double noise_px = kFingerprintNaN;
 };
 
 // The depth h whose smoothing (the subsurface_markers effect) makes the model's fields' grid Laplacian best
@@ -129,6 +143,10 @@ struct FingerprintRules {
   double min_k1 = 0.02;                // lens: |k1| below this moves a corner marker's displacement < 6 %
   double k1_sigmas = 3.0;              // lens: and |k1| at least this many standard errors (rest grid or residual)
   double min_depth_fraction = 0.25;    // subsurface: depth below this fraction of the marker pitch is not seen
+  // subsurface: the grid-scale misfit left at the depth within this many times the noise's (measured: 1.0 with
+  // the model exact, 120-160 for every model on the FE twin, whose form is wrong at the grid scale)
+  double max_fine_misfit_over_noise = 4.0;
+  double min_noise_px = 0.005;         // subsurface: a noise estimate below this (noise-free data) counts as this
 };
 
 // The effects that have a fingerprint, and whether it compares the measurement with the model's field (the
