@@ -501,4 +501,18 @@ TEST_CASE("subsurface fingerprint: a depth counts only where the model explains 
   INFO(wrong->verdict);
   CHECK_FALSE(wrong->consistent);
   CHECK(wrong->verdict.find("wrong at the grid scale") != std::string::npos);
+
+  SECTION("single frames (a photo per sample) give no noise to judge by") {
+    // The FOTS press/shear pair has one frame per sample: no second difference in time, no noise estimate,
+    // and a depth read against the model cannot be told from its form.
+    FingerprintSample one = s;
+    one.meas_px = {s.meas_px.back()};
+    one.pred_px = {s.pred_px.back()};
+    one.in_contact = {1};
+    one.held = {0};
+    const auto single = sb::fingerprint_check("subsurface_markers", sensor(), {one}, {one});
+    INFO(single->verdict);
+    CHECK_FALSE(single->consistent);
+    CHECK(single->verdict.find("no tracker noise") != std::string::npos);
+  }
 }

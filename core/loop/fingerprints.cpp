@@ -603,7 +603,7 @@ FingerprintCheck check_lens(const LensFingerprint& cal, const LensFingerprint& v
 
 // The grid-scale misfit left at the depth over the noise's own (at least rules.min_noise_px of noise).
 double fine_misfit_over_noise(const SubsurfaceFingerprint& f, const FingerprintRules& r) {
-  const double sigma = std::isfinite(f.noise_px) ? std::max(f.noise_px, r.min_noise_px) : r.min_noise_px;
+  const double sigma = std::max(f.noise_px, r.min_noise_px);
   return f.noise_weight > 0 ? f.fine_misfit_px2 / (sigma * sigma * f.noise_weight) : kFingerprintNaN;
 }
 
@@ -613,6 +613,9 @@ std::string subsurface_missing(const SubsurfaceFingerprint& f, double min_depth_
     return "the measured field is not smoother than the model's (depth " + number(1e3 * f.depth_m) + " mm < " +
            number(1e3 * min_depth_m) + " mm)";
   if (!(f.depth_m < 0.005)) return "depth at the bound (5 mm): the model's field is far sharper than any depth smooths";
+  if (!std::isfinite(f.noise_px))
+    return "depth " + number(1e3 * f.depth_m) + " mm, but no tracker noise to judge the model's grid-scale misfit "
+           "against (no marker series of 3 frames), so the reading cannot be told from the model's form";
   const double over_noise = fine_misfit_over_noise(f, r);
   if (!(over_noise <= r.max_fine_misfit_over_noise))
     return "depth " + number(1e3 * f.depth_m) + " mm read against a model wrong at the grid scale: smoothed, it leaves " +
