@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 
 #include "core/base/error.hpp"
 #include "core/loop/residual_view.hpp"
@@ -73,6 +74,44 @@ TEST_CASE("residual summary: metrics, selection, candidates ranked by improvemen
   CHECK(s.candidates[1].reason == "interval includes zero");
   CHECK(s.candidates[2].effect == "lens_distortion");   // unscored: last
   CHECK(std::isnan(s.candidates[2].improvement_pct));
+}
+
+TEST_CASE("residual summary: each candidate's reason in two words for the table", "[residual_view]") {
+  // One candidate per rule of the selection (core/loop/residual_select.cpp), as residual_to_json writes them;
+  // where two apply, the one its reason names first: a fingerprint not found before a veto (the screened
+  // gravity_preload below has no fingerprint; a bound with a fingerprint not found is "no evidence").
+  nlohmann::json j = residual_json();
+  j["model_form_symptoms"] = nlohmann::json::array();   // a report that records the rules
+  auto cand = [](const char* effect, double gain, nlohmann::json extra) {
+    nlohmann::json c = {{"effect", effect}, {"validation_rmse_px", 0.3}, {"improvement_pct", gain},
+                        {"ci95_pct", {gain - 1, gain + 1}}, {"accepted", false}, {"reason", "..."}};
+    if (extra.is_object()) c.update(extra);   // {} is null, not an empty object
+    return c;
+  };
+  j["candidates"] = {
+      cand("camera_misalignment", 50, {{"accepted", true}}),
+      cand("load_stiffening", 30, {{"model_form_symptom", true}, {"veto", "load_stiffening.beta_per_m = 2000 at a bound"}}),
+      cand("gravity_preload", 0.2, {{"veto", "screened: alone over the fitted base it gains 0.20% (< 0.50%)"}}),
+      cand("viscoelastic_creep", 12, {{"model_form_symptom", true}, {"veto", "creep_fraction = 1 at a bound"},
+                                      {"fingerprint", {{"found", false}}}}),
+      cand("subsurface_markers", 13, {{"fingerprint", {{"found", false}, {"verdict", "wrong at the grid scale"}}}}),
+      cand("lens_distortion", 3, {{"fingerprint", {{"found", true}}}, {"veto", "the whole field disagrees with the evidence"}}),
+      cand("tracker_bias", 2, {}),
+      {{"effect", "edge_constraint"}, {"validation_rmse_px", nullptr}, {"improvement_pct", nullptr}, {"ci95_pct", {nullptr, nullptr}}}};
+  const ResidualSummary s = load_residual_summary(write_temp("verdicts", j));
+  std::map<std::string, std::string> verdict;
+  for (const auto& c : s.candidates) verdict[c.effect] = c.verdict;
+  CHECK(verdict["camera_misalignment"] == "selected");
+  CHECK(verdict["load_stiffening"] == "at a bound");
+  CHECK(verdict["gravity_preload"] == "screened");
+  CHECK(verdict["viscoelastic_creep"] == "no evidence");
+  CHECK(verdict["subsurface_markers"] == "no evidence");
+  CHECK(verdict["lens_distortion"] == "vetoed");
+  CHECK(verdict["tracker_bias"] == "within noise");
+  CHECK(verdict["edge_constraint"] == "not scored");
+  // The fixture above, as reports were before they recorded the rules: no fields to tell, no guess.
+  const ResidualSummary old = load_residual_summary(write_temp("good", residual_json()));
+  CHECK(old.candidates[1].verdict == "not selected");
 }
 
 TEST_CASE("residual summary: the contact-frame tables, none in older reports", "[residual_view]") {

@@ -39,7 +39,7 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
         changed = true;
       }
     }
-    if (ImGui::IsItemHovered() && !spec.help.empty()) ImGui::SetTooltip("%s", spec.help.c_str());
+    if (ImGui::IsItemHovered() && !spec.help.empty()) wrapped_tooltip(spec.help);
     ImGui::SameLine();
     if (ImGui::SmallButton("R") && params[i] != reference[i]) {
       params.set(i, reference[i]);
@@ -149,6 +149,14 @@ void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, con
   }
   if (!message.empty()) text += "  |  " + message;
   ImGui::TextUnformatted(text.c_str());
+}
+
+void wrapped_tooltip(const std::string& text) {
+  ImGui::BeginTooltip();
+  ImGui::PushTextWrapPos(ImGui::GetFontSize() * 30.0f);
+  ImGui::TextUnformatted(text.c_str());
+  ImGui::PopTextWrapPos();
+  ImGui::EndTooltip();
 }
 
 }  // namespace sb::ui

@@ -44,4 +44,7 @@ void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, con
 // Pretty model names for the panels.
 std::string display_name(const std::string& model_id);
 
+// A tooltip whose text wraps at about 60 characters (the residual loop's reasons run to several hundred).
+void wrapped_tooltip(const std::string& text);
+
 }  // namespace sb::ui

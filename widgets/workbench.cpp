@@ -461,7 +461,7 @@ void Workbench::draw_param_set_row(WorkbenchRequest& req) {
         req.param_set = name;
     ImGui::EndCombo();
   }
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", param_set_.summary().c_str());
+  if (ImGui::IsItemHovered()) wrapped_tooltip(param_set_.summary());
   if (!param_set_mismatch_.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.3f, 1.0f));
     ImGui::TextWrapped("%s", param_set_mismatch_.c_str());

@@ -3,6 +3,7 @@
 // corrected model (base + the selected effects at their fitted parameters).
 #include <imgui.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -131,24 +132,34 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
   ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
   ImGui::Text("selected: %s", r.selected.empty() ? "nothing" : joined(r.selected, " + ").c_str());
   constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
-  if (ImGui::BeginTable("##candidates", 3, kTable)) {
-    ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 2.2f);
-    ImGui::TableSetupColumn("better %", ImGuiTableColumnFlags_WidthStretch, 1.0f);
-    ImGui::TableSetupColumn("95 % CI", ImGuiTableColumnFlags_WidthStretch, 1.5f);
+  if (ImGui::BeginTable("##candidates", 4, kTable)) {
+    ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 1.7f);
+    ImGui::TableSetupColumn("gain%", ImGuiTableColumnFlags_WidthStretch, 0.75f);
+    ImGui::TableSetupColumn("95 % CI", ImGuiTableColumnFlags_WidthStretch, 1.3f);
+    ImGui::TableSetupColumn("why", ImGuiTableColumnFlags_WidthStretch, 1.2f);
     ImGui::TableHeadersRow();
     for (const auto& c : r.candidates) {
       const bool selected = std::find(r.selected.begin(), r.selected.end(), c.effect) != r.selected.end();
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      if (selected) ImGui::TextColored(kSelectedColour, "%s *", c.effect.c_str());
-      else ImGui::TextUnformatted(c.effect.c_str());
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s\n\n%s", make_effect(c.effect)->physics().c_str(), c.reason.c_str());
+      // The id with spaces, so a long one wraps in a narrow panel instead of being cut.
+      std::string label = c.effect;
+      std::replace(label.begin(), label.end(), '_', ' ');
+      if (selected) ImGui::PushStyleColor(ImGuiCol_Text, kSelectedColour);
+      ImGui::TextWrapped("%s%s", label.c_str(), selected ? " *" : "");
+      if (selected) ImGui::PopStyleColor();
+      if (ImGui::IsItemHovered()) wrapped_tooltip(c.effect + ": " + make_effect(c.effect)->physics() + "\n\n" + c.reason);
       ImGui::TableNextColumn();
       if (std::isfinite(c.improvement_pct)) ImGui::Text("%+.1f", c.improvement_pct);
       else ImGui::TextDisabled("-");
       ImGui::TableNextColumn();
       if (std::isfinite(c.ci95_low_pct)) ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
       else ImGui::TextDisabled("-");
+      ImGui::TableNextColumn();
+      ImGui::PushStyleColor(ImGuiCol_Text, selected ? kSelectedColour : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+      ImGui::TextWrapped("%s", c.verdict.c_str());
+      ImGui::PopStyleColor();
+      if (ImGui::IsItemHovered()) wrapped_tooltip(c.reason);
     }
     ImGui::EndTable();
   }

@@ -34,7 +34,31 @@ std::vector<std::string> effect_list(const nlohmann::json& j, const std::string&
   return ids;
 }
 
-ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string& file, const std::string& ptr) {
+// The candidate's verdict in two words, from the fields residual_to_json writes.
+// rules_recorded: the report lists model-form symptoms (written since the selection records its vetoes and
+// fingerprints); an older one has only the reason's text, and the verdict does not guess from it.
+std::string candidate_verdict(const nlohmann::json& c, const ResidualCandidateView& v, bool rules_recorded) {
+  const auto flag = [&](const char* key) {
+    const auto* f = jsonin::find(c, key);
+    return f && f->is_boolean() && f->get<bool>();
+  };
+  const auto* veto = jsonin::find(c, "veto");
+  const std::string veto_text = veto && veto->is_string() ? veto->get<std::string>() : "";
+  const auto* fingerprint = jsonin::find(c, "fingerprint");
+  const auto* found = fingerprint && fingerprint->is_object() ? jsonin::find(*fingerprint, "found") : nullptr;
+  if (v.accepted) return "selected";
+  if (!std::isfinite(v.improvement_pct)) return "not scored";
+  if (!rules_recorded) return "not selected";
+  // As the selection words its reason: a fingerprint not found first, then the veto.
+  if (found && found->is_boolean() && !found->get<bool>()) return "no evidence";
+  if (flag("model_form_symptom")) return "at a bound";
+  if (veto_text.rfind("screened", 0) == 0) return "screened";
+  if (!veto_text.empty()) return "vetoed";
+  return "within noise";
+}
+
+ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string& file, const std::string& ptr,
+                                     bool rules_recorded) {
   jsonin::require_object(c, file, ptr);
   ResidualCandidateView v;
   v.effect = jsonin::string(jsonin::member(c, "effect", file, ptr), file, jsonin::child(ptr, "effect"));
@@ -47,6 +71,7 @@ ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string&
   v.ci95_high_pct = ci[1].is_null() ? kNaN : jsonin::finite_number(ci[1], file, jsonin::child(ci_ptr, std::size_t{1}));
   if (const auto* a = jsonin::find(c, "accepted")) v.accepted = jsonin::boolean(*a, file, jsonin::child(ptr, "accepted"));
   if (const auto* r = jsonin::find(c, "reason")) v.reason = jsonin::string(*r, file, jsonin::child(ptr, "reason"));
+  v.verdict = candidate_verdict(c, v, rules_recorded);
   return v;
 }
 
@@ -113,7 +138,8 @@ ResidualSummary load_residual_summary(const std::string& path) {
   const nlohmann::json& cands = jsonin::member(j, "candidates", path, "");
   if (!cands.is_array()) jsonin::fail(path, "/candidates", "expected an array");
   for (std::size_t i = 0; i < cands.size(); ++i)
-    s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i)));
+    s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i),
+                                          jsonin::find(j, "model_form_symptoms") != nullptr));
   // Ranked: largest improvement first; an unscored (NaN) candidate last.
   std::stable_sort(s.candidates.begin(), s.candidates.end(), [](const auto& a, const auto& b) {
     const double ia = std::isfinite(a.improvement_pct) ? a.improvement_pct : -1e300;

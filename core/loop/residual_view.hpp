@@ -21,6 +21,11 @@ struct ResidualCandidateView {
   double ci95_low_pct = 0, ci95_high_pct = 0;
   bool accepted = false;
   std::string reason;   // why it was (not) selected
+  // The reason in two words, for a table: "selected", "at a bound" (a model-form symptom), "no evidence"
+  // (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it gained < 0.5 %),
+  // "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports older than the
+  // list of model-form symptoms, which did not record the rules.
+  std::string verdict;
 };
 
 // One contact-frame table of the base model's residual (residual.hpp, CovariateTable::contact_frame).
