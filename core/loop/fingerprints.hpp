@@ -144,7 +144,7 @@ struct FingerprintRules {
   double k1_sigmas = 3.0;              // lens: and |k1| at least this many standard errors (rest grid or residual)
   double min_depth_fraction = 0.25;    // subsurface: depth below this fraction of the marker pitch is not seen
   // subsurface: the grid-scale misfit left at the depth within this many times the noise's (measured: 1.0 with
-  // the model exact, 120-160 for every model on the FE twin, whose form is wrong at the grid scale)
+  // the model exact, 68-146 for every model on the FE twin, whose form is wrong at the grid scale)
   double max_fine_misfit_over_noise = 4.0;
   double min_noise_px = 0.005;         // subsurface: a noise estimate below this (noise-free data) counts as this
 };
