@@ -24,13 +24,21 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
                  const ParamSet* published) {
   bool changed = false;
   ImGui::PushID(model_id.c_str());
+  // The sliders leave room for the reset button and the longest name of this table (at least half the
+  // width stays the slider's; a name that still does not fit is cut, and its tooltip gives it whole).
+  const ImGuiStyle& style = ImGui::GetStyle();
+  float name_w = 0;
+  for (const ParamSpec& spec : params.specs()) name_w = std::max(name_w, ImGui::CalcTextSize(spec.name.c_str()).x);
+  const float reset_w = ImGui::CalcTextSize("R").x + 2 * style.FramePadding.x;
+  const float avail = ImGui::GetContentRegionAvail().x;
+  const float slider_w = std::max(avail - name_w - reset_w - 2 * style.ItemSpacing.x, 0.5f * avail);
   for (std::size_t i = 0; i < params.size(); ++i) {
     const ParamSpec& spec = params.specs()[i];
     ImGui::PushID(static_cast<int>(i));
     float v = static_cast<float>(params[i]);
     const std::string format = spec.unit.empty() ? "%.4g" : "%.4g " + spec.unit;
     const bool log = spec.log_scale && spec.min > 0;
-    ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - 95.0f);
+    ImGui::SetNextItemWidth(slider_w);
     if (ImGui::SliderFloat("##v", &v, static_cast<float>(spec.min), static_cast<float>(spec.max), format.c_str(),
                            (log ? ImGuiSliderFlags_Logarithmic : 0) | ImGuiSliderFlags_AlwaysClamp)) {
       const double clamped = std::clamp(static_cast<double>(v), spec.min, spec.max);
@@ -48,6 +56,7 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("reset to %g (the parameter set's value)", reference[i]);
     ImGui::SameLine();
     ImGui::TextUnformatted(spec.name.c_str());
+    if (ImGui::IsItemHovered()) wrapped_tooltip(spec.name + (spec.help.empty() ? "" : ": " + spec.help));
     if (published != nullptr) {
       ImGui::SameLine();
       ImGui::TextDisabled("published %.4g", (*published)[i]);
