@@ -379,7 +379,10 @@ double grid_laplacian_energy(const Sensor& sensor, const std::vector<Vec2>& fiel
 namespace {
 
 // The grid Laplacian of a field on the interior markers, stacked (x, y per marker); lost markers give 0.
-Eigen::VectorXd laplacian_values(const std::vector<std::vector<int>>& nb, const std::vector<Vec2>& f) {
+// noise_weight, when given, gains 2 (1 + 1/n) per marker whose Laplacian is defined (n its neighbours): the
+// variance of white noise of unit sigma in those two components.
+Eigen::VectorXd laplacian_values(const std::vector<std::vector<int>>& nb, const std::vector<Vec2>& f,
+                                 double* noise_weight = nullptr) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(2 * static_cast<Eigen::Index>(f.size()));
   for (std::size_t i = 0; i < nb.size(); ++i) {
     if (nb[i].empty() || !f[i].allFinite()) continue;
@@ -389,7 +392,9 @@ Eigen::VectorXd laplacian_values(const std::vector<std::vector<int>>& nb, const 
       mean += f[static_cast<std::size_t>(j)];
       finite = finite && f[static_cast<std::size_t>(j)].allFinite();
     }
-    if (finite) out.segment<2>(2 * static_cast<Eigen::Index>(i)) = mean / static_cast<double>(nb[i].size()) - f[i];
+    if (!finite) continue;
+    out.segment<2>(2 * static_cast<Eigen::Index>(i)) = mean / static_cast<double>(nb[i].size()) - f[i];
+    if (noise_weight) *noise_weight += 2.0 * (1.0 + 1.0 / static_cast<double>(nb[i].size()));
   }
   return out;
 }
@@ -430,15 +435,11 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
       throw std::invalid_argument("subsurface_fingerprint: need the model's field for every frame");
     for (std::size_t k = 0; k < s.meas_px.size(); ++k) {
       if (!frame_moved(s.meas_px[k])) continue;
-      meas_lap.push_back(laplacian_values(nb, s.meas_px[k]));
+      meas_lap.push_back(laplacian_values(nb, s.meas_px[k], &fp.noise_weight));
       // A lost marker: the model's value there is dropped too, so both see the same markers.
       for (std::size_t j = 0; j < s.meas_px[k].size(); ++j)
         if (!s.meas_px[k][j].allFinite()) meas_lap.back().segment<2>(2 * static_cast<Eigen::Index>(j)).setZero();
       fp.measured_energy_px2 += meas_lap.back().squaredNorm();
-      for (std::size_t i = 0; i < nb.size(); ++i)
-        if (!nb[i].empty() && meas_lap.back().segment<2>(2 * static_cast<Eigen::Index>(i)).allFinite() &&
-            s.meas_px[k][i].allFinite())
-          fp.noise_weight += 2.0 * (1.0 + 1.0 / static_cast<double>(nb[i].size()));
       fp.model_energy_px2 += laplacian_energy(nb, s.pred_px[k]);
       meas_total += energy(s.meas_px[k]);
       pred_total += energy(s.pred_px[k]);

@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <random>
 #include <sstream>
 #include <stdexcept>
+
+#include "core/base/format.hpp"
 
 namespace sb {
 
@@ -35,15 +36,6 @@ double quantile_sorted(const std::vector<double>& sorted, double q) {
 
 double improvement_pct(double reference_rmse, double candidate_rmse) {
   return 100.0 * (reference_rmse - candidate_rmse) / reference_rmse;
-}
-
-// A number for a reason a person reads: `decimals` after the point ("%.1f"), or 3 significant digits when
-// decimals < 0 ("%.3g", for estimates of any scale).
-std::string shown(double v, int decimals) {
-  char buf[48];
-  if (decimals < 0) std::snprintf(buf, sizeof buf, "%.3g", v);
-  else std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
-  return buf;
 }
 
 std::string join(const std::vector<std::string>& ids) {
@@ -149,12 +141,13 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   else
     s.accepted = own_evidence && (interval_ok || fingerprint_ok) && bic_ok && s.veto.empty();
   std::ostringstream why;
-  why << "improvement " << shown(s.improvement_pct, 1) << " % [" << shown(s.improvement_ci_pct.low, 1) << ", "
-      << shown(s.improvement_ci_pct.high, 1) << "], dBIC " << shown(s.delta_bic, 0);
-  if (std::isfinite(s.fingerprint_pct)) why << ", held drift explained " << shown(s.fingerprint_pct, 0) << " %";
+  why << "improvement " << format_number(s.improvement_pct, "%.1f") << " % ["
+      << format_number(s.improvement_ci_pct.low, "%.1f") << ", " << format_number(s.improvement_ci_pct.high, "%.1f")
+      << "], dBIC " << format_number(s.delta_bic, "%.0f");
+  if (std::isfinite(s.fingerprint_pct)) why << ", held drift explained " << format_number(s.fingerprint_pct, "%.0f") << " %";
   if (s.fingerprint)
-    why << ", fingerprint " << s.fingerprint->param << " " << shown(s.fingerprint->calibration, -1) << " / "
-        << shown(s.fingerprint->validation, -1) << " (calibration / validation)";
+    why << ", fingerprint " << s.fingerprint->param << " " << format_number(s.fingerprint->calibration, "%.3g") << " / "
+        << format_number(s.fingerprint->validation, "%.3g") << " (calibration / validation)";
   why << ": ";
   if (s.accepted && evidence_rule)
     why << "accepted on its fingerprint (held at its evidence, which lies outside the displacement field; the "

@@ -38,10 +38,7 @@ std::vector<std::string> effect_list(const nlohmann::json& j, const std::string&
 // rules_recorded: the report lists model-form symptoms (written since the selection records its vetoes and
 // fingerprints); an older one has only the reason's text, and the verdict does not guess from it.
 std::string candidate_verdict(const nlohmann::json& c, const ResidualCandidateView& v, bool rules_recorded) {
-  const auto flag = [&](const char* key) {
-    const auto* f = jsonin::find(c, key);
-    return f && f->is_boolean() && f->get<bool>();
-  };
+  const auto* symptom = jsonin::find(c, "model_form_symptom");
   const auto* veto = jsonin::find(c, "veto");
   const std::string veto_text = veto && veto->is_string() ? veto->get<std::string>() : "";
   const auto* fingerprint = jsonin::find(c, "fingerprint");
@@ -51,7 +48,7 @@ std::string candidate_verdict(const nlohmann::json& c, const ResidualCandidateVi
   if (!rules_recorded) return "not selected";
   // As the selection words its reason: a fingerprint not found first, then the veto.
   if (found && found->is_boolean() && !found->get<bool>()) return "no evidence";
-  if (flag("model_form_symptom")) return "at a bound";
+  if (symptom && symptom->is_boolean() && symptom->get<bool>()) return "at a bound";
   if (veto_text.rfind("screened", 0) == 0) return "screened";
   if (!veto_text.empty()) return "vetoed";
   return "within noise";
@@ -137,9 +134,9 @@ ResidualSummary load_residual_summary(const std::string& path) {
 
   const nlohmann::json& cands = jsonin::member(j, "candidates", path, "");
   if (!cands.is_array()) jsonin::fail(path, "/candidates", "expected an array");
+  const bool rules_recorded = jsonin::find(j, "model_form_symptoms") != nullptr;
   for (std::size_t i = 0; i < cands.size(); ++i)
-    s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i),
-                                          jsonin::find(j, "model_form_symptoms") != nullptr));
+    s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i), rules_recorded));
   // Ranked: largest improvement first; an unscored (NaN) candidate last.
   std::stable_sort(s.candidates.begin(), s.candidates.end(), [](const auto& a, const auto& b) {
     const double ia = std::isfinite(a.improvement_pct) ? a.improvement_pct : -1e300;
