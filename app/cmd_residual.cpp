@@ -116,7 +116,7 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
   sub.add_flag("--no-model-forms", a.no_model_forms,
-               "skip the model-form round (hydroshear: its layer, stick and layer+stick variants fitted and scored "
+               "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "
                "against it; docs/effects.md)");
   sub.add_option("--json", a.json_out, "JSON result (written atomically)")->required();
   sub.add_option("--report", a.report_out, "Markdown report; PNG plots are written beside it")->required();

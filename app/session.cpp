@@ -195,7 +195,7 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--sample", open.sample_id, "sample id of the dataset (default: the first)");
   sub.add_option("--indenter-mesh", open.indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
   sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
-  sub.add_option("--hydroshear", open.hydroshear_id, "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick")->capture_default_str();
+  sub.add_option("--hydroshear", open.hydroshear_id, "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick | hydroshear-contact")->capture_default_str();
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
   sub.add_option("--beside-hydroshear", open.beside_hydroshear,

@@ -13,6 +13,7 @@ std::string display_name(const std::string& id) {
   if (id == "hydroshear-layer") return "HydroShear (layer)";
   if (id == "hydroshear-stick") return "HydroShear (stick)";
   if (id == "hydroshear-layer-stick") return "HydroShear (layer+stick)";
+  if (id == "hydroshear-contact") return "HydroShear (contact)";
   if (id == "fots") return "FOTS";
   if (id == "fots-reimpl") return "FOTS (reimpl)";
   if (id == "tacsl") return "TacSL";

@@ -298,7 +298,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
 void Workbench::draw_variant_switches(WorkbenchRequest& req) {
   struct Family { const char* label; std::vector<std::string> ids; };
   static const std::vector<Family> kFamilies{
-      {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"}},
+      {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"}},
       {"FOTS", {"fots", "fots-reimpl"}},
       {"TacSL", {"tacsl", "tacsl-normalized"}}};
   const auto in_family = [](const Family& f, const std::string& id) {

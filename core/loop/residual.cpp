@@ -418,7 +418,7 @@ FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
 }  // namespace
 
 std::vector<std::string> model_form_variants(const std::string& model_id) {
-  if (model_id == "hydroshear") return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
+  if (model_id == "hydroshear") return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"};
   return {};
 }
 

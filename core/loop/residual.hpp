@@ -107,7 +107,7 @@ struct ResidualReport {
 std::string effect_set_key(const std::vector<std::string>& ids);
 
 // The model-form corrections of `model_id` that are models of their own (docs/effects.md, "Model-form
-// effects"): for hydroshear its layer, stick and layer+stick variants; none for the others yet.
+// effects"): for hydroshear its layer, stick, layer+stick and contact variants; none for the others yet.
 std::vector<std::string> model_form_variants(const std::string& model_id);
 
 // The whole loop. Throws std::invalid_argument for empty splits or an unknown model / effect.

@@ -16,7 +16,8 @@ namespace sb {
 
 const std::vector<std::string>& bench_model_ids() {
   static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
+                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick",
+                                               "hydroshear-contact"};
   return ids;
 }
 

@@ -31,7 +31,9 @@ const double kDefaultPxPerMetre = Camera{}.px_per_metre();  // 1 / 0.0634 mm = 1
 
 }  // namespace
 
-std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick) {
+std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool contact) {
+  layer = layer || contact;
+  stick = stick || contact;
   std::vector<ParamSpec> specs = {
       {"lambda_d", "m^-2", 20000, 1e2, 1e7, "dilation Gaussian rate on squared distance (authors' RL config)", true},
       {"lambda_s", "m^-2", 10800, 1e2, 1e7, "shear Gaussian rate on squared distance (authors' RL config)", true},
@@ -64,6 +66,19 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick) {
     specs.push_back({"stick_sat", "1/m", 1000, 0, 1e5,
                      "stick zone: the shear sum over 1 + stick_sat sum_i w_i G_i (0 = the authors' linear sum; "
                      "default of the order fitted on twin_sphere35)"});
+  if (contact) {
+    // Ranges: the far Gaussian's width 1/sqrt(2 lambda_s3) between 2.2 mm (half the gel's thickness, where
+    // the near-field term takes over) and 10 mm (half the pad); follow from none to 1.5 (past a rigid
+    // translation, so a bound is not where the data's answer hides).
+    const std::vector<ParamSpec> more = {
+        {"beta_s3", "", 0.05, 0, 2, "far field: weight of the shear's wide Gaussian (0 = none)"},
+        {"lambda_s3", "m^-2", 3e4, 5e3, 1e5, "far field: rate of the shear's wide Gaussian", true},
+        {"follow", "", 0.75, 0, 1.5,
+         "contact-following tractions: kernels shift by follow x the contact's mean stuck displacement "
+         "(0 = the authors' anchors, where each point entered)"},
+    };
+    specs.insert(specs.end(), more.begin(), more.end());
+  }
   return specs;
 }
 
@@ -86,6 +101,8 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   k.flat_pad_fast = param_flag(p, "flat_pad_fast");
   if (p.index_of("beta_s") >= 0) k.beta_s = p.get("beta_s"), k.lambda_s2 = p.get("lambda_s2");
   if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
+  if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
+  if (p.index_of("follow") >= 0) k.follow = p.get("follow");
   return k;
 }
 
@@ -123,6 +140,7 @@ struct HydroShearBatch::Scratch {
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
+  double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
   std::vector<int> dil_k;                  // markers inside the indenter
@@ -153,7 +171,7 @@ HydroShearBatch::~HydroShearBatch() = default;
 HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
-      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_),
+      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_), gauss_x3_(o.gauss_x3_), gauss_y3_(o.gauss_y3_),
       dil_x_(o.dil_x_), dil_y_(o.dil_y_),
       marker_z_max_(o.marker_z_max_), table_(o.table_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
       pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}
@@ -252,6 +270,10 @@ void HydroShearBatch::set_params(const ParamSet& params) {
     if (k_.beta_s > 0) {
       gauss_x2_ = GaussianAxis(grid_.xs, k_.lambda_s2);
       gauss_y2_ = GaussianAxis(grid_.ys, k_.lambda_s2);
+    }
+    if (k_.beta_s3 > 0) {
+      gauss_x3_ = GaussianAxis(grid_.xs, k_.lambda_s3);
+      gauss_y3_ = GaussianAxis(grid_.ys, k_.lambda_s3);
     }
   }
 }
@@ -543,8 +565,10 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   if (sc.field->size() == 0) return;
   const bool stick = k_.stick_sat > 0;
   if (stick) sc.shear_w.assign(nm, 0.0);
+  contact_shift(sc);
   add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick}, sc);
   if (k_.beta_s > 0) add_shear_term({k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_}, sc);
+  if (k_.beta_s3 > 0) add_shear_term({k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_}, sc);
   if (!stick) return;
   // The stick zone: where the contact's weights pile up, the field tends to their weighted mean state
   // instead of growing with their sum (docs/effects.md, "The stick zone").
@@ -553,6 +577,27 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
     sc.shear_x[j] *= f;
     sc.shear_y[j] *= f;
   }
+}
+
+// The contact-following shift of every anchor: -follow times the weighted mean tangential state (the
+// state points back to where a point stuck, so the shift points along the contact's motion).
+void HydroShearBatch::contact_shift(Scratch& sc) const {
+  sc.shift_x = sc.shift_y = 0;
+  if (k_.follow == 0) return;
+  const PointColumns& F = *sc.field;
+  const int n = F.size();
+  double sw = 0, sx = 0, sy = 0;
+  for (int i = 0; i < n; ++i) {
+    const double u_n = sc.field_un[i];
+    const double w = k_.weight_paper ? -sc.field_phi[i] : k_.E * u_n;
+    // The tangential part: with the paper's normal the state's normal component is u_n along n.
+    const double tx = F.ux[i] - (k_.normal_indenter ? u_n * sc.fnx[i] : 0.0);
+    const double ty = F.uy[i] - (k_.normal_indenter ? u_n * sc.fny[i] : 0.0);
+    sw += w, sx += w * tx, sy += w * ty;
+  }
+  if (sw <= 0) return;
+  sc.shift_x = -k_.follow * sx / sw;
+  sc.shift_y = -k_.follow * sy / sw;
 }
 
 // Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums.
@@ -579,6 +624,7 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   k.E = k_.E, k.K = k_.K, k.lambda_s = term.lambda, k.z0 = grid_.z0;
   k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
   k.max_total_exponent = factored ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
+  k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   if (factored) {
     k.x0 = term.gx->front(), k.xn = term.gx->back(), k.hx = term.gx->pitch();
     k.y0 = term.gy->front(), k.yn = term.gy->back(), k.hy = term.gy->pitch();
@@ -624,7 +670,7 @@ void HydroShearBatch::shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp)
 // grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
 void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const {
   const PointColumns& F = *sc.field;
-  const Vec3 a(sc.fx[i] + F.ux[i], sc.fy[i] + F.uy[i], sc.fz[i] + F.uz[i]);
+  const Vec3 a(sc.fx[i] + F.ux[i] + sc.shift_x, sc.fy[i] + F.uy[i] + sc.shift_y, sc.fz[i] + F.uz[i]);
   const double ls = term.lambda;
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();

@@ -33,12 +33,23 @@ namespace sb {
 //   M_s(m_j) -> M_s(m_j) / (1 + stick_sat W_j),  W_j = sum_i w_i exp(-lambda_s |m_j - a_i|^2),
 // so inside a wide stuck contact the field tends to the weighted mean of its points' state (the stuck
 // surface moves with the indenter) instead of growing with their number; stick_sat = 0 is the authors' sum.
-std::vector<ParamSpec> hydroshear_param_specs(bool layer = false, bool stick = false);
+// `contact` (model "hydroshear-contact", docs/effects.md "Where the tractions act, and the layer's far
+// field"): layer + stick and two more terms.
+//   - far field: a third, wide Gaussian in the shear kernel, + beta_s3 exp(-lambda_s3 |r|^2): a layer
+//     bonded to a rigid base spreads a tangential load over about its thickness and beyond;
+//   - contact-following tractions: every kernel centre moves by `follow` times the contact's weighted
+//     mean stuck displacement, a_i = o_i + u_i - follow * sum_k w_k u_k^t / sum_k w_k: the authors
+//     centre a point's traction where it entered the gel (follow = 0); with follow = 1 a translating,
+//     stuck contact's tractions act where the contact is now, while the pattern relative to the mean
+//     (a twist's) keeps the authors' placement.
+std::vector<ParamSpec> hydroshear_param_specs(bool layer = false, bool stick = false, bool contact = false);
 
 struct HydroShearParams {
   double lambda_d, lambda_s, mu, kappa_d, kappa_s, K, E, g_aug;
   double beta_s = 0, lambda_s2 = 0;   // the layer kernel's near-field term (0: the authors' kernel)
   double stick_sat = 0;               // the stick zone's saturation (1/m; 0: the authors' linear sum)
+  double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
+  double follow = 0;                  // contact-following tractions (0: the authors' anchors)
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -128,6 +139,7 @@ class HydroShearBatch {
     const GaussianAxis *gx, *gy;
     bool with_weights = false;   // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
   };
+  void contact_shift(Scratch& sc) const;
   void shear_sum(const Pose& X_EI, Scratch& sc) const;
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
@@ -145,6 +157,7 @@ class HydroShearBatch {
   MarkerGridLayout grid_;
   GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
   GaussianAxis gauss_x2_, gauss_y2_;       // the layer kernel's near-field term (k_.beta_s > 0)
+  GaussianAxis gauss_x3_, gauss_y3_;       // the far-field term (k_.beta_s3 > 0)
   // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
   // .y), rows padded with zeros to kernels::dilation_stride(nm).
   std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)

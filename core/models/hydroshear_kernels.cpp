@@ -105,7 +105,7 @@ template <bool kWeightPaper, bool kNormalZ>
     const double w = kWeightPaper ? -c.phi[i] : k.E * u_n;
     vx[i] = -w * fx;
     vy[i] = -w * fy;
-    const double ax = c.px[i] + c.ux[i], ay = c.py[i] + c.uy[i], az = c.pz[i] + c.uz[i];
+    const double ax = c.px[i] + c.ux[i] + k.shift_x, ay = c.py[i] + c.uy[i] + k.shift_y, az = c.pz[i] + c.uz[i];
     const double dx0 = k.x0 - ax, dxn = k.xn - ax, dy0 = k.y0 - ay, dyn = k.yn - ay, dz = k.z0 - az;
     const double lz = l * dz * dz;
     const double worst = l * max2(dx0 * dx0, dxn * dxn) + l * max2(dy0 * dy0, dyn * dyn) + lz;

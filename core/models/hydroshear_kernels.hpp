@@ -47,6 +47,7 @@ struct ShearConstants {
   bool normal_z;                         // n = +z for every point
   double x0, xn, hx, y0, yn, hy;         // the grid axes' first and last coordinates and pitches
   double max_total_exponent;
+  double shift_x = 0, shift_y = 0;       // added to every anchor (the contact-following shift)
 };
 void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* lead,
                     double* rx, double* ry, std::uint8_t* fast);

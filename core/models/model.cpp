@@ -48,7 +48,8 @@ class SingleSlotModel final : public ShearModel {
 
 const std::vector<std::string>& model_ids() {
   static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick"};
+                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick",
+                                               "hydroshear-contact"};
   return ids;
 }
 
@@ -63,6 +64,7 @@ ParamSet default_params(const std::string& id) {
   if (id == "hydroshear-layer") return ParamSet(hydroshear_param_specs(true));
   if (id == "hydroshear-stick") return ParamSet(hydroshear_param_specs(false, true));
   if (id == "hydroshear-layer-stick") return ParamSet(hydroshear_param_specs(true, true));
+  if (id == "hydroshear-contact") return ParamSet(hydroshear_param_specs(true, true, true));
   if (id == "fots") return ParamSet(fots_param_specs());
   if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
   if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
@@ -73,7 +75,7 @@ ParamSet default_params(const std::string& id) {
 std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
                                        std::shared_ptr<const Indenter> indenter) {
   const ParamSet p = default_params(id);
-  if (id == "hydroshear" || id == "hydroshear-layer" || id == "hydroshear-stick" || id == "hydroshear-layer-stick")
+  if (id.starts_with("hydroshear"))
     return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p), sensor);
   if (id == "fots" || id == "fots-reimpl") {
     const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;

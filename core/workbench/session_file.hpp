@@ -18,7 +18,7 @@ struct SessionSource {
   std::string scene_path;           // empty: scenes/default.json
   std::string dataset_dir;          // replay a tsd/1 dataset instead of a scene
   std::string sample_id;            // empty: the dataset's first sample
-  std::string hydroshear_id = "hydroshear";   // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick
+  std::string hydroshear_id = "hydroshear";   // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick, hydroshear-contact
   std::string fots_id = "fots";     // or fots-reimpl
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
   // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form

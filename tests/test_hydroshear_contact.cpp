@@ -1,0 +1,138 @@
+// HydroShear's contact variant (model "hydroshear-contact"): layer + stick with two more terms,
+//   far field:  exp(-l_s r^2) + beta_s exp(-l_s2 r^2) + beta_s3 exp(-l_s3 r^2),
+//   following:  a_i = o_i + u_i + c,  c = -follow sum_k w_k u_k^t / sum_k w_k   (w_k = E u_n,k),
+// neither of which changes the state. The expected fields are built by hand from plain HydroShear runs:
+// the shear part S of a run is isolated by doubling its gain (the dilation does not depend on kappa_s),
+//   S = F(kappa_s = 2k) - F(kappa_s = k),
+// and the shifted sum is formed here over HydroShearBatch::tracked():
+//   S_j = kappa_s sum_i w_i (-K u_i^xy) exp(-l_s |m_j - (o_i + u_i + c)|^2).
+#include <catch2/catch.hpp>
+
+#include "core/models/hydroshear.hpp"
+#include "model_fixtures.hpp"
+
+using namespace sbtest;
+
+namespace {
+
+constexpr double kPxTol = 1e-9;    // px: the same sums in another order
+constexpr double kBox = 6e-3;      // box indenter side: it covers markers, so the dilation acts
+
+std::vector<Pose> path() {
+  return {box_pose(kBox, 0, 0, 0.1e-3), box_pose(kBox, 0, 0, -0.4e-3), box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3),
+          box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3, 0.04)};
+}
+
+std::shared_ptr<const Indenter> box() {
+  static const auto b = box_indenter(kBox, 7, 0.8e-3);
+  return b;
+}
+
+std::vector<Vec2> path_field(HydroShearBatch& batch) {
+  std::vector<Vec2> disp(batch.markers());
+  for (const Pose& X : path()) batch.step(std::span<const Pose>(&X, 1), 0.01, disp, {});
+  return disp;
+}
+
+std::vector<Vec2> path_field(const ParamSet& p) {
+  HydroShearBatch batch(test_sensor(), box(), 1, p);
+  return path_field(batch);
+}
+
+// The contact variant with the authors' values and the given extra terms; the layer and the stick off.
+ParamSet contact_params(double beta_s3, double lambda_s3, double follow, double lambda_s = 0) {
+  ParamSet d = default_params("hydroshear");
+  if (lambda_s > 0) d.set("lambda_s", lambda_s);
+  ParamSet p = default_params("hydroshear-contact");
+  for (const auto& spec : d.specs()) p.set(spec.name, d.get(spec.name));
+  p.set("beta_s", 0), p.set("stick_sat", 0);
+  p.set("beta_s3", beta_s3), p.set("lambda_s3", lambda_s3), p.set("follow", follow);
+  return p;
+}
+
+// The shear part of a parameter set's field (doubling kappa_s doubles it and leaves the dilation).
+std::vector<Vec2> shear_part(ParamSet p) {
+  const auto once = path_field(p);
+  p.set("kappa_s", 2 * p.get("kappa_s"));
+  const auto twice = path_field(p);
+  std::vector<Vec2> s(once.size());
+  for (std::size_t j = 0; j < s.size(); ++j) s[j] = twice[j] - once[j];
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("hydroshear-contact with no far field and no following is layer + stick, bit for bit",
+          "[models][hydroshear_contact]") {
+  ParamSet ls = default_params("hydroshear-layer-stick");
+  ParamSet p = default_params("hydroshear-contact");
+  for (const auto& spec : ls.specs()) p.set(spec.name, ls.get(spec.name));
+  p.set("beta_s3", 0), p.set("follow", 0);
+  const auto contact = path_field(p);
+  const auto plain = path_field(ls);
+  REQUIRE(contact.size() == plain.size());
+  for (std::size_t j = 0; j < contact.size(); ++j) CHECK(contact[j] == plain[j]);
+  CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
+}
+
+TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[models][hydroshear_contact]") {
+  const ParamSet d = default_params("hydroshear");
+  const double beta_s3 = 0.3, ls3 = 2e4;   // 1/sqrt(2 l_s3) = 5 mm wide: it reaches every marker
+  const auto far = path_field(contact_params(beta_s3, ls3, 0));
+  const auto base = path_field(d);
+  ParamSet wide = d;
+  wide.set("lambda_s", ls3);
+  const auto S3 = shear_part(wide);
+  double far_s = 0;
+  for (std::size_t j = 0; j < far.size(); ++j) {
+    INFO("marker " << j);
+    CHECK((far[j] - (base[j] + beta_s3 * S3[j])).norm() < kPxTol);
+    far_s = std::max(far_s, beta_s3 * S3[j].norm());
+  }
+  CHECK(far_s > 0.01);   // the term moves markers on this path
+}
+
+TEST_CASE("hydroshear-contact's following moves every kernel by follow times the weighted mean stuck state",
+          "[models][hydroshear_contact]") {
+  // A kernel 1.3 mm wide (1/sqrt(2 l_s)), so a shift of a few tenths of a millimetre shows in the field.
+  constexpr double kLambdaS = 3e5;
+  ParamSet d = default_params("hydroshear");
+  d.set("lambda_s", kLambdaS);
+  const double ks = d.get("kappa_s"), ls = d.get("lambda_s"), E = d.get("E"), K = d.get("K");
+  constexpr double kFollow = 0.8;
+  // The state, from a plain run (the following does not change it).
+  HydroShearBatch plain(test_sensor(), box(), 1, d);
+  (void)path_field(plain);
+  const auto points = plain.tracked(0);
+  REQUIRE(!points.empty());
+  double sw = 0;
+  Vec2 swu = Vec2::Zero();
+  for (const HydroShearPoint& t : points) {
+    sw += E * t.u_n;
+    swu += E * t.u_n * t.u_E.head<2>();   // the normal is +z: u_E's in-plane part is u_t
+  }
+  const Vec2 c = -kFollow * swu / sw;
+  CHECK(c.norm() > 0.1e-3);   // the box slid 0.32 mm while stuck: the shift is not a rounding
+  // The shifted sum by hand.
+  const Pose X = path().back();
+  const auto sensor = test_sensor();
+  std::vector<Vec2> expected(sensor->p_EM.size(), Vec2::Zero());
+  for (const HydroShearPoint& t : points) {
+    Vec3 a = X * box()->samples.p_IS[t.index] + t.u_E;
+    a.head<2>() += c;
+    const Vec2 v = -E * t.u_n * K * t.u_E.head<2>();
+    for (std::size_t j = 0; j < expected.size(); ++j)
+      expected[j] += ks * v * std::exp(-ls * (sensor->p_EM[j] - a).squaredNorm());
+  }
+  const auto S = shear_part(contact_params(0, 3e4, kFollow, kLambdaS));
+  const auto S0 = shear_part(contact_params(0, 3e4, 0, kLambdaS));
+  double moved = 0;
+  for (std::size_t j = 0; j < S.size(); ++j) {
+    INFO("marker " << j);
+    CHECK((S[j] - expected[j]).norm() < 1e-6);   // px: the sum over ~50 points in another order
+    moved = std::max(moved, (S[j] - S0[j]).norm());
+  }
+  // The following changes the field on this path (by 4 % of its largest shear; the tolerance above is
+  // a thousandth of that change).
+  CHECK(moved > 0.02 * max_norm(S0));
+}
