@@ -291,7 +291,8 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
   }
 }
 
-// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both (issue 17, docs/effects.md);
+// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both | the contact variant (both,
+// the layer's far field, contact-following tractions; issue 17, docs/effects.md);
 // FOTS: original | re-implementation;
 // TacSL: raw | normalised. The choice replaces that panel's model at
 // the sync point (AppState::request_model), which replays the path to the current step.
