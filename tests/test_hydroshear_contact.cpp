@@ -8,36 +8,13 @@
 //   S_j = kappa_s sum_i w_i (-K u_i^xy) exp(-l_s |m_j - (o_i + u_i + c)|^2).
 #include <catch2/catch.hpp>
 
-#include "core/models/hydroshear.hpp"
-#include "model_fixtures.hpp"
+#include "hydroshear_fixtures.hpp"
 
 using namespace sbtest;
 
 namespace {
 
 constexpr double kPxTol = 1e-9;    // px: the same sums in another order
-constexpr double kBox = 6e-3;      // box indenter side: it covers markers, so the dilation acts
-
-std::vector<Pose> path() {
-  return {box_pose(kBox, 0, 0, 0.1e-3), box_pose(kBox, 0, 0, -0.4e-3), box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3),
-          box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3, 0.04)};
-}
-
-std::shared_ptr<const Indenter> box() {
-  static const auto b = box_indenter(kBox, 7, 0.8e-3);
-  return b;
-}
-
-std::vector<Vec2> path_field(HydroShearBatch& batch) {
-  std::vector<Vec2> disp(batch.markers());
-  for (const Pose& X : path()) batch.step(std::span<const Pose>(&X, 1), 0.01, disp, {});
-  return disp;
-}
-
-std::vector<Vec2> path_field(const ParamSet& p) {
-  HydroShearBatch batch(test_sensor(), box(), 1, p);
-  return path_field(batch);
-}
 
 // The contact variant with the authors' values and the given extra terms; the layer and the stick off.
 ParamSet contact_params(double beta_s3, double lambda_s3, double follow, double lambda_s = 0) {
@@ -52,9 +29,9 @@ ParamSet contact_params(double beta_s3, double lambda_s3, double follow, double 
 
 // The shear part of a parameter set's field (doubling kappa_s doubles it and leaves the dilation).
 std::vector<Vec2> shear_part(ParamSet p) {
-  const auto once = path_field(p);
+  const auto once = hs_path_field(p);
   p.set("kappa_s", 2 * p.get("kappa_s"));
-  const auto twice = path_field(p);
+  const auto twice = hs_path_field(p);
   std::vector<Vec2> s(once.size());
   for (std::size_t j = 0; j < s.size(); ++j) s[j] = twice[j] - once[j];
   return s;
@@ -68,8 +45,8 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
   ParamSet p = default_params("hydroshear-contact");
   for (const auto& spec : ls.specs()) p.set(spec.name, ls.get(spec.name));
   p.set("beta_s3", 0), p.set("follow", 0);
-  const auto contact = path_field(p);
-  const auto plain = path_field(ls);
+  const auto contact = hs_path_field(p);
+  const auto plain = hs_path_field(ls);
   REQUIRE(contact.size() == plain.size());
   for (std::size_t j = 0; j < contact.size(); ++j) CHECK(contact[j] == plain[j]);
   CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
@@ -78,8 +55,8 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
 TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[models][hydroshear_contact]") {
   const ParamSet d = default_params("hydroshear");
   const double beta_s3 = 0.3, ls3 = 2e4;   // 1/sqrt(2 l_s3) = 5 mm wide: it reaches every marker
-  const auto far = path_field(contact_params(beta_s3, ls3, 0));
-  const auto base = path_field(d);
+  const auto far = hs_path_field(contact_params(beta_s3, ls3, 0));
+  const auto base = hs_path_field(d);
   ParamSet wide = d;
   wide.set("lambda_s", ls3);
   const auto S3 = shear_part(wide);
@@ -101,8 +78,8 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   const double ks = d.get("kappa_s"), ls = d.get("lambda_s"), E = d.get("E"), K = d.get("K");
   constexpr double kFollow = 0.8;
   // The state, from a plain run (the following does not change it).
-  HydroShearBatch plain(test_sensor(), box(), 1, d);
-  (void)path_field(plain);
+  HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
+  (void)hs_path_field(plain);
   const auto points = plain.tracked(0);
   REQUIRE(!points.empty());
   double sw = 0;
@@ -114,11 +91,11 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   const Vec2 c = -kFollow * swu / sw;
   CHECK(c.norm() > 0.1e-3);   // the box slid 0.32 mm while stuck: the shift is not a rounding
   // The shifted sum by hand.
-  const Pose X = path().back();
+  const Pose X = hs_box_path().back();
   const auto sensor = test_sensor();
   std::vector<Vec2> expected(sensor->p_EM.size(), Vec2::Zero());
   for (const HydroShearPoint& t : points) {
-    Vec3 a = X * box()->samples.p_IS[t.index] + t.u_E;
+    Vec3 a = X * hs_box()->samples.p_IS[t.index] + t.u_E;
     a.head<2>() += c;
     const Vec2 v = -E * t.u_n * K * t.u_E.head<2>();
     for (std::size_t j = 0; j < expected.size(); ++j)

@@ -8,49 +8,24 @@
 // with W summed here by hand over HydroShearBatch::tracked().
 #include <catch2/catch.hpp>
 
-#include "core/models/hydroshear.hpp"
-#include "model_fixtures.hpp"
+#include "hydroshear_fixtures.hpp"
 
 using namespace sbtest;
 
 namespace {
 
 constexpr double kPxTol = 1e-9;    // px: the same sums in another order
-constexpr double kBox = 6e-3;      // box indenter side: it covers markers, so the dilation acts too
-
-std::vector<Pose> path() {
-  return {box_pose(kBox, 0, 0, 0.1e-3), box_pose(kBox, 0, 0, -0.4e-3), box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3),
-          box_pose(kBox, 0.3e-3, 0.1e-3, -0.4e-3, 0.04)};
-}
-
-std::shared_ptr<const Indenter> box() {
-  static const auto b = box_indenter(kBox, 7, 0.8e-3);
-  return b;
-}
-
-// The field after the path, and the batch (for its tracked points).
-std::vector<Vec2> path_field(HydroShearBatch& batch) {
-  std::vector<Vec2> disp(batch.markers());
-  for (const Pose& X : path()) batch.step(std::span<const Pose>(&X, 1), 0.01, disp, {});
-  return disp;
-}
-
-std::vector<Vec2> path_field(const std::string& id, const ParamSet& p) {
-  HydroShearBatch batch(test_sensor(), box(), 1, p);
-  (void)id;
-  return path_field(batch);
-}
 
 }  // namespace
 
 TEST_CASE("hydroshear-stick with s = 0 is HydroShear, bit for bit", "[models][hydroshear_stick]") {
   ParamSet p = default_params("hydroshear-stick");
   p.set("stick_sat", 0);
-  auto m = make_model("hydroshear-stick", test_sensor(), box());
-  auto h = make_model("hydroshear", test_sensor(), box());
+  auto m = make_model("hydroshear-stick", test_sensor(), hs_box());
+  auto h = make_model("hydroshear", test_sensor(), hs_box());
   m->set_params(p);
   std::vector<Vec2> stick, plain;
-  for (const Pose& X : path()) stick = run(*m, X), plain = run(*h, X);
+  for (const Pose& X : hs_box_path()) stick = run(*m, X), plain = run(*h, X);
   REQUIRE(stick.size() == plain.size());
   for (std::size_t j = 0; j < stick.size(); ++j) CHECK(stick[j] == plain[j]);
   CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
@@ -61,15 +36,15 @@ TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydrosh
   const double ks = d.get("kappa_s"), ls = d.get("lambda_s"), E = d.get("E");
   ParamSet twice = d;
   twice.set("kappa_s", 2 * ks);
-  HydroShearBatch plain(test_sensor(), box(), 1, d);
-  const auto F = path_field(plain);
-  const auto F2 = path_field("hydroshear", twice);
+  HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
+  const auto F = hs_path_field(plain);
+  const auto F2 = hs_path_field(twice);
   // W by hand from the plain run's tracked points (the stick zone leaves the state as HydroShear's).
-  const Pose X = path().back();
+  const Pose X = hs_box_path().back();
   const auto sensor = test_sensor();
   std::vector<double> W(sensor->p_EM.size(), 0.0);
   for (const HydroShearPoint& t : plain.tracked(0)) {
-    const Vec3 anchor = X * box()->samples.p_IS[t.index] + t.u_E;
+    const Vec3 anchor = X * hs_box()->samples.p_IS[t.index] + t.u_E;
     for (std::size_t j = 0; j < W.size(); ++j) W[j] += E * t.u_n * std::exp(-ls * (sensor->p_EM[j] - anchor).squaredNorm());
   }
   constexpr double kSat = 2e3;   // 1/m: W reaches ~1e-3 m over this contact, so s W is of order 1
@@ -78,7 +53,7 @@ TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydrosh
     for (const auto& spec : d.specs()) p.set(spec.name, d.get(spec.name));
     p.set("stick_sat", kSat);
     if (p.index_of("beta_s") >= 0) p.set("beta_s", 0);   // the layer's near field off: the same S
-    const auto stick = path_field(id, p);
+    const auto stick = hs_path_field(p);
     double largest_sW = 0;
     for (std::size_t j = 0; j < stick.size(); ++j) {
       const Vec2 S = F2[j] - F[j], D = F[j] - S;
