@@ -1,6 +1,7 @@
 // HydroShear's contact variant (model "hydroshear-contact"): layer + stick with two more terms,
 //   far field:  exp(-l_s r^2) + beta_s exp(-l_s2 r^2) + beta_s3 exp(-l_s3 r^2),
 //   following:  a_i = o_i + u_i + c,  c = -follow sum_k w_k u_k^t / sum_k w_k   (w_k = E u_n,k),
+//   anisotropy: the far term's v_i -> v_i + aniso_s3 l_s3 d (d . v_i),  d = m - a_i in the plane,
 // neither of which changes the state. The expected fields are built by hand from plain HydroShear runs:
 // the shear part S of a run is isolated by doubling its gain (the dilation does not depend on kappa_s),
 //   S = F(kappa_s = 2k) - F(kappa_s = k),
@@ -16,14 +17,15 @@ namespace {
 
 constexpr double kPxTol = 1e-9;    // px: the same sums in another order
 
-// The contact variant with the authors' values and the given extra terms; the layer and the stick off.
+// The contact variant with the authors' values and the given extra terms; the layer, the stick and the far
+// field's anisotropy off.
 ParamSet contact_params(double beta_s3, double lambda_s3, double follow, double lambda_s = 0) {
   ParamSet d = default_params("hydroshear");
   if (lambda_s > 0) d.set("lambda_s", lambda_s);
   ParamSet p = default_params("hydroshear-contact");
   for (const auto& spec : d.specs()) p.set(spec.name, d.get(spec.name));
   p.set("beta_s", 0), p.set("stick_sat", 0);
-  p.set("beta_s3", beta_s3), p.set("lambda_s3", lambda_s3), p.set("follow", follow);
+  p.set("beta_s3", beta_s3), p.set("lambda_s3", lambda_s3), p.set("follow", follow), p.set("aniso_s3", 0);
   return p;
 }
 
@@ -44,7 +46,7 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
   ParamSet ls = default_params("hydroshear-layer-stick");
   ParamSet p = default_params("hydroshear-contact");
   for (const auto& spec : ls.specs()) p.set(spec.name, ls.get(spec.name));
-  p.set("beta_s3", 0), p.set("follow", 0);
+  p.set("beta_s3", 0), p.set("follow", 0);   // the anisotropy then has no term to act on
   const auto contact = hs_path_field(p);
   const auto plain = hs_path_field(ls);
   REQUIRE(contact.size() == plain.size());
@@ -112,4 +114,43 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   // The following changes the field on this path (by 4 % of its largest shear; the tolerance above is
   // a thousandth of that change).
   CHECK(moved > 0.02 * max_norm(S0));
+}
+
+// The far field's anisotropy, by hand: with everything else fixed, turning it on adds
+//   kappa_s sum_i beta_s3 exp(-l_s3 |m - a_i|^2) aniso l_s3 d_i (d_i . v_i),  d_i = (m - a_i) in the plane,
+// v_i = -E u_n,i K u_i^xy (the authors' weight and force). The factored sum expands d d^T into moments of
+// the anchors (shear_sum_fast_aniso); this sums it point by point.
+TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to each point's term",
+          "[models][hydroshear_contact]") {
+  constexpr double kBeta3 = 0.3, kLambda3 = 2e4, kAniso = 3;   // 5 mm wide: it reaches every marker
+  const ParamSet d = default_params("hydroshear");
+  const double ks = d.get("kappa_s"), E = d.get("E"), K = d.get("K");
+  HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
+  (void)hs_path_field(plain);
+  const auto points = plain.tracked(0);
+  REQUIRE(!points.empty());
+  const Pose X = hs_box_path().back();
+  const auto sensor = test_sensor();
+  std::vector<Vec2> expected(sensor->p_EM.size(), Vec2::Zero());
+  for (const HydroShearPoint& t : points) {
+    const Vec3 a = X * hs_box()->samples.p_IS[t.index] + t.u_E;
+    const Vec2 v = -E * t.u_n * K * t.u_E.head<2>();
+    for (std::size_t j = 0; j < expected.size(); ++j) {
+      const Vec3 m = sensor->p_EM[j];
+      const Vec2 dj = (m - a).head<2>();
+      expected[j] += ks * kBeta3 * std::exp(-kLambda3 * (m - a).squaredNorm()) * kAniso * kLambda3 * dj * dj.dot(v);
+    }
+  }
+  ParamSet p = contact_params(kBeta3, kLambda3, 0);
+  const auto iso = hs_path_field(p);
+  p.set("aniso_s3", kAniso);
+  const auto aniso = hs_path_field(p);
+  double largest = 0;
+  for (std::size_t j = 0; j < aniso.size(); ++j) {
+    INFO("marker " << j);
+    CHECK((aniso[j] - iso[j] - expected[j]).norm() < 1e-9 + 1e-9 * expected[j].norm());
+    largest = std::max(largest, expected[j].norm());
+  }
+  CHECK(largest > 1e-4 * max_norm(iso));   // the term is not zero on this path
+  INFO("largest anisotropic part " << largest << " px of a field of " << max_norm(iso));
 }

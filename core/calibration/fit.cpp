@@ -339,7 +339,7 @@ const std::vector<FitStage>& fit_stages(const std::string& id) {
         {"layer-stick",
          {"lambda_d", "kappa_d", "lambda_s", "beta_s", "lambda_s2", "stick_sat", "kappa_s", "mu"},
          {"dilation", "shear", "twist", "roll", "slip"}, false, {}},
-        {"contact", {"beta_s3", "lambda_s3", "follow"}, {"shear", "twist", "roll", "slip"}, false, {}}}},
+        {"contact", {"beta_s3", "lambda_s3", "follow", "aniso_s3"}, {"shear", "twist", "roll", "slip"}, false, {}}}},
       // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
       // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
       {"fots",

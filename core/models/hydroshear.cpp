@@ -76,6 +76,9 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool conta
         {"follow", "", 0.75, 0, 1.5,
          "contact-following tractions: kernels shift by follow x the contact's mean stuck displacement "
          "(0 = the authors' anchors, where each point entered)"},
+        {"aniso_s3", "", 3, 0, 10,
+         "far field's anisotropy: + aniso_s3 l_s3 d (d . v), a tangential load moves the gel more along itself "
+         "than across (Cerruti's Poisson term; 0 = isotropic)"},
     };
     specs.insert(specs.end(), more.begin(), more.end());
   }
@@ -103,6 +106,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
   if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
   if (p.index_of("follow") >= 0) k.follow = p.get("follow");
+  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3");
   return k;
 }
 
@@ -140,6 +144,7 @@ struct HydroShearBatch::Scratch {
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
+  std::vector<double> aniso_a[4], aniso_s; // the anisotropic term's anchors, weights and sums
   double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
@@ -568,7 +573,7 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   contact_shift(sc);
   add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick}, sc);
   if (k_.beta_s > 0) add_shear_term({k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_}, sc);
-  if (k_.beta_s3 > 0) add_shear_term({k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_}, sc);
+  if (k_.beta_s3 > 0) add_shear_term({k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_, false, k_.aniso_s3}, sc);
   if (!stick) return;
   // The stick zone: where the contact's weights pile up, the field tends to their weighted mean state
   // instead of growing with their sum (docs/effects.md, "The stick zone").
@@ -640,7 +645,67 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   for (int i = 0; i < n; ++i)
     if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0 || (term.with_weights && sc.ww[i] != 0)))
       shear_point_slow(term, sc, i, sc.wvx[i], sc.wvy[i]);
-  if (factored) shear_sum_fast(term, sc, mp);
+  if (factored) term.aniso != 0 ? shear_sum_fast_aniso(term, sc, mp) : shear_sum_fast(term, sc, mp);
+}
+
+// The fast points' share of an anisotropic term, sum_i G_i (v_i + k l d_i (d_i . v_i)), d_i = m - a_i. With
+// X = x_c - c_x, A = a_i - c (a centre c for the precision), d = (X - A_x, Y - A_y), the tensor part expands
+// into plain Gaussian sums S[q] = sum_i q_i G_i of the weights v A^k:
+//   sum_i G_i d_x (d . v) = X^2 S[vx] - 2X S[vx Ax] + S[vx Ax^2] + XY S[vy] - X S[vy Ay] - Y S[vy Ax] + S[vy Ax Ay]
+//   sum_i G_i d_y (d . v) = XY S[vx] - X S[vx Ay] - Y S[vx Ax] + S[vx Ax Ay] + Y^2 S[vy] - 2Y S[vy Ay] + S[vy Ay^2]
+// so the factored product runs five times (two weight blocks each) instead of once.
+void HydroShearBatch::shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const {
+  const int rows = grid_.rows, cols = grid_.cols, nm = rows * cols;
+  exp_in_place(sc.args.data(), 3 * mp);
+  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
+  sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
+  sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
+  const double cx = 0.5 * (grid_.xs.front() + grid_.xs.back()), cy = 0.5 * (grid_.ys.front() + grid_.ys.back());
+  const PointColumns& F = *sc.field;
+  const int n = F.size();
+  std::vector<double>& Ax = sc.aniso_a[0];
+  std::vector<double>& Ay = sc.aniso_a[1];
+  Ax.assign(mp, 0.0), Ay.assign(mp, 0.0);
+  for (int i = 0; i < n; ++i) {
+    Ax[i] = sc.fx[i] + F.ux[i] + sc.shift_x - cx;
+    Ay[i] = sc.fy[i] + F.uy[i] + sc.shift_y - cy;
+  }
+  const double* vx = sc.wvx.data();
+  const double* vy = sc.wvy.data();
+  // S[p][0 | 1][j]: the sums of the weight pairs (vx, vy), (vx Ax, vy Ay), (vx Ay, vy Ax), (vx Ax^2, vy Ay^2),
+  // (vx Ax Ay, vy Ax Ay).
+  std::vector<double>& qa = sc.aniso_a[2];
+  std::vector<double>& qb = sc.aniso_a[3];
+  qa.resize(mp), qb.resize(mp);
+  sc.aniso_s.resize(10 * static_cast<std::size_t>(nm));
+  const double* e = sc.args.data();
+  for (int p = 0; p < 5; ++p) {
+    for (int i = 0; i < mp; ++i) {
+      const double ax = Ax[i], ay = Ay[i];
+      const double fa[5] = {1, ax, ay, ax * ax, ax * ay}, fb[5] = {1, ay, ax, ay * ay, ax * ay};
+      qa[i] = vx[i] * fa[p];
+      qb[i] = vy[i] * fb[p];
+    }
+    kernels::shear_matrices(e, e + mp, e + 2 * mp, qa.data(), qb.data(), sc.fast.data(), mp, rows, cols, term.gx->q(),
+                            term.gy->q(), sc.Xt.data(), sc.Wt.data(), nullptr);
+    sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
+    kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
+    std::copy(sc.S.begin(), sc.S.begin() + 2 * nm, sc.aniso_s.begin() + 2 * p * nm);
+  }
+  const double* S = sc.aniso_s.data();
+  auto s = [&](int p, int b, int j) { return S[(2 * p + b) * nm + j]; };
+  const double kl = term.aniso * term.lambda;
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int j = r * cols + c;
+      const double X = grid_.xs[c] - cx, Y = grid_.ys[r] - cy;
+      const double tx = X * X * s(0, 0, j) - 2 * X * s(1, 0, j) + s(3, 0, j) + X * Y * s(0, 1, j) - X * s(1, 1, j) -
+                        Y * s(2, 1, j) + s(4, 1, j);
+      const double ty = X * Y * s(0, 0, j) - X * s(2, 0, j) - Y * s(1, 0, j) + s(4, 0, j) + Y * Y * s(0, 1, j) -
+                        2 * Y * s(1, 1, j) + s(3, 1, j);
+      sc.shear_x[j] += s(0, 0, j) + kl * tx;
+      sc.shear_y[j] += s(0, 1, j) + kl * ty;
+    }
 }
 
 // The fast points' share of the shear sum (see shear_sum).
@@ -666,6 +731,12 @@ void HydroShearBatch::shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp)
     for (int j = 0; j < nm; ++j) sc.shear_w[j] += sc.S[2 * nm + j];
 }
 
+// A point's term v at in-plane offset d (anchor to marker), with the term's anisotropy: v + k l d (d . v).
+Vec2 HydroShearBatch::aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy) {
+  const Vec2 v(vx, vy);
+  return term.aniso == 0 ? v : Vec2(v + term.aniso * term.lambda * d * d.dot(v));
+}
+
 // One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
 // grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
 void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const {
@@ -686,8 +757,9 @@ void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i
     for (int r = 0; r < rows; ++r)
       for (int c = 0; c < cols; ++c) {
         const double g = ez * sc.ey[r] * sc.ex[c];
-        sx[r * cols + c] += vx * g;
-        sy[r * cols + c] += vy * g;
+        const Vec2 v = aniso_term(term, Vec2(grid_.xs[c] - a.x(), grid_.ys[r] - a.y()), vx, vy);
+        sx[r * cols + c] += v.x() * g;
+        sy[r * cols + c] += v.y() * g;
         if (sw != nullptr) sw[r * cols + c] += vw * g;
       }
     return;
@@ -695,8 +767,9 @@ void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i
   const auto& M = sensor_->p_EM;
   for (std::size_t j = 0; j < M.size(); ++j) {
     const double g = std::exp(-ls * (M[j] - a).squaredNorm());
-    sx[j] += vx * g;
-    sy[j] += vy * g;
+    const Vec2 v = aniso_term(term, (M[j] - a).head<2>(), vx, vy);
+    sx[j] += v.x() * g;
+    sy[j] += v.y() * g;
     if (sw != nullptr) sw[j] += vw * g;
   }
 }

@@ -41,7 +41,10 @@ namespace sb {
 //     mean stuck displacement, a_i = o_i + u_i - follow * sum_k w_k u_k^t / sum_k w_k: the authors
 //     centre a point's traction where it entered the gel (follow = 0); with follow = 1 a translating,
 //     stuck contact's tractions act where the contact is now, while the pattern relative to the mean
-//     (a twist's) keeps the authors' placement.
+//     (a twist's) keeps the authors' placement;
+//   - the far field's anisotropy: its term is beta_s3 exp(-l_s3 |d|^2) (v + aniso_s3 l_s3 d (d . v)), d the
+//     in-plane offset from the anchor to the marker, v the point's term: a tangential load moves the layer's
+//     surface more along itself than across it (Cerruti's Poisson term; aniso_s3 = 0 is isotropic).
 std::vector<ParamSpec> hydroshear_param_specs(bool layer = false, bool stick = false, bool contact = false);
 
 struct HydroShearParams {
@@ -50,6 +53,7 @@ struct HydroShearParams {
   double stick_sat = 0;               // the stick zone's saturation (1/m; 0: the authors' linear sum)
   double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
   double follow = 0;                  // contact-following tractions (0: the authors' anchors)
+  double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -138,11 +142,14 @@ class HydroShearBatch {
     double weight, lambda;
     const GaussianAxis *gx, *gy;
     bool with_weights = false;   // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
+    double aniso = 0;            // + aniso lambda d (d . v): the along-the-load anisotropy (contact's far field)
   };
   void contact_shift(Scratch& sc) const;
   void shear_sum(const Pose& X_EI, Scratch& sc) const;
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
+  void shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const;
+  static Vec2 aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy);
   void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const;
   void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   // Inline: called for every candidate point when the gel is not a flat pad.
