@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -144,7 +145,7 @@ struct HydroShearBatch::Scratch {
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
-  std::vector<double> aniso_a[4], aniso_s; // the anisotropic term's anchors, weights and sums
+  std::vector<double> aniso_q;             // the anisotropic term's moment weights (shear_sum_fast_aniso)
   double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
@@ -653,58 +654,48 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
 // into plain Gaussian sums S[q] = sum_i q_i G_i of the weights v A^k:
 //   sum_i G_i d_x (d . v) = X^2 S[vx] - 2X S[vx Ax] + S[vx Ax^2] + XY S[vy] - X S[vy Ay] - Y S[vy Ax] + S[vy Ax Ay]
 //   sum_i G_i d_y (d . v) = XY S[vx] - X S[vx Ay] - Y S[vx Ax] + S[vx Ax Ay] + Y^2 S[vy] - 2Y S[vy Ay] + S[vy Ay^2]
-// so the factored product runs five times (two weight blocks each) instead of once.
+// so the factored product carries ten blocks of weights (one Xt, one product) instead of two.
 void HydroShearBatch::shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const {
+  constexpr int kBlocks = 10;   // vx, vy, vx Ax, vy Ay, vx Ay, vy Ax, vx Ax^2, vy Ay^2, vx Ax Ay, vy Ax Ay
   const int rows = grid_.rows, cols = grid_.cols, nm = rows * cols;
   exp_in_place(sc.args.data(), 3 * mp);
-  const int cols_pad = (cols + 2) / 3 * 3, nw = 2 * rows, nw_pad = (nw + 2) / 3 * 3;
+  const int cols_pad = (cols + 2) / 3 * 3, nw = kBlocks * rows, nw_pad = (nw + 2) / 3 * 3;
   sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
   sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
   const double cx = 0.5 * (grid_.xs.front() + grid_.xs.back()), cy = 0.5 * (grid_.ys.front() + grid_.ys.back());
   const PointColumns& F = *sc.field;
   const int n = F.size();
-  std::vector<double>& Ax = sc.aniso_a[0];
-  std::vector<double>& Ay = sc.aniso_a[1];
-  Ax.assign(mp, 0.0), Ay.assign(mp, 0.0);
-  for (int i = 0; i < n; ++i) {
-    Ax[i] = sc.fx[i] + F.ux[i] + sc.shift_x - cx;
-    Ay[i] = sc.fy[i] + F.uy[i] + sc.shift_y - cy;
-  }
   const double* vx = sc.wvx.data();
   const double* vy = sc.wvy.data();
-  // S[p][0 | 1][j]: the sums of the weight pairs (vx, vy), (vx Ax, vy Ay), (vx Ay, vy Ax), (vx Ax^2, vy Ay^2),
-  // (vx Ax Ay, vy Ax Ay).
-  std::vector<double>& qa = sc.aniso_a[2];
-  std::vector<double>& qb = sc.aniso_a[3];
-  qa.resize(mp), qb.resize(mp);
-  sc.aniso_s.resize(10 * static_cast<std::size_t>(nm));
-  const double* e = sc.args.data();
-  for (int p = 0; p < 5; ++p) {
-    for (int i = 0; i < mp; ++i) {
-      const double ax = Ax[i], ay = Ay[i];
-      const double fa[5] = {1, ax, ay, ax * ax, ax * ay}, fb[5] = {1, ay, ax, ay * ay, ax * ay};
-      qa[i] = vx[i] * fa[p];
-      qb[i] = vy[i] * fb[p];
-    }
-    kernels::shear_matrices(e, e + mp, e + 2 * mp, qa.data(), qb.data(), sc.fast.data(), mp, rows, cols, term.gx->q(),
-                            term.gy->q(), sc.Xt.data(), sc.Wt.data(), nullptr);
-    sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
-    kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
-    std::copy(sc.S.begin(), sc.S.begin() + 2 * nm, sc.aniso_s.begin() + 2 * p * nm);
+  auto& q = sc.aniso_q;
+  q.assign(static_cast<std::size_t>(kBlocks - 2) * mp, 0.0);
+  for (int i = 0; i < n; ++i) {
+    const double ax = sc.fx[i] + F.ux[i] + sc.shift_x - cx, ay = sc.fy[i] + F.uy[i] + sc.shift_y - cy;
+    const double w[kBlocks - 2] = {vx[i] * ax,      vy[i] * ay,      vx[i] * ay,      vy[i] * ax,
+                                   vx[i] * ax * ax, vy[i] * ay * ay, vx[i] * ax * ay, vy[i] * ax * ay};
+    for (int b = 0; b < kBlocks - 2; ++b) q[static_cast<std::size_t>(b) * mp + i] = w[b];
   }
-  const double* S = sc.aniso_s.data();
-  auto s = [&](int p, int b, int j) { return S[(2 * p + b) * nm + j]; };
+  const double* e = sc.args.data();
+  kernels::shear_matrices(e, e + mp, e + 2 * mp, vx, vy, sc.fast.data(), mp, rows, cols, term.gx->q(), term.gy->q(),
+                          sc.Xt.data(), sc.Wt.data(), nullptr);
+  for (int b = 2; b < kBlocks; ++b)
+    kernels::weight_block(e + 2 * mp, &q[static_cast<std::size_t>(b - 2) * mp], sc.fast.data(), mp, rows, term.gy->q(),
+                          sc.Wt.data() + static_cast<std::ptrdiff_t>(b) * rows * mp);
+  std::memset(sc.Wt.data() + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
+  sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
+  kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
+  const double* S = sc.S.data();
+  // S[b * nm + j]: block b's sum at marker j = r * cols + c.
   const double kl = term.aniso * term.lambda;
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
       const int j = r * cols + c;
+      auto s = [&](int b) { return S[b * nm + j]; };
       const double X = grid_.xs[c] - cx, Y = grid_.ys[r] - cy;
-      const double tx = X * X * s(0, 0, j) - 2 * X * s(1, 0, j) + s(3, 0, j) + X * Y * s(0, 1, j) - X * s(1, 1, j) -
-                        Y * s(2, 1, j) + s(4, 1, j);
-      const double ty = X * Y * s(0, 0, j) - X * s(2, 0, j) - Y * s(1, 0, j) + s(4, 0, j) + Y * Y * s(0, 1, j) -
-                        2 * Y * s(1, 1, j) + s(3, 1, j);
-      sc.shear_x[j] += s(0, 0, j) + kl * tx;
-      sc.shear_y[j] += s(0, 1, j) + kl * ty;
+      const double tx = X * X * s(0) - 2 * X * s(2) + s(6) + X * Y * s(1) - X * s(3) - Y * s(5) + s(9);
+      const double ty = X * Y * s(0) - X * s(4) - Y * s(2) + s(8) + Y * Y * s(1) - 2 * Y * s(3) + s(7);
+      sc.shear_x[j] += s(0) + kl * tx;
+      sc.shear_y[j] += s(1) + kl * ty;
     }
 }
 

@@ -192,6 +192,24 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
 }
 
+SB_VECTOR_CLONES
+void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
+                  double* block) {
+#pragma GCC ivdep
+  for (int i = 0; i < mp; ++i) {
+    const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
+    block[i] = fast[i] ? x : 0.0;
+  }
+  double q_pow = 1.0;
+  for (int r = 1; r < rows; ++r) {
+    const double* prev = block + static_cast<std::ptrdiff_t>(r - 1) * mp;
+    double* row = block + static_cast<std::ptrdiff_t>(r) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_ry[i] * q_pow);
+    q_pow *= qy;
+  }
+}
+
 namespace {
 // GCC notes that a 32-byte vector passed by value has another ABI with AVX; these helpers are always
 // inlined, never called across that boundary.

@@ -65,6 +65,11 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
                     double* Wt, const double* vw = nullptr);
 
+// One more block of rows of Wt for another weight column: block[r * mp + i] = fast_i w_i Y_i[r] (the same
+// recurrence as shear_matrices' blocks, so it pairs with the Xt that shear_matrices built).
+void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
+                  double* block);
+
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
