@@ -177,7 +177,8 @@ HydroShearBatch::~HydroShearBatch() = default;
 HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
     : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
-      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_), gauss_x3_(o.gauss_x3_), gauss_y3_(o.gauss_y3_),
+      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_),
+      gauss_x3_(o.gauss_x3_), gauss_y3_(o.gauss_y3_),
       dil_x_(o.dil_x_), dil_y_(o.dil_y_),
       marker_z_max_(o.marker_z_max_), table_(o.table_), cull_z_(o.cull_z_), cull_(o.cull_), slots_(o.slots_),
       pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}

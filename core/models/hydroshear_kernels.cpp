@@ -132,6 +132,32 @@ void shear_operands(const ShearColumns& in, const ShearConstants& constants, int
                : shear_operands_loop<false, false>(c, k, n, vx, vy, lead, rx, ry, fast);
 }
 
+namespace {
+// Rows 1..n-1 of a block from its row 0: row k = row k-1 * r_i q^(k-1), the ratio recurrence of GaussianAxis
+// carried across rows (each row one vectorised pass over the points).
+[[gnu::always_inline]] inline void ratio_recurrence(double* block, const double* e_r, int mp, int n, double q) {
+  double q_pow = 1.0;
+  for (int k = 1; k < n; ++k) {
+    const double* prev = block + static_cast<std::ptrdiff_t>(k - 1) * mp;
+    double* row = block + static_cast<std::ptrdiff_t>(k) * mp;
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_r[i] * q_pow);
+    q_pow *= q;
+  }
+}
+}  // namespace
+
+SB_VECTOR_CLONES
+void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
+                  double* block) {
+#pragma GCC ivdep
+  for (int i = 0; i < mp; ++i) {
+    const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
+    block[i] = fast[i] ? x : 0.0;
+  }
+  ratio_recurrence(block, e_ry, mp, rows, qy);
+}
+
 SB_VECTOR_CLONES
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
                     const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
@@ -139,14 +165,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   // Xt: row 0 = E_i, row c = row c-1 * r_i q^(c-1), the ratio recurrence of GaussianAxis carried
   // across rows (each row is one vectorised pass over the points).
   for (int i = 0; i < mp; ++i) Xt[i] = e_lead[i];
-  double q_pow = 1.0;
-  for (int c = 1; c < cols; ++c) {
-    const double* prev = Xt + static_cast<std::ptrdiff_t>(c - 1) * mp;
-    double* row = Xt + static_cast<std::ptrdiff_t>(c) * mp;
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_rx[i] * q_pow);
-    q_pow *= qx;
-  }
+  ratio_recurrence(Xt, e_rx, mp, cols, qx);
   const int cols_pad = (cols + 2) / 3 * 3;
   std::memset(Xt + static_cast<std::ptrdiff_t>(cols) * mp, 0, sizeof(double) * mp * (cols_pad - cols));
   // Wt: rows 0 = (fast) vx_i and vy_i, then the y axis' recurrence applied to both.
@@ -158,7 +177,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
     wx0[i] = fast[i] ? x : 0.0;
     wy0[i] = fast[i] ? y : 0.0;
   }
-  q_pow = 1.0;
+  double q_pow = 1.0;
   for (int r = 1; r < rows; ++r) {
     const double* px = wx0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
     const double* py = wy0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
@@ -172,42 +191,10 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
     }
     q_pow *= qy;
   }
-  if (vw != nullptr) {   // the weights' block, the same recurrence
-    double* ww0 = Wt + static_cast<std::ptrdiff_t>(2 * rows) * mp;
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) {
-      const double w = vw[i];
-      ww0[i] = fast[i] ? w : 0.0;
-    }
-    q_pow = 1.0;
-    for (int r = 1; r < rows; ++r) {
-      const double* pw = ww0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
-      double* rw = ww0 + static_cast<std::ptrdiff_t>(r) * mp;
-#pragma GCC ivdep
-      for (int i = 0; i < mp; ++i) rw[i] = pw[i] * (e_ry[i] * q_pow);
-      q_pow *= qy;
-    }
-  }
+  // The weights' block, the same recurrence.
+  if (vw != nullptr) weight_block(e_ry, vw, fast, mp, rows, qy, Wt + static_cast<std::ptrdiff_t>(2 * rows) * mp);
   const int nw = (vw != nullptr ? 3 : 2) * rows, nw_pad = (nw + 2) / 3 * 3;
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
-}
-
-SB_VECTOR_CLONES
-void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
-                  double* block) {
-#pragma GCC ivdep
-  for (int i = 0; i < mp; ++i) {
-    const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
-    block[i] = fast[i] ? x : 0.0;
-  }
-  double q_pow = 1.0;
-  for (int r = 1; r < rows; ++r) {
-    const double* prev = block + static_cast<std::ptrdiff_t>(r - 1) * mp;
-    double* row = block + static_cast<std::ptrdiff_t>(r) * mp;
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_ry[i] * q_pow);
-    q_pow *= qy;
-  }
 }
 
 namespace {
