@@ -148,6 +148,56 @@ TEST_CASE("shear kernels: one anchor on a marker gives the Gaussian of the grid"
     }
 }
 
+TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v + k l d (d . v))",
+          "[hydroshear][kernels]") {
+  // The grid and point of the test above (lambda = 1e6 m^-2, 1 mm pitch, the anchor on marker (0, 0),
+  // vx = -2e-8 m^2, vy = 0), anisotropy k = 2, so kl = 2e6 and at marker (c, r) d = (c, r) mm, l |d|^2 =
+  // c^2 + r^2, kl d (d . v) = 2 vx (c^2, c r):
+  //   S_x = vx e^-(c^2 + r^2) (1 + 2 c^2),  S_y = vx e^-(c^2 + r^2) 2 c r.
+  // Assembled as shear_sum_fast_aniso does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
+  constexpr double kFloatRel = 1e-6;   // single-precision operands, sums in double
+  constexpr double l = 1e6, h = 1e-3, kAniso = 2, vx0 = -2e-8;
+  constexpr int cols = 4, rows = 3, mp = 8, cols_pad = 6;
+  std::vector<double> vx(mp, 0.0), vy(mp, 0.0), args(3 * mp, 0.0), ax(mp, 0.0), ay(mp, 0.0);
+  std::vector<std::uint8_t> fast(mp, 0);
+  vx[0] = vx0, fast[0] = 1;
+  // Exponents of the anchor at the grid's first marker: lead 0, rx = -l (h^2 + 2 h dx0) = -1, ry = -1.
+  args[mp] = -1, args[2 * mp] = -1;
+  exp_in_place(args.data(), 3 * mp);
+  const double q = std::exp(-2 * l * h * h);
+  std::vector<double> xs(cols), ys(rows);
+  for (int c = 0; c < cols; ++c) xs[c] = c * h;
+  for (int r = 0; r < rows; ++r) ys[r] = r * h;
+  std::vector<float> X3(3 * cols_pad * mp), W4(4 * rows * mp);
+  std::vector<double> Y(mp);
+  const double kl = kAniso * l;
+  kernels::aniso_operands(args.data(), args.data() + mp, args.data() + 2 * mp, vx.data(), vy.data(), fast.data(),
+                          ax.data(), ay.data(), xs.data(), ys.data(), rows, cols, mp, q, q, kl, X3.data(), W4.data(),
+                          Y.data());
+  const float* XC = X3.data();
+  const float* XA = XC + cols_pad * mp;
+  const float* XB = XA + cols_pad * mp;
+  const float* W1 = W4.data();
+  const float* WB = W1 + rows * mp;
+  const float* WC = WB + 2 * rows * mp;
+  const int nm = rows * cols;
+  std::vector<float> Sacc(8 * 4 * nm, 0.0f);   // 8 lanes per output
+  kernels::add_products_acc(W1, rows, XA, cols, mp, Sacc.data());
+  kernels::add_products_acc(WB, 2 * rows, XB, cols, mp, Sacc.data() + 8 * nm);
+  kernels::add_products_acc(WC, rows, XC, cols, mp, Sacc.data() + 8 * 3 * nm);
+  std::vector<double> S(4 * nm, 0.0);
+  for (int j = 0; j < 4 * nm; ++j)
+    for (int k = 0; k < 8; ++k) S[j] += Sacc[8 * j + k];
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int j = r * cols + c;
+      const double g = vx0 * std::exp(-(c * c + r * r));
+      INFO("marker (" << c << ", " << r << ")");
+      CHECK(S[j] + kl * S[nm + j] == Approx(g * (1 + kAniso * c * c)).epsilon(kFloatRel));
+      CHECK(S[3 * nm + j] + kl * S[2 * nm + j] == Approx(g * kAniso * c * r).epsilon(kFloatRel).margin(1e-30));
+    }
+}
+
 TEST_CASE("dilation_sum adds the depth-weighted kernel rows of the inside markers", "[hydroshear][kernels]") {
   // Three markers (stride 8): rows K[k][j] = 10 k + j for x and -(10 k + j) for y. Markers 0 and 2 inside
   // at depths 1 and 2: d_x[j] = (0 + j) + 2 (20 + j) = 40 + 3 j, d_y = -d_x.

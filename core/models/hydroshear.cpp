@@ -145,7 +145,9 @@ struct HydroShearBatch::Scratch {
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
-  std::vector<double> aniso_q;             // the anisotropic term's moment weights (shear_sum_fast_aniso)
+  std::vector<double> anchor_x, anchor_y;  // the anisotropic term's in-plane anchors (shear_sum_fast_aniso)
+  std::vector<float> Xf, Wf, Sf;           // and its single-precision operands and partial sums
+  std::vector<double> Yd;
   double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
@@ -612,10 +614,13 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
   // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
   constexpr double kMaxTotalExponent = 650;
+  // The anisotropic (far) term's operands are single precision (shear_sum_fast_aniso): its partial products
+  // and weights times e^+-60 stay inside float's range (1e-38..3e38) for weights up to 1e12.
+  constexpr double kMaxTotalExponentFloat = 60;
   const PointColumns& F = *sc.field;
   const int n = F.size();
   const bool factored = grid_.is_grid && term.gx->uniform() && term.gy->uniform();
-  const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
+  const int mp = (n + 7) / 8 * 8;  // whole 4-double and 8-float vectors
   // Padding points (n..mp): zero weight, exponents 0 (finite after exp), not fast.
   for (auto* v : {&sc.wvx, &sc.wvy}) v->resize(mp);
   sc.args.resize(3 * static_cast<std::size_t>(mp));
@@ -630,7 +635,8 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   kernels::ShearConstants k{};
   k.E = k_.E, k.K = k_.K, k.lambda_s = term.lambda, k.z0 = grid_.z0;
   k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
-  k.max_total_exponent = factored ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
+  const double budget = term.aniso != 0 ? kMaxTotalExponentFloat : kMaxTotalExponent;
+  k.max_total_exponent = factored ? budget : -kInf;  // -inf: every point takes the slow path
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   if (factored) {
     k.x0 = term.gx->front(), k.xn = term.gx->back(), k.hx = term.gx->pitch();
@@ -638,66 +644,86 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   }
   double* lead = sc.args.data();
   kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
+  // Local pointers: the loops below then vectorise, and the slow path's calls do not reload them.
+  double* wvx = sc.wvx.data();
+  double* wvy = sc.wvy.data();
+  const std::uint8_t* fast = sc.fast.data();
   if (term.weight != 1.0)
-    for (int i = 0; i < n; ++i) sc.wvx[i] *= term.weight, sc.wvy[i] *= term.weight;
+    for (int i = 0; i < n; ++i) wvx[i] *= term.weight, wvy[i] *= term.weight;
+  const double* ww = nullptr;
   if (term.with_weights) {   // w_i as shear_operands forms it
     sc.ww.assign(mp, 0.0);
     for (int i = 0; i < n; ++i) sc.ww[i] = term.weight * (k_.weight_paper ? -sc.field_phi[i] : k_.E * sc.field_un[i]);
+    ww = sc.ww.data();
   }
   for (int i = 0; i < n; ++i)
-    if (!sc.fast[i] && (sc.wvx[i] != 0 || sc.wvy[i] != 0 || (term.with_weights && sc.ww[i] != 0)))
-      shear_point_slow(term, sc, i, sc.wvx[i], sc.wvy[i]);
+    if (!fast[i] && (wvx[i] != 0 || wvy[i] != 0 || (ww != nullptr && ww[i] != 0)))
+      shear_point_slow(term, sc, i, wvx[i], wvy[i]);
   if (factored) term.aniso != 0 ? shear_sum_fast_aniso(term, sc, mp) : shear_sum_fast(term, sc, mp);
 }
 
 // The fast points' share of an anisotropic term, sum_i G_i (v_i + k l d_i (d_i . v_i)), d_i = m - a_i. With
-// X = x_c - c_x, A = a_i - c (a centre c for the precision), d = (X - A_x, Y - A_y), the tensor part expands
-// into plain Gaussian sums S[q] = sum_i q_i G_i of the weights v A^k:
-//   sum_i G_i d_x (d . v) = X^2 S[vx] - 2X S[vx Ax] + S[vx Ax^2] + XY S[vy] - X S[vy Ay] - Y S[vy Ax] + S[vy Ax Ay]
-//   sum_i G_i d_y (d . v) = XY S[vx] - X S[vx Ay] - Y S[vx Ax] + S[vx Ax Ay] + Y^2 S[vy] - 2Y S[vy Ay] + S[vy Ay^2]
-// so the factored product carries ten blocks of weights (one Xt, one product) instead of two.
+// G_i = (E_i X_i[c]) Y_i[r] factored as for an isotropic term (dx = x_c - a_x,i, dy = y_r - a_y,i):
+//   S_x = sum_i (vx Y) (E X (1 + kl dx^2)) + kl sum_i (vy Y dy) (E X dx)
+//   S_y = sum_i (vy Y (1 + kl dy^2)) (E X) + kl sum_i (vx Y dy) (E X dx)
+// three products of four weight blocks with three variants of the x factor (kernels::aniso_operands): 4 rows
+// of weights per marker row where the moments of the anchors needed 10. The operands are single precision:
+// this is the far term, a wide and smooth part of the field, and its sums change by ~1e-6 of themselves
+// (tests/test_hydroshear_contact.cpp) for half the memory traffic and twice the vector width.
 void HydroShearBatch::shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const {
-  constexpr int kBlocks = 10;   // vx, vy, vx Ax, vy Ay, vx Ay, vy Ax, vx Ax^2, vy Ay^2, vx Ax Ay, vy Ax Ay
+  // Points in chunks whose operands (55 rows of floats) stay in the first-level cache between being
+  // built and being multiplied.
+  constexpr int kChunk = 96;
   const int rows = grid_.rows, cols = grid_.cols, nm = rows * cols;
   exp_in_place(sc.args.data(), 3 * mp);
-  const int cols_pad = (cols + 2) / 3 * 3, nw = kBlocks * rows, nw_pad = (nw + 2) / 3 * 3;
-  sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
-  sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
-  const double cx = 0.5 * (grid_.xs.front() + grid_.xs.back()), cy = 0.5 * (grid_.ys.front() + grid_.ys.back());
+  const int cols_pad = (cols + 2) / 3 * 3;
+  const std::ptrdiff_t xsz = static_cast<std::ptrdiff_t>(cols_pad) * kChunk;
+  sc.Xf.resize(3 * xsz);
+  sc.Wf.resize(4 * static_cast<std::size_t>(rows) * kChunk);
+  sc.Yd.resize(kChunk);
   const PointColumns& F = *sc.field;
   const int n = F.size();
-  const double* vx = sc.wvx.data();
-  const double* vy = sc.wvy.data();
-  auto& q = sc.aniso_q;
-  q.assign(static_cast<std::size_t>(kBlocks - 2) * mp, 0.0);
-  for (int i = 0; i < n; ++i) {
-    const double ax = sc.fx[i] + F.ux[i] + sc.shift_x - cx, ay = sc.fy[i] + F.uy[i] + sc.shift_y - cy;
-    const double w[kBlocks - 2] = {vx[i] * ax,      vy[i] * ay,      vx[i] * ay,      vy[i] * ax,
-                                   vx[i] * ax * ax, vy[i] * ay * ay, vx[i] * ax * ay, vy[i] * ax * ay};
-    for (int b = 0; b < kBlocks - 2; ++b) q[static_cast<std::size_t>(b) * mp + i] = w[b];
+  sc.anchor_x.assign(mp, 0.0);
+  sc.anchor_y.assign(mp, 0.0);
+  {
+    double* ax = sc.anchor_x.data();
+    double* ay = sc.anchor_y.data();
+    const double *px = sc.fx, *py = sc.fy, *ux = F.ux.data(), *uy = F.uy.data();
+    const double sx = sc.shift_x, sy = sc.shift_y;
+    for (int i = 0; i < n; ++i) ax[i] = px[i] + ux[i] + sx, ay[i] = py[i] + uy[i] + sy;
   }
   const double* e = sc.args.data();
-  kernels::shear_matrices(e, e + mp, e + 2 * mp, vx, vy, sc.fast.data(), mp, rows, cols, term.gx->q(), term.gy->q(),
-                          sc.Xt.data(), sc.Wt.data(), nullptr);
-  for (int b = 2; b < kBlocks; ++b)
-    kernels::weight_block(e + 2 * mp, &q[static_cast<std::size_t>(b - 2) * mp], sc.fast.data(), mp, rows, term.gy->q(),
-                          sc.Wt.data() + static_cast<std::ptrdiff_t>(b) * rows * mp);
-  std::memset(sc.Wt.data() + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
-  sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
-  kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
-  const double* S = sc.S.data();
-  // S[b * nm + j]: block b's sum at marker j = r * cols + c.
   const double kl = term.aniso * term.lambda;
-  for (int r = 0; r < rows; ++r)
-    for (int c = 0; c < cols; ++c) {
-      const int j = r * cols + c;
-      auto s = [&](int b) { return S[b * nm + j]; };
-      const double X = grid_.xs[c] - cx, Y = grid_.ys[r] - cy;
-      const double tx = X * X * s(0) - 2 * X * s(2) + s(6) + X * Y * s(1) - X * s(3) - Y * s(5) + s(9);
-      const double ty = X * Y * s(0) - X * s(4) - Y * s(2) + s(8) + Y * Y * s(1) - 2 * Y * s(3) + s(7);
-      sc.shear_x[j] += s(0) + kl * tx;
-      sc.shear_y[j] += s(1) + kl * ty;
-    }
+  // Partial sums, 8 lanes per output: S_1 = W1 XA, S_B = WB XB (two blocks), S_C = WC XC.
+  sc.Sf.assign(8 * 4 * static_cast<std::size_t>(nm), 0.0f);
+  float* S1 = sc.Sf.data();
+  float* SB = S1 + 8 * nm;
+  float* SC = SB + 16 * nm;
+  for (int off = 0; off < mp; off += kChunk) {
+    const int m = std::min(kChunk, mp - off);   // a multiple of 8, as mp and kChunk are
+    float* XC = sc.Xf.data();
+    float* XA = XC + static_cast<std::ptrdiff_t>(cols_pad) * m;
+    float* XB = XA + static_cast<std::ptrdiff_t>(cols_pad) * m;
+    float* W1 = sc.Wf.data();
+    float* WB = W1 + static_cast<std::ptrdiff_t>(rows) * m;
+    float* WC = WB + static_cast<std::ptrdiff_t>(2 * rows) * m;
+    kernels::aniso_operands(e + off, e + mp + off, e + 2 * mp + off, sc.wvx.data() + off, sc.wvy.data() + off,
+                            sc.fast.data() + off, sc.anchor_x.data() + off, sc.anchor_y.data() + off,
+                            grid_.xs.data(), grid_.ys.data(), rows, cols, m, term.gx->q(), term.gy->q(), kl, XC, W1,
+                            sc.Yd.data());
+    kernels::add_products_acc(W1, rows, XA, cols, m, S1);       // S_x's isotropic-and-dx^2 part
+    kernels::add_products_acc(WB, 2 * rows, XB, cols, m, SB);   // the dx dy parts of S_x, S_y
+    kernels::add_products_acc(WC, rows, XC, cols, m, SC);       // S_y's isotropic-and-dy^2 part
+  }
+  auto lanes = [](const float* p) {
+    double s = 0;
+    for (int k = 0; k < 8; ++k) s += p[k];
+    return s;
+  };
+  for (int j = 0; j < nm; ++j) {
+    sc.shear_x[j] += lanes(S1 + 8 * j) + kl * lanes(SB + 8 * j);
+    sc.shear_y[j] += lanes(SC + 8 * j) + kl * lanes(SB + 8 * (nm + j));
+  }
 }
 
 // The fast points' share of the shear sum (see shear_sum).

@@ -197,6 +197,72 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
 }
 
+SB_VECTOR_CLONES
+void aniso_operands(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
+                    const std::uint8_t* fast, const double* ax, const double* ay, const double* xs, const double* ys,
+                    int rows, int cols, int mp, double qx, double qy, double kl, float* X3, float* W4, double* Yd) {
+  const auto row = [mp](float* m, int r) { return m + static_cast<std::ptrdiff_t>(r) * mp; };
+  const int cols_pad = (cols + 2) / 3 * 3;
+  float* XC = X3;
+  float* XA = row(X3, cols_pad);
+  float* XB = row(X3, 2 * cols_pad);
+  // The x factor E_i X_i[c] (its ratio recurrence in double: Xd holds the running row) and its variants.
+  double* Xd = Yd;
+  for (int i = 0; i < mp; ++i) Xd[i] = e_lead[i];
+  double q_pow = 1.0;
+  for (int c = 0; c < cols; ++c) {
+    if (c > 0) {
+#pragma GCC ivdep
+      for (int i = 0; i < mp; ++i) Xd[i] *= e_rx[i] * q_pow;
+      q_pow *= qx;
+    }
+    float* xc = row(XC, c);
+    float* xa = row(XA, c);
+    float* xb = row(XB, c);
+    const double X = xs[c];
+    const float klf = static_cast<float>(kl);
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) {   // the variants in float: the operands are rounded to float anyway
+      const float e = static_cast<float>(Xd[i]), dx = static_cast<float>(X - ax[i]);
+      xc[i] = e;
+      xa[i] = e * (1 + klf * dx * dx);
+      xb[i] = e * dx;
+    }
+  }
+  for (int c = cols; c < cols_pad; ++c)
+    for (float* m : {XC, XA, XB}) std::memset(row(m, c), 0, sizeof(float) * mp);
+  // The weights: W1 = vx Y, WB = [vy Y dy ; vx Y dy], WC = vy Y (1 + kl dy^2), with Yd the running row of
+  // fast_i Y_i[r] (its recurrence, as shear_matrices').
+  float* W1 = W4;
+  float* WB = row(W4, rows);
+  float* WC = row(W4, 3 * rows);
+  double* Yrun = Yd;
+  for (int i = 0; i < mp; ++i) Yrun[i] = fast[i] ? 1.0 : 0.0;
+  q_pow = 1.0;
+  for (int r = 0; r < rows; ++r) {
+    if (r > 0) {
+#pragma GCC ivdep
+      for (int i = 0; i < mp; ++i) Yrun[i] *= e_ry[i] * q_pow;
+      q_pow *= qy;
+    }
+    float* w1 = row(W1, r);
+    float* by = row(WB, r);
+    float* bx = row(WB, rows + r);
+    float* wc = row(WC, r);
+    const double Y = ys[r];
+    const float klf = static_cast<float>(kl);
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) {
+      const float dy = static_cast<float>(Y - ay[i]), wx = static_cast<float>(vx[i] * Yrun[i]),
+                  wy = static_cast<float>(vy[i] * Yrun[i]);
+      w1[i] = wx;
+      by[i] = wy * dy;
+      bx[i] = wx * dy;
+      wc[i] = wy * (1 + klf * dy * dy);
+    }
+  }
+}
+
 namespace {
 // GCC notes that a 32-byte vector passed by value has another ABI with AVX; these helpers are always
 // inlined, never called across that boundary.
@@ -207,41 +273,114 @@ using v4d = double __attribute__((vector_size(32)));
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-[[gnu::always_inline]] inline double hsum(v4d v) { return (v[0] + v[1]) + (v[2] + v[3]); }
+using v8f = float __attribute__((vector_size(32)));
+template <typename T> struct Vec;
+template <> struct Vec<double> { using type = v4d; static constexpr int width = 4; };
+template <> struct Vec<float> { using type = v8f; static constexpr int width = 8; };
+template <typename V, typename T>
+[[gnu::always_inline]] inline V load(const T* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <typename V>
+[[gnu::always_inline]] inline double lane_sum(V v) {
+  double s = 0;
+  for (int k = 0; k < static_cast<int>(sizeof(V) / sizeof(v[0])); ++k) s += v[k];
+  return s;
+}
+
+// A rows of W against three rows of X: 3A vector accumulators (A <= 4: twelve, with the three X vectors
+// and one W vector, in sixteen registers), each point vector of X loaded once and used A times.
+template <typename T, int A>
+[[gnu::always_inline]] inline void product_block(const T* w, const T* x, int mp, double out[A][3]) {
+  using V = typename Vec<T>::type;
+  constexpr int kW = Vec<T>::width;
+  V acc[A][3] = {};
+  const T* x1 = x + mp;
+  const T* x2 = x1 + mp;
+  for (int i = 0; i < mp; i += kW) {
+    const V b0 = load<V>(x + i), b1 = load<V>(x1 + i), b2 = load<V>(x2 + i);
+    for (int k = 0; k < A; ++k) {
+      const V ak = load<V>(w + static_cast<std::ptrdiff_t>(k) * mp + i);
+      acc[k][0] += ak * b0;
+      acc[k][1] += ak * b1;
+      acc[k][2] += ak * b2;
+    }
+  }
+  for (int k = 0; k < A; ++k)
+    for (int d = 0; d < 3; ++d) out[k][d] = lane_sum(acc[k][d]);
+}
+
+template <typename T, int A>
+[[gnu::always_inline]] inline void add_row_block(const T* Wt, int a, const T* Xt, int cols, int mp, double* S) {
+  const T* w = Wt + static_cast<std::ptrdiff_t>(a) * mp;
+  for (int c = 0; c < cols; c += 3) {
+    double out[A][3];
+    product_block<T, A>(w, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, out);
+    for (int k = 0; k < A; ++k)
+      for (int d = 0; d < 3 && c + d < cols; ++d) S[(a + k) * cols + c + d] += out[k][d];
+  }
+}
+
+// Single precision, accumulated into 8-lane partial sums (Sacc: 8 floats per output): a caller that runs the
+// product over chunks of points adds each chunk's vectors and sums the lanes once, at the end.
+template <int A>
+[[gnu::always_inline]] inline void add_row_block_acc(const float* Wt, int a, const float* Xt, int cols, int mp,
+                                                     float* Sacc) {
+  const float* w = Wt + static_cast<std::ptrdiff_t>(a) * mp;
+  for (int c = 0; c < cols; c += 3) {
+    const float* x = Xt + static_cast<std::ptrdiff_t>(c) * mp;
+    v8f acc[A][3] = {};
+    const float* x1 = x + mp;
+    const float* x2 = x1 + mp;
+    for (int i = 0; i < mp; i += 8) {
+      const v8f b0 = load<v8f>(x + i), b1 = load<v8f>(x1 + i), b2 = load<v8f>(x2 + i);
+      for (int k = 0; k < A; ++k) {
+        const v8f ak = load<v8f>(w + static_cast<std::ptrdiff_t>(k) * mp + i);
+        acc[k][0] += ak * b0;
+        acc[k][1] += ak * b1;
+        acc[k][2] += ak * b2;
+      }
+    }
+    for (int k = 0; k < A; ++k)
+      for (int d = 0; d < 3 && c + d < cols; ++d) {
+        float* out = Sacc + 8 * static_cast<std::ptrdiff_t>((a + k) * cols + c + d);
+        v8f sum = load<v8f>(out) + acc[k][d];
+        std::memcpy(out, &sum, sizeof sum);
+      }
+  }
+}
+
+template <typename T>
+[[gnu::always_inline]] inline void add_products(const T* Wt, int nw, const T* Xt, int cols, int mp, double* S) {
+  int a = 0;
+  for (; a + 4 <= nw; a += 4) add_row_block<T, 4>(Wt, a, Xt, cols, mp, S);
+  switch (nw - a) {
+    case 3: add_row_block<T, 3>(Wt, a, Xt, cols, mp, S); break;
+    case 2: add_row_block<T, 2>(Wt, a, Xt, cols, mp, S); break;
+    case 1: add_row_block<T, 1>(Wt, a, Xt, cols, mp, S); break;
+    default: break;
+  }
+}
 }  // namespace
 
-// Register-blocked 3 x 3: nine vector accumulators, enough independent FMA chains to cover the FMA
-// latency on two pipes; each point vector of W and X is loaded once per block and used three times.
+// Register-blocked 4 x 3 (the last one to three rows of W in a block of their own, so no padding row of W
+// is multiplied): enough independent FMA chains to cover the FMA latency on two pipes.
 SB_VECTOR_CLONES
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
-  for (int a = 0; a < nw; a += 3) {
-    const double* w0 = Wt + static_cast<std::ptrdiff_t>(a) * mp;
-    const double* w1 = w0 + mp;
-    const double* w2 = w1 + mp;
-    for (int c = 0; c < cols; c += 3) {
-      const double* x0 = Xt + static_cast<std::ptrdiff_t>(c) * mp;
-      const double* x1 = x0 + mp;
-      const double* x2 = x1 + mp;
-      v4d s00 = {}, s01 = {}, s02 = {}, s10 = {}, s11 = {}, s12 = {}, s20 = {}, s21 = {}, s22 = {};
-      for (int i = 0; i < mp; i += 4) {
-        const v4d a0 = load4(w0 + i), a1 = load4(w1 + i), a2 = load4(w2 + i);
-        const v4d b0 = load4(x0 + i), b1 = load4(x1 + i), b2 = load4(x2 + i);
-        s00 += a0 * b0;
-        s01 += a0 * b1;
-        s02 += a0 * b2;
-        s10 += a1 * b0;
-        s11 += a1 * b1;
-        s12 += a1 * b2;
-        s20 += a2 * b0;
-        s21 += a2 * b1;
-        s22 += a2 * b2;
-      }
-      const double out[3][3] = {{hsum(s00), hsum(s01), hsum(s02)},
-                                {hsum(s10), hsum(s11), hsum(s12)},
-                                {hsum(s20), hsum(s21), hsum(s22)}};
-      for (int da = 0; da < 3 && a + da < nw; ++da)
-        for (int dc = 0; dc < 3 && c + dc < cols; ++dc) S[(a + da) * cols + c + dc] += out[da][dc];
-    }
+  add_products<double>(Wt, nw, Xt, cols, mp, S);
+}
+
+SB_VECTOR_CLONES
+void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc) {
+  int a = 0;
+  for (; a + 4 <= nw; a += 4) add_row_block_acc<4>(Wt, a, Xt, cols, mp, Sacc);
+  switch (nw - a) {
+    case 3: add_row_block_acc<3>(Wt, a, Xt, cols, mp, Sacc); break;
+    case 2: add_row_block_acc<2>(Wt, a, Xt, cols, mp, Sacc); break;
+    case 1: add_row_block_acc<1>(Wt, a, Xt, cols, mp, Sacc); break;
+    default: break;
   }
 }
 

@@ -70,9 +70,24 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
 void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
                   double* block);
 
+// The anisotropic term's operands in single precision (the factor 1 + k l d d^T; dx = xs[c] - ax_i,
+// dy = ys[r] - ay_i; ax, ay finite for every i < mp), from the same exponentials as shear_matrices:
+//   X3 = [XC; XA; XB], each round_up(cols, 3) rows (padding rows zeroed):
+//        XC[c] = E_i X_i[c],  XA[c] = XC[c] (1 + kl dx^2),  XB[c] = XC[c] dx
+//   W4 = [W1; WB; WC], 4 rows rows:
+//        W1[r] = fast vx Y[r],  WB[r] = fast vy Y[r] dy,  WB[rows + r] = fast vx Y[r] dy,
+//        WC[r] = fast vy Y[r] (1 + kl dy^2)
+// Yd: mp doubles of scratch.
+void aniso_operands(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
+                    const std::uint8_t* fast, const double* ax, const double* ay, const double* xs, const double* ys,
+                    int rows, int cols, int mp, double qx, double qy, double kl, float* X3, float* W4, double* Yd);
+
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
+// The same in single precision into 8-lane partial sums: Sacc[8 (a * cols + c) + k] += lane k of the sum
+// (the lanes' total is the product), mp a multiple of 8. For products run over chunks of points.
+void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc);
 
 // The dilation's sums over the markers inside the indenter: d[j] = sum_q h[q] K[ks[q] * stride + j] for
 // j < stride, for both axes (Kx, Ky k-major, rows padded with zeros to dilation_stride(markers)).
