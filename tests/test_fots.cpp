@@ -140,3 +140,29 @@ TEST_CASE("FOTS Reimpl: shear value, anchored at the contact-patch centre", "[mo
   const auto again = run(*m, box_pose(kBox, 0.5e-3, 0, -0.5e-3));
   CHECK(max_norm(again) < kPxTol);
 }
+
+TEST_CASE("FOTS Reimpl: the anchor is set when the normal approach ends (the authors' 'after the grasp')",
+          "[models][fots]") {
+  // A 4 mm sphere pressed in two steps, 0.2 mm then 0.8 mm, then rolled by 0.2 rad about x_E through its
+  // centre. The patch centre is on the gel plane, h = R - depth below the sphere's centre: c_I = (0, 0, -h).
+  // At 0.2 mm only the centre marker is inside (contact radius sqrt(2 R d) = 1.26 mm < 2.09 mm pitch), at
+  // 0.8 mm five (2.53 mm), all centred: G = (0, 0). The roll moves C in-plane by R_x(t) c_I - c_I =
+  // (0, h sin t, .), with no twist (the rotation vector has no z part), so at the centre marker
+  //   S = kappa_s (0, h sin t),  h = 3.2 mm (anchored at the end of the press) or 3.8 mm (at first contact).
+  constexpr double kR = 4e-3, kRoll = 0.2;
+  for (const double grasp : {1.0, 0.0}) {
+    auto m = fots_without_dilation("fots-reimpl", sphere_indenter(kR));
+    ParamSet p = m->params();
+    p.set("anchor_grasp", grasp);
+    m->set_params(p);
+    run(*m, sphere_pose(kR, 0, 0, -0.1e-3));
+    run(*m, sphere_pose(kR, 0, 0, 0.2e-3));
+    const auto pressed = run(*m, sphere_pose(kR, 0, 0, 0.8e-3));
+    CHECK(max_norm(pressed) < kPxTol);   // a pure press: no shear, whichever the anchor
+    const auto rolled = run(*m, sphere_pose(kR, 0, 0, 0.8e-3, Rx(kRoll)));
+    const double h = kR - (grasp > 0 ? 0.8e-3 : 0.2e-3);
+    INFO("anchor_grasp " << grasp);
+    CHECK(std::abs(rolled[marker_at(0, 0)].x()) < kPxTol);
+    CHECK(rolled[marker_at(0, 0)].y() == Approx(kPxPerM * h * std::sin(kRoll)).epsilon(1e-9));
+  }
+}

@@ -230,8 +230,8 @@ struct RefFots {
   const Sensor* sensor;
   const Indenter* ind;
   ParamSet p;
-  bool in_contact = false, have_prev = false;
-  Pose X_ref = Pose::Identity(), X_prev = Pose::Identity();
+  bool in_contact = false, have_prev = false, grasping = false;
+  Pose X_ref = Pose::Identity(), X_prev = Pose::Identity(), X_start = Pose::Identity();
   Vec3 c_I = Vec3::Zero(), se2_ref = Vec3::Zero();
   Quat q_last = Quat::Identity();
 
@@ -304,10 +304,23 @@ struct RefFots {
       X_prev = X;
       return out;
     }
+    // The anchor follows the patch centre until the pose leaves the normal approach (the authors' grasp):
+    // the first pose that differs from the history's start by more than a translation along z_E.
     if (!in_contact) {
       in_contact = true;
+      grasping = p.get("anchor_grasp") >= 0.5;
+      X_start = have_prev ? X_prev : X;
       c_I = c_sum / n_in;
-      se2_ref = se2(have_prev ? X_prev : X, false);
+      se2_ref = se2(X_start, false);
+    } else if (grasping) {
+      const bool normal = (X.translation() - X_start.translation()).head<2>().norm() <= 1e-9 &&
+                          Eigen::AngleAxisd(X.linear() * X_start.linear().transpose()).angle() <= 1e-9;
+      if (normal) {
+        c_I = c_sum / n_in;
+        se2_ref = se2(X_start, false);
+      } else {
+        grasping = false;
+      }
     }
     const Vec3 now = se2(X, true);
     const Vec2 dxy = now.head<2>() - se2_ref.head<2>();

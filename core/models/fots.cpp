@@ -59,6 +59,9 @@ std::vector<ParamSpec> fots_reimpl_param_specs() {
        "dilation scale: 2.5 x camera px/m (authors 2.5 x 1/0.065 mm = 38461.5)", true},
       {"kappa_s", "px/m", kCameraPxPerMetre, 1, 1e9, "shear scale: camera px/m (authors 15384.6)", true},
       {"kappa_t", "px/m", kCameraPxPerMetre, 1, 1e9, "twist scale: camera px/m (authors 15384.6)", true},
+      {"anchor_grasp", "", 1, 0, 1,
+       "1: the anchor is the patch centre when the normal approach ends, as the authors set it after the grasp "
+       "(faithful); 0: at first contact"},
   };
 }
 
@@ -97,6 +100,7 @@ void FotsBatch::set_params(const ParamSet& p) {
     kappa_d_ = p.get("kappa_d");
     kappa_s_ = p.get("kappa_s");
     kappa_t_ = p.get("kappa_t");
+    anchor_grasp_ = p.index_of("anchor_grasp") < 0 || param_flag(p, "anchor_grasp");
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k)
         set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
@@ -207,6 +211,19 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   clock.lap(Phase::Shear);
 }
 
+namespace {
+// True when X differs from X_ref only by a translation along z_E (the gel's normal), within what a pose
+// recorded to double precision carries: 1 nm in-plane, 1e-9 rad.
+bool only_along_normal(const Pose& X_ref, const Pose& X) {
+  constexpr double kInPlaneTol = 1e-9;   // m
+  constexpr double kAngleTol = 1e-9;     // rad
+  const Vec3 dt = X.translation() - X_ref.translation();
+  if (dt.head<2>().norm() > kInPlaneTol) return false;
+  const Eigen::AngleAxisd dR(X.linear() * X_ref.linear().transpose());
+  return std::abs(dR.angle()) <= kAngleTol;
+}
+}  // namespace
+
 void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const {
   markers_in_indenter(X_EI, sc, clock);
   const auto& M = sensor_->p_EM;
@@ -240,10 +257,23 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
     return Vec3(X_EC.translation().x(), X_EC.translation().y(), rotvec_z(q));
   };
   if (!slot.in_contact) {
-    // Anchor: the contact-patch centre in I at first contact (the authors set it once after the grasp).
+    // Anchor: the contact-patch centre in I, from first contact; the SE(2) history starts at the last
+    // contact-free pose (the authors reset it there).
     slot.in_contact = true;
+    slot.grasping = anchor_grasp_;
+    slot.X_ref = slot.have_prev ? slot.X_prev : X_EI;
     slot.c_I = c_sum / n_in;
-    slot.se2_ref = se2_of(slot.have_prev ? slot.X_prev : X_EI, &slot.q_last, false);
+    slot.se2_ref = se2_of(slot.X_ref, &slot.q_last, false);
+  } else if (slot.grasping) {
+    // The normal approach (the authors' grasp) goes on while the pose differs from the reference only along
+    // the gel's normal; until then the anchor follows the patch centre, which moves along the normal only, so
+    // the reference SE(2) keeps its x, y and theta.
+    if (only_along_normal(slot.X_ref, X_EI)) {
+      slot.c_I = c_sum / n_in;
+      slot.se2_ref = se2_of(slot.X_ref, &slot.q_last, false);
+    } else {
+      slot.grasping = false;
+    }
   }
   const Vec3 se2 = se2_of(X_EI, &slot.q_last, true);
   const Vec2 dxy = se2.head<2>() - slot.se2_ref.head<2>();

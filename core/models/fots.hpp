@@ -9,7 +9,10 @@
 //   twist   x''' = x'' + (R(theta) d - d) exp(-lambda_t |d|^2),  d = x'' - G,  theta clipped to +-50 deg
 //
 // `fots-reimpl` — HydroShear's "FOTS (Reimpl.)": metres, non-squared exponential kernels, anchored at
-// the initial contact-patch centre c (in I), shear and twist summed at the undeformed markers:
+// the initial contact-patch centre c (in I), shear and twist summed at the undeformed markers. The authors
+// set c once "after the grasp" (reset_fots, BASELINES.md §4.2); here the grasp is the normal approach: c
+// follows the patch centre while the indenter has only moved along the gel's normal since first contact,
+// and is fixed from the first step that moves it otherwise (anchor_grasp = 0: fixed at first contact).
 //   D_j = kappa_d sum_k h_k (m_j - m_k) exp(-lambda_d |m_j - m_k|)
 //   S_j = kappa_s dxy exp(-lambda_s |m_j - G|),  T_j = kappa_t (R(dtheta) d_j - d_j) exp(-lambda_t |d_j|)
 #include <memory>
@@ -45,7 +48,8 @@ class FotsBatch {
  private:
   struct Slot {
     bool in_contact = false;          // a history is running
-    Pose X_ref = Pose::Identity();    // original: pose at first contact
+    Pose X_ref = Pose::Identity();    // original: pose at first contact; reimpl: the pose its SE(2) history starts at
+    bool grasping = false;            // reimpl: the normal approach is not over (the anchor follows the patch)
     // reimpl: anchor c in I, the reference SE(2) (x, y, theta) and the last quaternion (hemisphere)
     Vec3 c_I = Vec3::Zero();
     Vec3 se2_ref = Vec3::Zero();
@@ -73,6 +77,7 @@ class FotsBatch {
   double px_per_mm_ = 0, twist_clip_rad_ = 0;     // original
   bool integer_px_ = true;                        // original
   double kappa_d_ = 0, kappa_s_ = 0, kappa_t_ = 0; // reimpl
+  bool anchor_grasp_ = true;                      // reimpl: the anchor set at the end of the normal approach
   std::vector<Vec2> m_px_;                         // markers in image pixels (original)
   // Constant marker-to-marker dilation kernel, k-major: dil_x_[k * nm + j] = w(j, k) (x_j - x_k) (px
   // for the original, metres for the reimpl.) and the same for y.
