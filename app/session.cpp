@@ -55,16 +55,19 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
                                                      std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
-  if (!o.open.beside_hydroshear.empty()) {
+  std::string beside = o.open.beside_hydroshear;
+  if (beside == kBesideHydroshearAuto)
+    beside = param_set.tables.count(kBesideHydroshearAutoModel) != 0 ? kBesideHydroshearAutoModel : "";
+  if (!beside.empty()) {
     // HydroShear or one of its model-form variants: the residual loop's list (one place names them).
     std::vector<std::string> family = model_form_variants("hydroshear");
     family.insert(family.begin(), "hydroshear");
-    if (std::find(family.begin(), family.end(), o.open.beside_hydroshear) == family.end()) {
+    if (std::find(family.begin(), family.end(), beside) == family.end()) {
       std::string names;
       for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
-      throw InputError("--beside-hydroshear", "expected one of " + names + ", got '" + o.open.beside_hydroshear + "'");
+      throw InputError("--beside-hydroshear", "expected auto, none or one of " + names + ", got '" + beside + "'");
     }
-    ids.insert(ids.begin() + 1, o.open.beside_hydroshear);
+    ids.insert(ids.begin() + 1, beside);
   }
   for (const std::string& id : ids) {
     auto m = make_model(id, scene.sensor, indenter);
@@ -199,7 +202,16 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
   sub.add_option("--beside-hydroshear", open.beside_hydroshear,
-                 "a HydroShear variant in a panel of its own beside HydroShear's (e.g. hydroshear-layer-stick)");
+                 "a HydroShear variant in a panel of its own beside HydroShear's, none, or auto: the variant the "
+                 "residual loop selects on the twin sets (hydroshear-contact) when the parameter set holds fitted "
+                 "values for it")
+      ->capture_default_str()
+      ->check(CLI::Validator(
+          [](std::string& v) {
+            if (v == "none") v.clear();
+            return std::string();
+          },
+          "ID|auto|none"));
   add_param_set_flag(sub, open.param_set);
 }
 
@@ -212,7 +224,7 @@ std::vector<std::string> source_arguments(const SessionSource& open) {
   add("--scene", open.scene_path);
   add("--dataset", open.dataset_dir);
   add("--sample", open.sample_id);
-  add("--beside-hydroshear", open.beside_hydroshear);
+  args.insert(args.end(), {"--beside-hydroshear", open.beside_hydroshear.empty() ? "none" : open.beside_hydroshear});
   if (!open.indenter_mesh.empty())
     args.insert(args.end(), {"--indenter-mesh", open.indenter_mesh, "--indenter-scale", std::to_string(open.indenter_scale)});
   return args;

@@ -77,8 +77,11 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   const ImVec2 top = ImGui::GetCursorScreenPos();
   const float line = ImGui::GetTextLineHeightWithSpacing();
   // Title row: the name, and at its right end the button that enlarges the panel (or brings it back).
-  const char* button = in.enlarged ? "back" : "enlarge";
-  const float button_w = ImGui::CalcTextSize(button).x + 2 * ImGui::GetStyle().FramePadding.x;
+  // A narrow panel keeps its title whole and shortens the button to "+" (its tooltip says what it does).
+  const float pad = 2 * ImGui::GetStyle().FramePadding.x;
+  const bool title_fits = ImGui::CalcTextSize(in.title.c_str()).x + ImGui::CalcTextSize("enlarge").x + pad + 4 <= width;
+  const char* button = in.enlarged ? "back" : (title_fits ? "enlarge" : "+");
+  const float button_w = ImGui::CalcTextSize(button).x + pad;
   ImGui::TextUnformatted(elide(in.title, width - button_w - 4).c_str());
   ImGui::SetCursorScreenPos(ImVec2(top.x + width - button_w, top.y));
   if (ImGui::SmallButton(button)) result.toggle_enlarge = true;

@@ -14,6 +14,11 @@ namespace sb {
 
 // What is open (as for `shearbench gui`): a scene, or a dataset sample, and the model variants shown.
 // The session file keeps it, and the CLI's gui and render fill it from their flags.
+// "auto": the HydroShear variant the residual loop selects on the data the parameter set was fitted on
+// (hydroshear-contact on the twin sets) when the set holds fitted values for it, else none.
+inline constexpr const char* kBesideHydroshearAuto = "auto";
+inline constexpr const char* kBesideHydroshearAutoModel = "hydroshear-contact";
+
 struct SessionSource {
   std::string scene_path;           // empty: scenes/default.json
   std::string dataset_dir;          // replay a tsd/1 dataset instead of a scene
@@ -22,8 +27,9 @@ struct SessionSource {
   std::string fots_id = "fots";     // or fots-reimpl
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
   // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form
-  // correction with the model it corrects (issue 17).
-  std::string beside_hydroshear;
+  // correction with the model it corrects (issue 17). The first view shows "auto" (above); a session file
+  // without the key shows none, as before.
+  std::string beside_hydroshear = kBesideHydroshearAuto;
   std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
   double indenter_scale = 0.002;    // file units to metres for indenter_mesh
   std::string param_set;   // the parameter set the models start from (empty: the default for the sensor)
