@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 
 #include "core/base/vector_clones.hpp"
 
@@ -209,13 +210,15 @@ void aniso_operands(const double* e_lead, const double* e_rx, const double* e_ry
   // The x factor E_i X_i[c] (its ratio recurrence in double: Xd holds the running row) and its variants.
   double* Xd = Yd;
   for (int i = 0; i < mp; ++i) Xd[i] = e_lead[i];
+  // One step of an axis' ratio recurrence on the running row (the k-th step multiplies by r_i q^(k-1)).
+  const auto step = [mp](double* run, const double* e_r, double& q_pow, double q) {
+#pragma GCC ivdep
+    for (int i = 0; i < mp; ++i) run[i] *= e_r[i] * q_pow;
+    q_pow *= q;
+  };
   double q_pow = 1.0;
   for (int c = 0; c < cols; ++c) {
-    if (c > 0) {
-#pragma GCC ivdep
-      for (int i = 0; i < mp; ++i) Xd[i] *= e_rx[i] * q_pow;
-      q_pow *= qx;
-    }
+    if (c > 0) step(Xd, e_rx, q_pow, qx);
     float* xc = row(XC, c);
     float* xa = row(XA, c);
     float* xb = row(XB, c);
@@ -240,11 +243,7 @@ void aniso_operands(const double* e_lead, const double* e_rx, const double* e_ry
   for (int i = 0; i < mp; ++i) Yrun[i] = fast[i] ? 1.0 : 0.0;
   q_pow = 1.0;
   for (int r = 0; r < rows; ++r) {
-    if (r > 0) {
-#pragma GCC ivdep
-      for (int i = 0; i < mp; ++i) Yrun[i] *= e_ry[i] * q_pow;
-      q_pow *= qy;
-    }
+    if (r > 0) step(Yrun, e_ry, q_pow, qy);
     float* w1 = row(W1, r);
     float* by = row(WB, r);
     float* bx = row(WB, rows + r);
@@ -293,13 +292,11 @@ template <typename V>
 // A rows of W against three rows of X: 3A vector accumulators (A <= 4: twelve, with the three X vectors
 // and one W vector, in sixteen registers), each point vector of X loaded once and used A times.
 template <typename T, int A>
-[[gnu::always_inline]] inline void product_block(const T* w, const T* x, int mp, double out[A][3]) {
+[[gnu::always_inline]] inline void block_sums(const T* w, const T* x, int mp, typename Vec<T>::type (&acc)[A][3]) {
   using V = typename Vec<T>::type;
-  constexpr int kW = Vec<T>::width;
-  V acc[A][3] = {};
   const T* x1 = x + mp;
   const T* x2 = x1 + mp;
-  for (int i = 0; i < mp; i += kW) {
+  for (int i = 0; i < mp; i += Vec<T>::width) {
     const V b0 = load<V>(x + i), b1 = load<V>(x1 + i), b2 = load<V>(x2 + i);
     for (int k = 0; k < A; ++k) {
       const V ak = load<V>(w + static_cast<std::ptrdiff_t>(k) * mp + i);
@@ -308,18 +305,17 @@ template <typename T, int A>
       acc[k][2] += ak * b2;
     }
   }
-  for (int k = 0; k < A; ++k)
-    for (int d = 0; d < 3; ++d) out[k][d] = lane_sum(acc[k][d]);
 }
 
-template <typename T, int A>
-[[gnu::always_inline]] inline void add_row_block(const T* Wt, int a, const T* Xt, int cols, int mp, double* S) {
-  const T* w = Wt + static_cast<std::ptrdiff_t>(a) * mp;
+// S[(a + k) cols + c] += the sums of rows a..a+A-1 of W with every row c of X (lanes added up).
+template <int A>
+[[gnu::always_inline]] inline void add_row_block(const double* Wt, int a, const double* Xt, int cols, int mp,
+                                                 double* S) {
   for (int c = 0; c < cols; c += 3) {
-    double out[A][3];
-    product_block<T, A>(w, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, out);
+    v4d acc[A][3] = {};
+    block_sums<double, A>(Wt + static_cast<std::ptrdiff_t>(a) * mp, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, acc);
     for (int k = 0; k < A; ++k)
-      for (int d = 0; d < 3 && c + d < cols; ++d) S[(a + k) * cols + c + d] += out[k][d];
+      for (int d = 0; d < 3 && c + d < cols; ++d) S[(a + k) * cols + c + d] += lane_sum(acc[k][d]);
   }
 }
 
@@ -328,60 +324,43 @@ template <typename T, int A>
 template <int A>
 [[gnu::always_inline]] inline void add_row_block_acc(const float* Wt, int a, const float* Xt, int cols, int mp,
                                                      float* Sacc) {
-  const float* w = Wt + static_cast<std::ptrdiff_t>(a) * mp;
   for (int c = 0; c < cols; c += 3) {
-    const float* x = Xt + static_cast<std::ptrdiff_t>(c) * mp;
     v8f acc[A][3] = {};
-    const float* x1 = x + mp;
-    const float* x2 = x1 + mp;
-    for (int i = 0; i < mp; i += 8) {
-      const v8f b0 = load<v8f>(x + i), b1 = load<v8f>(x1 + i), b2 = load<v8f>(x2 + i);
-      for (int k = 0; k < A; ++k) {
-        const v8f ak = load<v8f>(w + static_cast<std::ptrdiff_t>(k) * mp + i);
-        acc[k][0] += ak * b0;
-        acc[k][1] += ak * b1;
-        acc[k][2] += ak * b2;
-      }
-    }
+    block_sums<float, A>(Wt + static_cast<std::ptrdiff_t>(a) * mp, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, acc);
     for (int k = 0; k < A; ++k)
       for (int d = 0; d < 3 && c + d < cols; ++d) {
         float* out = Sacc + 8 * static_cast<std::ptrdiff_t>((a + k) * cols + c + d);
-        v8f sum = load<v8f>(out) + acc[k][d];
+        const v8f sum = load<v8f>(out) + acc[k][d];
         std::memcpy(out, &sum, sizeof sum);
       }
   }
 }
 
-template <typename T>
-[[gnu::always_inline]] inline void add_products(const T* Wt, int nw, const T* Xt, int cols, int mp, double* S) {
+// Rows of W in blocks of four, the last one to three in a block of their own (no padding row multiplied):
+// block(std::integral_constant<int, A>, a) for each.
+template <typename Block>
+[[gnu::always_inline]] inline void for_row_blocks(int nw, Block block) {
   int a = 0;
-  for (; a + 4 <= nw; a += 4) add_row_block<T, 4>(Wt, a, Xt, cols, mp, S);
+  for (; a + 4 <= nw; a += 4) block(std::integral_constant<int, 4>{}, a);
   switch (nw - a) {
-    case 3: add_row_block<T, 3>(Wt, a, Xt, cols, mp, S); break;
-    case 2: add_row_block<T, 2>(Wt, a, Xt, cols, mp, S); break;
-    case 1: add_row_block<T, 1>(Wt, a, Xt, cols, mp, S); break;
+    case 3: block(std::integral_constant<int, 3>{}, a); break;
+    case 2: block(std::integral_constant<int, 2>{}, a); break;
+    case 1: block(std::integral_constant<int, 1>{}, a); break;
     default: break;
   }
 }
 }  // namespace
 
-// Register-blocked 4 x 3 (the last one to three rows of W in a block of their own, so no padding row of W
-// is multiplied): enough independent FMA chains to cover the FMA latency on two pipes.
+// Register-blocked 4 x 3: enough independent FMA chains to cover the FMA latency on two pipes.
 SB_VECTOR_CLONES
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
-  add_products<double>(Wt, nw, Xt, cols, mp, S);
+  // The lambdas are inlined (always_inline), so each clone's loops are compiled for its own target.
+  for_row_blocks(nw, [&](auto A, int a) [[gnu::always_inline]] { add_row_block<decltype(A)::value>(Wt, a, Xt, cols, mp, S); });
 }
 
 SB_VECTOR_CLONES
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc) {
-  int a = 0;
-  for (; a + 4 <= nw; a += 4) add_row_block_acc<4>(Wt, a, Xt, cols, mp, Sacc);
-  switch (nw - a) {
-    case 3: add_row_block_acc<3>(Wt, a, Xt, cols, mp, Sacc); break;
-    case 2: add_row_block_acc<2>(Wt, a, Xt, cols, mp, Sacc); break;
-    case 1: add_row_block_acc<1>(Wt, a, Xt, cols, mp, Sacc); break;
-    default: break;
-  }
+  for_row_blocks(nw, [&](auto A, int a) [[gnu::always_inline]] { add_row_block_acc<decltype(A)::value>(Wt, a, Xt, cols, mp, Sacc); });
 }
 
 // Blocks of 8 markers held in four vector accumulators while the inside markers stream past: each
