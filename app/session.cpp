@@ -206,7 +206,7 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
                  "residual loop selects on the twin sets (hydroshear-contact) when the parameter set holds fitted "
                  "values for it")
       ->capture_default_str()
-      ->check(CLI::Validator(
+      ->transform(CLI::Validator(   // a transform: CLI11's checks see a copy, its transforms the value
           [](std::string& v) {
             if (v == "none") v.clear();
             return std::string();

@@ -25,5 +25,12 @@ for scene in scenes/*.json; do
   fi
   echo "ok: $scene"
 done
+# The first view's extra panel: auto (the default) and none are both accepted ("none" once failed its own check).
+for beside in auto none; do
+  if ! "$exe" render --beside-hydroshear "$beside" --size 640x400 --no-timings --out "$work/beside_$beside.png" \
+      >"$work/beside_$beside.log" 2>&1; then
+    echo "FAIL: render --beside-hydroshear $beside: $(tail -n 3 "$work/beside_$beside.log")"; fail=1
+  fi
+done
 [[ $fail == 0 ]] && echo "all $n scenes simulate and render from the repository root without SHEARBENCH_DATA"
 exit $fail
