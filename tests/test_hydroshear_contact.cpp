@@ -16,8 +16,9 @@ using namespace sbtest;
 namespace {
 
 constexpr double kPxTol = 1e-9;    // px: the same sums in another order
-// The anisotropic far term's operands are single precision (2^-24 per rounding, a few roundings per
-// operand, sums over the points in double): relative to the field it is part of.
+// The contact variant sums its terms in single precision (2^-24 per rounding, a few roundings per operand,
+// 8-lane float partial sums over at most 96 points, then double): relative to the largest marker motion of
+// the field, against the double sums of the models it is compared with.
 constexpr double kFloatRel = 1e-6;
 
 // The contact variant with the authors' values and the given extra terms; the layer, the stick and the far
@@ -44,7 +45,7 @@ std::vector<Vec2> shear_part(ParamSet p) {
 
 }  // namespace
 
-TEST_CASE("hydroshear-contact with no far field and no following is layer + stick, bit for bit",
+TEST_CASE("hydroshear-contact with no far field and no following is layer + stick, to single precision",
           "[models][hydroshear_contact]") {
   ParamSet ls = default_params("hydroshear-layer-stick");
   ParamSet p = default_params("hydroshear-contact");
@@ -53,7 +54,10 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
   const auto contact = hs_path_field(p);
   const auto plain = hs_path_field(ls);
   REQUIRE(contact.size() == plain.size());
-  for (std::size_t j = 0; j < contact.size(); ++j) CHECK(contact[j] == plain[j]);
+  for (std::size_t j = 0; j < contact.size(); ++j) {
+    INFO("marker " << j);
+    CHECK((contact[j] - plain[j]).norm() < kPxTol + kFloatRel * max_norm(plain));
+  }
   CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
 }
 
@@ -68,7 +72,7 @@ TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[mod
   double far_s = 0;
   for (std::size_t j = 0; j < far.size(); ++j) {
     INFO("marker " << j);
-    CHECK((far[j] - (base[j] + beta_s3 * S3[j])).norm() < kPxTol);
+    CHECK((far[j] - (base[j] + beta_s3 * S3[j])).norm() < kPxTol + kFloatRel * max_norm(far));
     far_s = std::max(far_s, beta_s3 * S3[j].norm());
   }
   CHECK(far_s > 0.01);   // the term moves markers on this path

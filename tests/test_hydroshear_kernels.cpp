@@ -154,26 +154,27 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
   // vx = -2e-8 m^2, vy = 0), anisotropy k = 2, so kl = 2e6 and at marker (c, r) d = (c, r) mm, l |d|^2 =
   // c^2 + r^2, kl d (d . v) = 2 vx (c^2, c r):
   //   S_x = vx e^-(c^2 + r^2) (1 + 2 c^2),  S_y = vx e^-(c^2 + r^2) 2 c r.
-  // Assembled as shear_sum_fast_aniso does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
+  // Assembled as add_term_single does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
   constexpr double kFloatRel = 1e-6;   // single-precision operands, sums in double
   constexpr double l = 1e6, h = 1e-3, kAniso = 2, vx0 = -2e-8;
   constexpr int cols = 4, rows = 3, mp = 8, cols_pad = 6;
-  std::vector<double> vx(mp, 0.0), vy(mp, 0.0), args(3 * mp, 0.0), ax(mp, 0.0), ay(mp, 0.0);
+  std::vector<float> vx(mp, 0.0f), vy(mp, 0.0f);
+  std::vector<double> args(4 * mp, 0.0), ax(mp, 0.0), ay(mp, 0.0);
   std::vector<std::uint8_t> fast(mp, 0);
-  vx[0] = vx0, fast[0] = 1;
-  // Exponents of the anchor at the grid's first marker: lead 0, rx = -l (h^2 + 2 h dx0) = -1, ry = -1.
-  args[mp] = -1, args[2 * mp] = -1;
-  exp_in_place(args.data(), 3 * mp);
+  vx[0] = static_cast<float>(vx0), fast[0] = 1;
+  // Exponents of the anchor at the grid's first marker: ex0 = ey0 = 0, rx = -l (h^2 + 2 h dx0) = -1, ry = -1.
+  args[mp] = -1, args[3 * mp] = -1;
+  exp_in_place(args.data(), 4 * mp);
   const double q = std::exp(-2 * l * h * h);
   std::vector<double> xs(cols), ys(rows);
   for (int c = 0; c < cols; ++c) xs[c] = c * h;
   for (int r = 0; r < rows; ++r) ys[r] = r * h;
   std::vector<float> X3(3 * cols_pad * mp), W4(4 * rows * mp);
-  std::vector<double> Y(mp);
+  std::vector<double> run(mp);
   const double kl = kAniso * l;
-  kernels::aniso_operands(args.data(), args.data() + mp, args.data() + 2 * mp, vx.data(), vy.data(), fast.data(),
-                          ax.data(), ay.data(), xs.data(), ys.data(), rows, cols, mp, q, q, kl, X3.data(), W4.data(),
-                          Y.data());
+  kernels::aniso_operands(args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp, vx.data(),
+                          vy.data(), fast.data(), ax.data(), ay.data(), xs.data(), ys.data(), rows, cols, mp, q, q, kl,
+                          X3.data(), W4.data(), run.data());
   const float* XC = X3.data();
   const float* XA = XC + cols_pad * mp;
   const float* XB = XA + cols_pad * mp;
@@ -195,6 +196,61 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
       INFO("marker (" << c << ", " << r << ")");
       CHECK(S[j] + kl * S[nm + j] == Approx(g * (1 + kAniso * c * c)).epsilon(kFloatRel));
       CHECK(S[3 * nm + j] + kl * S[2 * nm + j] == Approx(g * kAniso * c * r).epsilon(kFloatRel).margin(1e-30));
+    }
+}
+
+TEST_CASE("shear kernels: single precision holds an anchor far from the grid's first marker",
+          "[hydroshear][kernels]") {
+  // 9 columns x 7 rows at 1 mm pitch (the GelSight Mini's grid shape), lambda = 4e6 m^-2, one point with
+  // its anchor on the last marker (8, 6) mm: at marker (c, r) the Gaussian is
+  //   exp(-4 ((8 - c)^2 + (6 - r)^2)),
+  // 1 on that marker and e^-4 on its neighbours. The anchor is l (x0 - a)^2 = 256 from the first column:
+  // a factor referred to the grid's first marker alone would pass float's range (e^88), one split by axis
+  // stays at most 1 on every marker. With weights vx = -3e-8, vy = 5e-8, w = 2e-4 the sums are those
+  // weights times the Gaussian. A second point with its anchor 1 m away is past the exponent budget: not fast.
+  constexpr double kFloatRel = 1e-6;   // single-precision operands, sums in double
+  // Where the float products underflow (far from the anchor) the sums are 0: below this they agree.
+  constexpr double kUnderflow = 1e-40;
+  constexpr double l = 4e6, h = 1e-3;
+  constexpr int cols = 9, rows = 7, mp = 8;
+  const std::vector<double> ax = {8 * h, 1.0, 0, 0, 0, 0, 0, 0}, ay = {6 * h, 0, 0, 0, 0, 0, 0, 0},
+                            az(mp, 0.0);
+  kernels::ShearConstants k{};
+  k.lambda_s = l, k.z0 = 0, k.max_total_exponent = 650;
+  k.x0 = 0, k.xn = (cols - 1) * h, k.hx = h, k.y0 = 0, k.yn = (rows - 1) * h, k.hy = h;
+  std::vector<double> args(4 * mp);
+  std::vector<std::uint8_t> fast(mp);
+  const int slow = kernels::axis_exponents(ax.data(), ay.data(), az.data(), k, mp, args.data(), args.data() + mp,
+                          args.data() + 2 * mp, args.data() + 3 * mp, fast.data());
+  CHECK(fast[0] == 1);
+  CHECK(fast[1] == 0);
+  CHECK(slow == 1);
+  CHECK(args[0] == Approx(-256).epsilon(1e-12));   // ex0 = -l (0 - 8 mm)^2
+  CHECK(args[2 * mp] == Approx(-144).epsilon(1e-12));   // ey0 = -l (0 - 6 mm)^2
+  exp_in_place(args.data(), 4 * mp);
+  std::vector<float> vx(mp, 0.0f), vy(mp, 0.0f), w(mp, 0.0f);
+  vx[0] = -3e-8f, vy[0] = 5e-8f, w[0] = 2e-4f;
+  vx[1] = 1.0f;   // not fast: its weight must not reach the sums
+  const double q = std::exp(-2 * l * h * h);
+  constexpr int cols_pad = 9;
+  std::vector<float> X(cols_pad * mp), W(3 * rows * mp);
+  std::vector<double> run(mp);
+  kernels::term_operands(args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp, vx.data(),
+                         vy.data(), w.data(), fast.data(), rows, cols, mp, q, q, X.data(), W.data(), run.data());
+  const int nm = rows * cols;
+  std::vector<float> Sacc(8 * 3 * nm, 0.0f);
+  kernels::add_products_acc(W.data(), 3 * rows, X.data(), cols, mp, Sacc.data());
+  for (int r = 0; r < rows; ++r)
+    for (int c = 0; c < cols; ++c) {
+      const int j = r * cols + c;
+      const double g = std::exp(-4.0 * ((8 - c) * (8 - c) + (6 - r) * (6 - r)));
+      double s[3] = {0, 0, 0};
+      for (int b = 0; b < 3; ++b)
+        for (int lane = 0; lane < 8; ++lane) s[b] += Sacc[8 * (b * nm + j) + lane];
+      INFO("marker (" << c << ", " << r << ")");
+      CHECK(s[0] == Approx(-3e-8 * g).epsilon(kFloatRel).margin(kUnderflow));
+      CHECK(s[1] == Approx(5e-8 * g).epsilon(kFloatRel).margin(kUnderflow));
+      CHECK(s[2] == Approx(2e-4 * g).epsilon(kFloatRel).margin(kUnderflow));
     }
 }
 

@@ -107,7 +107,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
   if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
   if (p.index_of("follow") >= 0) k.follow = p.get("follow");
-  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3");
+  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3"), k.single_precision = true;
   return k;
 }
 
@@ -145,9 +145,12 @@ struct HydroShearBatch::Scratch {
   std::vector<double> ex, ey;
   std::vector<double> shear_x, shear_y;    // per marker
   std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
-  std::vector<double> anchor_x, anchor_y;  // the anisotropic term's in-plane anchors (shear_sum_fast_aniso)
-  std::vector<float> Xf, Wf, Sf;           // and its single-precision operands and partial sums
-  std::vector<double> Yd;
+  // The single-precision path (shear_sum_single): the anchors, the exponents of the axis-split factors,
+  // the operands of one chunk of points, the 8-lane partial sums and the recurrences' running row.
+  std::vector<double> anchor_x, anchor_y, anchor_z, axis_args;
+  std::vector<float> vxf, vyf, wf;         // the point operands in single precision
+  std::vector<float> Xf, Wf, Sf;
+  std::vector<double> run, sums;
   double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
@@ -575,9 +578,15 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   const bool stick = k_.stick_sat > 0;
   if (stick) sc.shear_w.assign(nm, 0.0);
   contact_shift(sc);
-  add_shear_term({1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick}, sc);
-  if (k_.beta_s > 0) add_shear_term({k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_}, sc);
-  if (k_.beta_s3 > 0) add_shear_term({k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_, false, k_.aniso_s3}, sc);
+  const ShearTerm terms[] = {{1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick},
+                             {k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_},
+                             {k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_, false, k_.aniso_s3}};
+  if (k_.single_precision) {
+    shear_sum_single(terms, sc);
+  } else {
+    for (const ShearTerm& term : terms)
+      if (term.weight > 0) add_shear_term(term, sc);
+  }
   if (!stick) return;
   // The stick zone: where the contact's weights pile up, the field tends to their weighted mean state
   // instead of growing with their sum (docs/effects.md, "The stick zone").
@@ -609,18 +618,37 @@ void HydroShearBatch::contact_shift(Scratch& sc) const {
   sc.shift_y = -k_.follow * sy / sw;
 }
 
-// Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums.
+namespace {
+// Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent, far
+// from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
+constexpr double kMaxTotalExponent = 650;
+
+// Whether an axis' ratio recurrence stays in double's range: its factor q^k = exp(-2 l h^2 k) must not
+// underflow before the last marker (a Gaussian far narrower than the pitch: lambda near 1e8 at 2 mm).
+bool recurrence_in_range(const GaussianAxis& g) {
+  return g.uniform() && 2 * g.lambda() * g.pitch() * g.pitch() * std::max(g.size() - 2, 0) <= kMaxTotalExponent;
+}
+
+kernels::ShearConstants axis_constants(const GaussianAxis& gx, const GaussianAxis& gy, double lambda, double z0) {
+  kernels::ShearConstants k{};
+  k.lambda_s = lambda, k.z0 = z0;
+  k.x0 = gx.front(), k.xn = gx.back(), k.hx = gx.pitch();
+  k.y0 = gy.front(), k.yn = gy.back(), k.hy = gy.pitch();
+  return k;
+}
+}  // namespace
+
+bool HydroShearBatch::factored(const ShearTerm& term) const {
+  return grid_.is_grid && recurrence_in_range(*term.gx) && recurrence_in_range(*term.gy);
+}
+
+// Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums, in double (the authors'
+// model and its layer and stick variants).
 void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
-  // Exponent budget of the factored form: every partial product stays above e^-kMaxTotalExponent,
-  // far from underflow (e^-708); a point beyond it uses one exp per axis coordinate instead.
-  constexpr double kMaxTotalExponent = 650;
-  // The anisotropic (far) term's operands are single precision (shear_sum_fast_aniso): its partial products
-  // and weights times e^+-60 stay inside float's range (1e-38..3e38) for weights up to 1e12.
-  constexpr double kMaxTotalExponentFloat = 60;
   const PointColumns& F = *sc.field;
   const int n = F.size();
-  const bool factored = grid_.is_grid && term.gx->uniform() && term.gy->uniform();
-  const int mp = (n + 7) / 8 * 8;  // whole 4-double and 8-float vectors
+  const bool fact = factored(term);
+  const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
   // Padding points (n..mp): zero weight, exponents 0 (finite after exp), not fast.
   for (auto* v : {&sc.wvx, &sc.wvy}) v->resize(mp);
   sc.args.resize(3 * static_cast<std::size_t>(mp));
@@ -632,16 +660,11 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   }
   const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
                                    sc.field_phi, sc.fnx, sc.fny, sc.fnz};
-  kernels::ShearConstants k{};
+  kernels::ShearConstants k = fact ? axis_constants(*term.gx, *term.gy, term.lambda, grid_.z0) : kernels::ShearConstants{};
   k.E = k_.E, k.K = k_.K, k.lambda_s = term.lambda, k.z0 = grid_.z0;
   k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
-  const double budget = term.aniso != 0 ? kMaxTotalExponentFloat : kMaxTotalExponent;
-  k.max_total_exponent = factored ? budget : -kInf;  // -inf: every point takes the slow path
+  k.max_total_exponent = fact ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
-  if (factored) {
-    k.x0 = term.gx->front(), k.xn = term.gx->back(), k.hx = term.gx->pitch();
-    k.y0 = term.gy->front(), k.yn = term.gy->back(), k.hy = term.gy->pitch();
-  }
   double* lead = sc.args.data();
   kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
   // Local pointers: the loops below then vectorise, and the slow path's calls do not reload them.
@@ -658,72 +681,117 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   }
   for (int i = 0; i < n; ++i)
     if (!fast[i] && (wvx[i] != 0 || wvy[i] != 0 || (ww != nullptr && ww[i] != 0)))
-      shear_point_slow(term, sc, i, wvx[i], wvy[i]);
-  if (factored) term.aniso != 0 ? shear_sum_fast_aniso(term, sc, mp) : shear_sum_fast(term, sc, mp);
+      shear_point_slow(term, sc, i, wvx[i], wvy[i], ww != nullptr ? ww[i] : 0.0);
+  if (fact) shear_sum_fast(term, sc, mp);
 }
 
-// The fast points' share of an anisotropic term, sum_i G_i (v_i + k l d_i (d_i . v_i)), d_i = m - a_i. With
-// G_i = (E_i X_i[c]) Y_i[r] factored as for an isotropic term (dx = x_c - a_x,i, dy = y_r - a_y,i):
-//   S_x = sum_i (vx Y) (E X (1 + kl dx^2)) + kl sum_i (vy Y dy) (E X dx)
-//   S_y = sum_i (vy Y (1 + kl dy^2)) (E X) + kl sum_i (vx Y dy) (E X dx)
-// three products of four weight blocks with three variants of the x factor (kernels::aniso_operands): 4 rows
-// of weights per marker row where the moments of the anchors needed 10. The operands are single precision:
-// this is the far term, a wide and smooth part of the field, and its sums change by ~1e-6 of themselves
-// (tests/test_hydroshear_contact.cpp) for half the memory traffic and twice the vector width.
-void HydroShearBatch::shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const {
-  // Points in chunks whose operands (55 rows of floats) stay in the first-level cache between being
-  // built and being multiplied.
-  constexpr int kChunk = 96;
-  const int rows = grid_.rows, cols = grid_.cols, nm = rows * cols;
-  exp_in_place(sc.args.data(), 3 * mp);
-  const int cols_pad = (cols + 2) / 3 * 3;
-  const std::ptrdiff_t xsz = static_cast<std::ptrdiff_t>(cols_pad) * kChunk;
-  sc.Xf.resize(3 * xsz);
-  sc.Wf.resize(4 * static_cast<std::size_t>(rows) * kChunk);
-  sc.Yd.resize(kChunk);
+// The contact variant's shear sum in single precision, every Gaussian term in one pass over shared point
+// operands: v = -w f^xy, w and the anchor a are formed once (kernels::point_operands); per term, its
+// Gaussian splits by axis into factors of at most 1 (kernels::axis_exponents), whose recurrences run in
+// double and are stored as floats, and the products run per chunk of points small enough to stay in the
+// first-level cache, into 8-lane float partial sums. Its sums change by ~1e-6 of themselves against the
+// double path (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice the vector width:
+// the precision the authors' GPU code computes in.
+void HydroShearBatch::shear_sum_single(std::span<const ShearTerm> terms, Scratch& sc) const {
   const PointColumns& F = *sc.field;
   const int n = F.size();
-  sc.anchor_x.assign(mp, 0.0);
-  sc.anchor_y.assign(mp, 0.0);
-  {
-    double* ax = sc.anchor_x.data();
-    double* ay = sc.anchor_y.data();
-    const double *px = sc.fx, *py = sc.fy, *ux = F.ux.data(), *uy = F.uy.data();
-    const double sx = sc.shift_x, sy = sc.shift_y;
-    for (int i = 0; i < n; ++i) ax[i] = px[i] + ux[i] + sx, ay[i] = py[i] + uy[i] + sy;
+  const int mp = (n + 7) / 8 * 8;  // whole 8-float vectors
+  for (auto* v : {&sc.wvx, &sc.wvy, &sc.ww, &sc.anchor_x, &sc.anchor_y, &sc.anchor_z}) v->assign(mp, 0.0);
+  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
+                                   sc.field_phi, sc.fnx, sc.fny, sc.fnz};
+  kernels::ShearConstants k{};
+  k.E = k_.E, k.K = k_.K, k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
+  k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
+  kernels::point_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(),
+                          sc.anchor_y.data(), sc.anchor_z.data());
+  for (auto [from, to] : {std::pair{&sc.wvx, &sc.vxf}, std::pair{&sc.wvy, &sc.vyf}, std::pair{&sc.ww, &sc.wf}}) {
+    to->resize(mp);
+    std::copy(from->begin(), from->end(), to->begin());   // rounded to float
   }
-  const double* e = sc.args.data();
+  for (const ShearTerm& term : terms)
+    if (term.weight > 0) add_term_single(term, sc, mp);
+}
+
+// One Gaussian term of shear_sum_single: its slow points one by one, the rest factored per chunk.
+void HydroShearBatch::add_term_single(const ShearTerm& term, Scratch& sc, int mp) const {
+  constexpr int kChunk = 96;   // points per chunk: the operands (at most 55 rows of floats) stay in L1
+  const int n = sc.field->size();
+  const double* vx = sc.wvx.data();
+  const double* vy = sc.wvy.data();
+  const double* w = sc.ww.data();
+  const double tw = term.weight;
+  if (!factored(term)) {
+    for (int i = 0; i < n; ++i) shear_point_slow(term, sc, i, tw * vx[i], tw * vy[i], tw * w[i]);
+    return;
+  }
+  sc.axis_args.resize(4 * static_cast<std::size_t>(mp));
+  sc.fast.resize(mp);
+  double* ex0 = sc.axis_args.data();
+  double *rx = ex0 + mp, *ey0 = rx + mp, *ry = ey0 + mp;
+  kernels::ShearConstants k = axis_constants(*term.gx, *term.gy, term.lambda, grid_.z0);
+  k.max_total_exponent = kMaxTotalExponent;
+  const int slow = kernels::axis_exponents(sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data(), k, mp, ex0,
+                                           rx, ey0, ry, sc.fast.data());
+  const std::uint8_t* fast = sc.fast.data();
+  for (int i = 0; i < n && slow > 0; ++i)
+    if (!fast[i] && (vx[i] != 0 || vy[i] != 0 || (term.with_weights && w[i] != 0)))
+      shear_point_slow(term, sc, i, tw * vx[i], tw * vy[i], tw * w[i]);
+  exp_in_place(sc.axis_args.data(), 4 * mp);
+  const int rows = grid_.rows, cols = grid_.cols, nm = rows * cols;
+  const int cols_pad = (cols + 2) / 3 * 3;
+  const bool aniso = term.aniso != 0;
+  // Blocks of W per marker row and of X per column: isotropic [vx; vy; (w)] against X; anisotropic
+  // [W1; WB (2); WC] against [XC; XA; XB] (kernels::aniso_operands).
+  const int w_blocks = aniso ? 4 : (term.with_weights ? 3 : 2);
+  const int x_blocks = aniso ? 3 : 1;
+  sc.Xf.resize(static_cast<std::size_t>(x_blocks) * cols_pad * kChunk);
+  sc.Wf.resize(static_cast<std::size_t>(w_blocks) * rows * kChunk);
+  sc.run.resize(kChunk);
+  sc.Sf.assign(8 * static_cast<std::size_t>(w_blocks) * nm, 0.0f);
+  float* S = sc.Sf.data();
   const double kl = term.aniso * term.lambda;
-  // Partial sums, 8 lanes per output: S_1 = W1 XA, S_B = WB XB (two blocks), S_C = WC XC.
-  sc.Sf.assign(8 * 4 * static_cast<std::size_t>(nm), 0.0f);
-  float* S1 = sc.Sf.data();
-  float* SB = S1 + 8 * nm;
-  float* SC = SB + 16 * nm;
+  const float* vxf = sc.vxf.data();
+  const float* vyf = sc.vyf.data();
+  const float* wf = sc.wf.data();
   for (int off = 0; off < mp; off += kChunk) {
     const int m = std::min(kChunk, mp - off);   // a multiple of 8, as mp and kChunk are
-    float* XC = sc.Xf.data();
-    float* XA = XC + static_cast<std::ptrdiff_t>(cols_pad) * m;
-    float* XB = XA + static_cast<std::ptrdiff_t>(cols_pad) * m;
-    float* W1 = sc.Wf.data();
-    float* WB = W1 + static_cast<std::ptrdiff_t>(rows) * m;
-    float* WC = WB + static_cast<std::ptrdiff_t>(2 * rows) * m;
-    kernels::aniso_operands(e + off, e + mp + off, e + 2 * mp + off, sc.wvx.data() + off, sc.wvy.data() + off,
-                            sc.fast.data() + off, sc.anchor_x.data() + off, sc.anchor_y.data() + off,
-                            grid_.xs.data(), grid_.ys.data(), rows, cols, m, term.gx->q(), term.gy->q(), kl, XC, W1,
-                            sc.Yd.data());
-    kernels::add_products_acc(W1, rows, XA, cols, m, S1);       // S_x's isotropic-and-dx^2 part
-    kernels::add_products_acc(WB, 2 * rows, XB, cols, m, SB);   // the dx dy parts of S_x, S_y
-    kernels::add_products_acc(WC, rows, XC, cols, m, SC);       // S_y's isotropic-and-dy^2 part
+    float* X = sc.Xf.data();
+    float* W = sc.Wf.data();
+    const std::ptrdiff_t xrows = static_cast<std::ptrdiff_t>(cols_pad) * m;
+    const std::ptrdiff_t wrows = static_cast<std::ptrdiff_t>(rows) * m;
+    if (aniso) {
+      kernels::aniso_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off, fast + off,
+                              sc.anchor_x.data() + off, sc.anchor_y.data() + off, grid_.xs.data(), grid_.ys.data(),
+                              rows, cols, m, term.gx->q(), term.gy->q(), kl, X, W, sc.run.data());
+      kernels::add_products_acc(W, rows, X + xrows, cols, m, S);                              // W1 XA
+      kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, m, S + 8 * nm);    // WB XB
+      kernels::add_products_acc(W + 3 * wrows, rows, X, cols, m, S + 8 * 3 * nm);             // WC XC
+    } else {
+      kernels::term_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off,
+                             term.with_weights ? wf + off : nullptr, fast + off, rows, cols, m, term.gx->q(),
+                             term.gy->q(), X, W, sc.run.data());
+      kernels::add_products_acc(W, w_blocks * rows, X, cols, m, S);
+    }
   }
-  auto lanes = [](const float* p) {
-    double s = 0;
-    for (int k = 0; k < 8; ++k) s += p[k];
-    return s;
-  };
+  sc.sums.resize(static_cast<std::size_t>(w_blocks) * nm);
+  kernels::lane_sums(S, w_blocks * nm, sc.sums.data());
+  const double* T = sc.sums.data();
+  double* sx = sc.shear_x.data();
+  double* sy = sc.shear_y.data();
+  if (aniso) {
+    // S_x = W1 XA + kl WB[0] XB,  S_y = WC XC + kl WB[1] XB (see kernels::aniso_operands).
+    for (int j = 0; j < nm; ++j) {
+      sx[j] += tw * (T[j] + kl * T[nm + j]);
+      sy[j] += tw * (T[3 * nm + j] + kl * T[2 * nm + j]);
+    }
+    return;
+  }
   for (int j = 0; j < nm; ++j) {
-    sc.shear_x[j] += lanes(S1 + 8 * j) + kl * lanes(SB + 8 * j);
-    sc.shear_y[j] += lanes(SC + 8 * j) + kl * lanes(SB + 8 * (nm + j));
+    sx[j] += tw * T[j];
+    sy[j] += tw * T[nm + j];
   }
+  if (term.with_weights)
+    for (int j = 0; j < nm; ++j) sc.shear_w[j] += tw * T[2 * nm + j];
 }
 
 // The fast points' share of the shear sum (see shear_sum).
@@ -757,14 +825,14 @@ Vec2 HydroShearBatch::aniso_term(const ShearTerm& term, const Vec2& d, double vx
 
 // One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
 // grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
-void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const {
+void HydroShearBatch::shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy,
+                                       double vw) const {
   const PointColumns& F = *sc.field;
   const Vec3 a(sc.fx[i] + F.ux[i] + sc.shift_x, sc.fy[i] + F.uy[i] + sc.shift_y, sc.fz[i] + F.uz[i]);
   const double ls = term.lambda;
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
   double* sw = term.with_weights ? sc.shear_w.data() : nullptr;
-  const double vw = term.with_weights ? sc.ww[i] : 0.0;
   if (grid_.is_grid) {
     const int rows = grid_.rows, cols = grid_.cols;
     sc.ex.resize(cols);

@@ -54,6 +54,7 @@ struct HydroShearParams {
   double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
   double follow = 0;                  // contact-following tractions (0: the authors' anchors)
   double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
+  bool single_precision = false;      // the shear sum in single precision (the contact variant)
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -146,11 +147,14 @@ class HydroShearBatch {
   };
   void contact_shift(Scratch& sc) const;
   void shear_sum(const Pose& X_EI, Scratch& sc) const;
+  bool factored(const ShearTerm& term) const;   // the term's Gaussians factor on the marker grid
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
-  void shear_sum_fast_aniso(const ShearTerm& term, Scratch& sc, int mp) const;
+  void shear_sum_single(std::span<const ShearTerm> terms, Scratch& sc) const;
+  void add_term_single(const ShearTerm& term, Scratch& sc, int mp) const;
   static Vec2 aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy);
-  void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy) const;
+  // vx, vy, vw: the point's term already scaled by the term's weight.
+  void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy, double vw) const;
   void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   // Inline: called for every candidate point when the gel is not a flat pad.
   double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }

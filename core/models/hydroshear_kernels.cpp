@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstring>
-#include <type_traits>
 
 #include "core/base/vector_clones.hpp"
 
@@ -10,6 +9,25 @@ namespace sb::hydroshear_kernels {
 
 // Selects instead of std::max / branches: the loops stay branch-free, so they vectorise.
 namespace {
+// GCC notes that a 32-byte vector passed by value has another ABI with AVX; these helpers are always
+// inlined, never called across that boundary.
+#pragma GCC diagnostic ignored "-Wpsabi"
+using v4d = double __attribute__((vector_size(32)));
+[[gnu::always_inline]] inline v4d load4(const double* p) {
+  v4d v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+using v8f = float __attribute__((vector_size(32)));
+using v4f = float __attribute__((vector_size(16)));
+[[gnu::always_inline]] inline v4f load4f(const float* p) {
+  v4f v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+[[gnu::always_inline]] inline void store4f(float* p, v4f v) { std::memcpy(p, &v, sizeof v); }
+[[gnu::always_inline]] inline v4f to_float(v4d v) { return __builtin_convertvector(v, v4f); }
+
 inline double relu(double v) { return v > 0 ? v : 0.0; }
 inline double max2(double a, double b) { return a > b ? a : b; }
 }  // namespace
@@ -198,81 +216,167 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
 }
 
+namespace {
+// The loop of point_operands for one weight choice and split normal.
+template <bool kWeightPaper, bool kNormalZ>
+[[gnu::always_inline]] inline void point_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
+                                                       double* vx, double* vy, double* w, double* ax, double* ay,
+                                                       double* az) {
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double u_n = c.un[i];
+    const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
+    const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
+    const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
+    const double wi = kWeightPaper ? -c.phi[i] : k.E * u_n;
+    vx[i] = -wi * fx;
+    vy[i] = -wi * fy;
+    w[i] = wi;
+    ax[i] = c.px[i] + c.ux[i] + k.shift_x;
+    ay[i] = c.py[i] + c.uy[i] + k.shift_y;
+    az[i] = c.pz[i] + c.uz[i];
+  }
+}
+}  // namespace
+
 SB_VECTOR_CLONES
-void aniso_operands(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
-                    const std::uint8_t* fast, const double* ax, const double* ay, const double* xs, const double* ys,
-                    int rows, int cols, int mp, double qx, double qy, double kl, float* X3, float* W4, double* Yd) {
-  const auto row = [mp](float* m, int r) { return m + static_cast<std::ptrdiff_t>(r) * mp; };
+void point_operands(const ShearColumns& in, const ShearConstants& constants, int n, double* vx, double* vy, double* w,
+                    double* ax, double* ay, double* az) {
+  const ShearColumns c = in;
+  const ShearConstants k = constants;
+  if (k.weight_paper)
+    k.normal_z ? point_operands_loop<true, true>(c, k, n, vx, vy, w, ax, ay, az)
+               : point_operands_loop<true, false>(c, k, n, vx, vy, w, ax, ay, az);
+  else
+    k.normal_z ? point_operands_loop<false, true>(c, k, n, vx, vy, w, ax, ay, az)
+               : point_operands_loop<false, false>(c, k, n, vx, vy, w, ax, ay, az);
+}
+
+SB_VECTOR_CLONES
+int axis_exponents(const double* ax, const double* ay, const double* az, const ShearConstants& constants, int n,
+                   double* ex0, double* rx, double* ey0, double* ry, std::uint8_t* fast) {
+  const ShearConstants k = constants;
+  const double l = k.lambda_s;
+  int slow = 0;
+#pragma GCC ivdep
+  for (int i = 0; i < n; ++i) {
+    const double dx0 = k.x0 - ax[i], dxn = k.xn - ax[i], dy0 = k.y0 - ay[i], dyn = k.yn - ay[i], dz = k.z0 - az[i];
+    const double lz = l * dz * dz;
+    const bool ok = l * max2(dx0 * dx0, dxn * dxn) + lz <= k.max_total_exponent &&
+                    l * max2(dy0 * dy0, dyn * dyn) <= k.max_total_exponent;
+    ex0[i] = ok ? -l * dx0 * dx0 - lz : 0.0;
+    ey0[i] = ok ? -l * dy0 * dy0 : 0.0;
+    rx[i] = ok ? -l * (k.hx * k.hx + 2 * k.hx * dx0) : 0.0;
+    ry[i] = ok ? -l * (k.hy * k.hy + 2 * k.hy * dy0) : 0.0;
+    fast[i] = ok ? 1 : 0;
+    slow += ok ? 0 : 1;
+  }
+  return slow;
+}
+
+namespace {
+// One step of an axis' ratio recurrence on a running row in double (the k-th step multiplies by
+// r_i q^(k-1)): the row becomes the axis' Gaussian factor at the next marker. The callers below write
+// their loops out: a lambda's body can be compiled out of line for the baseline target (see
+// for_row_blocks), and these loops are the hot ones.
+[[gnu::always_inline]] inline void recurrence_step(double* run, const double* e_r, int m, double& q_pow, double q) {
+#pragma GCC ivdep
+  for (int i = 0; i < m; ++i) run[i] *= e_r[i] * q_pow;
+  q_pow *= q;
+}
+
+// The running row of the y factor at row 0: fast_i gy0_i.
+[[gnu::always_inline]] inline void y_factor_start(const double* e_y0, const std::uint8_t* fast, int m, double* run) {
+#pragma GCC ivdep
+  for (int i = 0; i < m; ++i) {
+    const double g = e_y0[i];   // loaded unconditionally: a conditional load stops vectorisation
+    run[i] = fast[i] ? g : 0.0;
+  }
+}
+
+[[gnu::always_inline]] inline float* float_row(float* base, int r, int m) {
+  return base + static_cast<std::ptrdiff_t>(r) * m;
+}
+
+// Rows cols..round_up(cols, 3)-1 of an x-factor block: the products read them.
+[[gnu::always_inline]] inline void zero_padding_rows(float* block, int cols, int m) {
   const int cols_pad = (cols + 2) / 3 * 3;
-  float* XC = X3;
-  float* XA = row(X3, cols_pad);
-  float* XB = row(X3, 2 * cols_pad);
-  // The x factor E_i X_i[c] (its ratio recurrence in double: Xd holds the running row) and its variants.
-  double* Xd = Yd;
-  for (int i = 0; i < mp; ++i) Xd[i] = e_lead[i];
-  // One step of an axis' ratio recurrence on the running row (the k-th step multiplies by r_i q^(k-1)).
-  const auto step = [mp](double* run, const double* e_r, double& q_pow, double q) {
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) run[i] *= e_r[i] * q_pow;
-    q_pow *= q;
-  };
-  double q_pow = 1.0;
-  for (int c = 0; c < cols; ++c) {
-    if (c > 0) step(Xd, e_rx, q_pow, qx);
-    float* xc = row(XC, c);
-    float* xa = row(XA, c);
-    float* xb = row(XB, c);
-    const double X = xs[c];
-    const float klf = static_cast<float>(kl);
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) {   // the variants in float: the operands are rounded to float anyway
-      const float e = static_cast<float>(Xd[i]), dx = static_cast<float>(X - ax[i]);
-      xc[i] = e;
-      xa[i] = e * (1 + klf * dx * dx);
-      xb[i] = e * dx;
+  for (int c = cols; c < cols_pad; ++c) std::memset(float_row(block, c, m), 0, sizeof(float) * m);
+}
+}  // namespace
+
+// The operand builders run four points at a time with each axis' recurrence held in registers (in
+// double: its start may be far below float's range while a later marker's factor is not), storing each
+// marker's factor as float. Loops over the points with the rows outside kept the recurrence in memory.
+SB_VECTOR_CLONES
+void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
+                   const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
+                   double qy, float* X, float* W, double* run) {
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
+    for (int c = 0; c < cols; ++c) {
+      if (c > 0) g *= ratio, ratio *= qx;
+      store4f(float_row(X, c, m) + i, to_float(g));
     }
   }
-  for (int c = cols; c < cols_pad; ++c)
-    for (float* m : {XC, XA, XB}) std::memset(row(m, c), 0, sizeof(float) * mp);
-  // The weights: W1 = vx Y, WB = [vy Y dy ; vx Y dy], WC = vy Y (1 + kl dy^2), with Yd the running row of
-  // fast_i Y_i[r] (its recurrence, as shear_matrices').
+  zero_padding_rows(X, cols, m);
+  y_factor_start(e_y0, fast, m, run);
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(run + i), ratio = load4(e_ry + i);
+    const v4f vx4 = load4f(vx + i), vy4 = load4f(vy + i), w4 = w != nullptr ? load4f(w + i) : v4f{};
+    for (int r = 0; r < rows; ++r) {
+      if (r > 0) g *= ratio, ratio *= qy;
+      const v4f gf = to_float(g);
+      store4f(float_row(W, r, m) + i, vx4 * gf);
+      store4f(float_row(W, rows + r, m) + i, vy4 * gf);
+      if (w != nullptr) store4f(float_row(W, 2 * rows + r, m) + i, w4 * gf);
+    }
+  }
+}
+
+SB_VECTOR_CLONES
+void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
+                    const float* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
+                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, float* X3, float* W4,
+                    double* run) {
+  const int cols_pad = (cols + 2) / 3 * 3;
+  float* XC = X3;
+  float* XA = float_row(X3, cols_pad, m);
+  float* XB = float_row(X3, 2 * cols_pad, m);
+  const float klf = static_cast<float>(kl);
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
+    const v4d a = load4(ax + i);
+    for (int c = 0; c < cols; ++c) {
+      if (c > 0) g *= ratio, ratio *= qx;
+      const v4f e = to_float(g), dx = to_float(xs[c] - a);   // the offset in double, then rounded
+      store4f(float_row(XC, c, m) + i, e);
+      store4f(float_row(XA, c, m) + i, e * (1 + klf * dx * dx));
+      store4f(float_row(XB, c, m) + i, e * dx);
+    }
+  }
+  for (float* block : {XC, XA, XB}) zero_padding_rows(block, cols, m);
   float* W1 = W4;
-  float* WB = row(W4, rows);
-  float* WC = row(W4, 3 * rows);
-  double* Yrun = Yd;
-  for (int i = 0; i < mp; ++i) Yrun[i] = fast[i] ? 1.0 : 0.0;
-  q_pow = 1.0;
-  for (int r = 0; r < rows; ++r) {
-    if (r > 0) step(Yrun, e_ry, q_pow, qy);
-    float* w1 = row(W1, r);
-    float* by = row(WB, r);
-    float* bx = row(WB, rows + r);
-    float* wc = row(WC, r);
-    const double Y = ys[r];
-    const float klf = static_cast<float>(kl);
-#pragma GCC ivdep
-    for (int i = 0; i < mp; ++i) {
-      const float dy = static_cast<float>(Y - ay[i]), wx = static_cast<float>(vx[i] * Yrun[i]),
-                  wy = static_cast<float>(vy[i] * Yrun[i]);
-      w1[i] = wx;
-      by[i] = wy * dy;
-      bx[i] = wx * dy;
-      wc[i] = wy * (1 + klf * dy * dy);
+  float* WB = float_row(W4, rows, m);
+  float* WC = float_row(W4, 3 * rows, m);
+  y_factor_start(e_y0, fast, m, run);
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(run + i), ratio = load4(e_ry + i);
+    const v4d a = load4(ay + i);
+    const v4f vx4 = load4f(vx + i), vy4 = load4f(vy + i);
+    for (int r = 0; r < rows; ++r) {
+      if (r > 0) g *= ratio, ratio *= qy;
+      const v4f gf = to_float(g), dy = to_float(ys[r] - a);
+      const v4f wx = vx4 * gf, wy = vy4 * gf;
+      store4f(float_row(W1, r, m) + i, wx);
+      store4f(float_row(WB, r, m) + i, wy * dy);
+      store4f(float_row(WB, rows + r, m) + i, wx * dy);
+      store4f(float_row(WC, r, m) + i, wy * (1 + klf * dy * dy));
     }
   }
 }
 
 namespace {
-// GCC notes that a 32-byte vector passed by value has another ABI with AVX; these helpers are always
-// inlined, never called across that boundary.
-#pragma GCC diagnostic ignored "-Wpsabi"
-using v4d = double __attribute__((vector_size(32)));
-[[gnu::always_inline]] inline v4d load4(const double* p) {
-  v4d v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
-}
-using v8f = float __attribute__((vector_size(32)));
 template <typename T> struct Vec;
 template <> struct Vec<double> { using type = v4d; static constexpr int width = 4; };
 template <> struct Vec<float> { using type = v8f; static constexpr int width = 8; };
@@ -337,30 +441,76 @@ template <int A>
 }
 
 // Rows of W in blocks of four, the last one to three in a block of their own (no padding row multiplied):
-// block(std::integral_constant<int, A>, a) for each.
-template <typename Block>
-[[gnu::always_inline]] inline void for_row_blocks(int nw, Block block) {
+// rows.template block<A>(a) for each. A member template, not a generic lambda: GCC compiles a lambda's
+// call operator out of line for the baseline target, without the clone's AVX (it cost the double products
+// a factor of three); an always_inline member template is inlined into each clone.
+template <typename Rows>
+[[gnu::always_inline]] inline void for_row_blocks(int nw, const Rows& rows) {
   int a = 0;
-  for (; a + 4 <= nw; a += 4) block(std::integral_constant<int, 4>{}, a);
+  for (; a + 4 <= nw; a += 4) rows.template block<4>(a);
   switch (nw - a) {
-    case 3: block(std::integral_constant<int, 3>{}, a); break;
-    case 2: block(std::integral_constant<int, 2>{}, a); break;
-    case 1: block(std::integral_constant<int, 1>{}, a); break;
+    case 3: rows.template block<3>(a); break;
+    case 2: rows.template block<2>(a); break;
+    case 1: rows.template block<1>(a); break;
     default: break;
   }
 }
+
+struct ProductRows {
+  const double *Wt, *Xt;
+  int cols, mp;
+  double* S;
+  template <int A>
+  [[gnu::always_inline]] inline void block(int a) const { add_row_block<A>(Wt, a, Xt, cols, mp, S); }
+};
+struct ProductRowsAcc {
+  const float *Wt, *Xt;
+  int cols, mp;
+  float* Sacc;
+  template <int A>
+  [[gnu::always_inline]] inline void block(int a) const { add_row_block_acc<A>(Wt, a, Xt, cols, mp, Sacc); }
+};
 }  // namespace
 
 // Register-blocked 4 x 3: enough independent FMA chains to cover the FMA latency on two pipes.
 SB_VECTOR_CLONES
 void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
-  // The lambdas are inlined (always_inline), so each clone's loops are compiled for its own target.
-  for_row_blocks(nw, [&](auto A, int a) [[gnu::always_inline]] { add_row_block<decltype(A)::value>(Wt, a, Xt, cols, mp, S); });
+  for_row_blocks(nw, ProductRows{Wt, Xt, cols, mp, S});
 }
 
 SB_VECTOR_CLONES
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc) {
-  for_row_blocks(nw, [&](auto A, int a) [[gnu::always_inline]] { add_row_block_acc<decltype(A)::value>(Wt, a, Xt, cols, mp, Sacc); });
+  for_row_blocks(nw, ProductRowsAcc{Wt, Xt, cols, mp, Sacc});
+}
+
+namespace {
+#pragma GCC diagnostic ignored "-Wpsabi"
+using i8 = int __attribute__((vector_size(32)));
+// The horizontal add per 128-bit half: [a0+a1, a2+a3, b0+b1, b2+b3 | a4+a5, a6+a7, b4+b5, b6+b7].
+[[gnu::always_inline]] inline v8f hadd(v8f a, v8f b) {
+  return __builtin_shuffle(a, b, i8{0, 2, 8, 10, 4, 6, 12, 14}) + __builtin_shuffle(a, b, i8{1, 3, 9, 11, 5, 7, 13, 15});
+}
+}  // namespace
+
+// Eight rows of 8-lane partial sums to their eight totals: three levels of pairwise sums of neighbours
+// (the horizontal add's butterfly), 7 vector adds where the lanes one by one take 56 scalar ones.
+SB_VECTOR_CLONES
+void lane_sums(const float* Sacc, int n, double* out) {
+  int j = 0;
+  for (; j + 8 <= n; j += 8) {
+    v8f v[8];
+    for (int k = 0; k < 8; ++k) v[k] = load<v8f>(Sacc + 8 * static_cast<std::ptrdiff_t>(j + k));
+    const v8f ab = hadd(v[0], v[1]), cd = hadd(v[2], v[3]), ef = hadd(v[4], v[5]), gh = hadd(v[6], v[7]);
+    const v8f abcd = hadd(ab, cd), efgh = hadd(ef, gh);   // [a b c d | a b c d] halves of the sums
+    const v8f total = __builtin_shuffle(abcd, efgh, i8{0, 1, 2, 3, 8, 9, 10, 11}) +
+                      __builtin_shuffle(abcd, efgh, i8{4, 5, 6, 7, 12, 13, 14, 15});
+    for (int k = 0; k < 8; ++k) out[j + k] = total[k];
+  }
+  for (; j < n; ++j) {
+    double s = 0;
+    for (int k = 0; k < 8; ++k) s += Sacc[8 * static_cast<std::ptrdiff_t>(j) + k];
+    out[j] = s;
+  }
 }
 
 // Blocks of 8 markers held in four vector accumulators while the inside markers stream past: each
