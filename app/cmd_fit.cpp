@@ -5,6 +5,7 @@
 // starting values because each stage fits its parameters with the others held). The parameter file is written once, atomically, when every stage is done. Ctrl-C or
 // SIGTERM cancels: nothing is written to --out (an existing file stays as it was) and the exit code is
 // 130; with --checkpoint FILE the completed stages are kept in that separate file as they finish.
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +24,7 @@ struct FitArgs {
   std::string dataset;
   std::string model;
   std::vector<std::string> stages;
+  std::vector<std::string> hold;
   bool stages_only = false;
   bool px_scale = false;
   std::string robust = "none";
@@ -34,14 +36,22 @@ struct FitArgs {
 };
 
 int run_fit(const FitArgs& a, const GlobalOptions& g) {
-  const std::string root = resolve_data_root(g.data_root_flag);
-  const Dataset ds = read_dataset(std::filesystem::absolute(resolve_path(a.dataset, root, "")).string());
   std::vector<std::string> ids;
   if (a.model == "all") ids = model_ids();
   else ids.push_back(a.model);
   for (const auto& id : ids) default_params(id);    // unknown ids fail before any work
+  for (const auto& name : a.hold) {                 // so does a held name no model fits
+    const bool fitted = std::any_of(ids.begin(), ids.end(), [&](const std::string& id) {
+      const auto params = joint_stage(id, false).params;
+      return std::find(params.begin(), params.end(), name) != params.end();
+    });
+    if (!fitted) throw InputError("--hold", name + ": no stage of " + a.model + " fits it");
+  }
+  const std::string root = resolve_data_root(g.data_root_flag);
+  const Dataset ds = read_dataset(std::filesystem::absolute(resolve_path(a.dataset, root, "")).string());
   FitOptions o;
   o.stages = a.stages;
+  o.hold = a.hold;
   o.joint = !a.stages_only;
   o.fit_px_scale = a.px_scale;
   o.robust = parse_robust_loss(a.robust);
@@ -102,6 +112,10 @@ void add_flags(CLI::App& sub, FitArgs& a) {
       ->delimiter(',');
   sub.add_flag("--stages-only", a.stages_only,
                "the paper's procedure: the stages alone, without the joint refinement that follows them by default");
+  sub.add_option("--hold", a.hold,
+                 "parameters fitted only in the first stage that lists them, then kept (e.g. lambda_d,kappa_d: "
+                 "the dilation kernel as the presses fit it)")
+      ->delimiter(',');
   sub.add_flag("--px-scale", a.px_scale, "the joint refinement also fits the image scale (px/m)");
   sub.add_option("--robust", a.robust, "robust loss: none | huber | cauchy")
       ->check(CLI::IsMember({"none", "huber", "cauchy"}));

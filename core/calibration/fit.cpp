@@ -538,6 +538,18 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
   return result;
 }
 
+void hold_after_first_stage(const std::vector<std::string>& hold, std::vector<FitStage>* stages) {
+  std::set<std::string> fitted;
+  for (FitStage& s : *stages) {
+    std::vector<std::string> kept;
+    for (const std::string& p : s.params)
+      if (fitted.count(p) == 0 || std::find(hold.begin(), hold.end(), p) == hold.end()) kept.push_back(p);
+    for (const std::string& p : s.params) fitted.insert(p);
+    s.params = std::move(kept);
+  }
+  std::erase_if(*stages, [](const FitStage& s) { return s.params.empty(); });
+}
+
 CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
                     const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
   const auto& table = fit_stages(model_id);
@@ -558,6 +570,7 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
   for (const auto& s : table)
     if (wanted(s.name)) stages.push_back(s);
   if (o.joint || (!o.stages.empty() && wanted("joint"))) stages.push_back(joint_stage(model_id, o.fit_px_scale));
+  hold_after_first_stage(o.hold, &stages);
   const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_model(model_id, sensor, ind); };
   return run_fit_stages(model_id, make, stages, samples, start, o);
 }

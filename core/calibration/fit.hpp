@@ -60,6 +60,9 @@ const std::vector<FitStage>& fit_stages(const std::string& model_id);
 // The joint refinement: every parameter of the stages (plus the image scale when px_scale), on every
 // motion the stages use, without rescaling.
 FitStage joint_stage(const std::string& model_id, bool px_scale);
+// FitOptions::hold: each held parameter leaves every stage after the first that lists it; a stage left with
+// no parameters is dropped.
+void hold_after_first_stage(const std::vector<std::string>& hold, std::vector<FitStage>* stages);
 
 enum class RobustLoss { None, Huber, Cauchy };
 // "none" | "huber" | "cauchy"; throws std::invalid_argument otherwise.
@@ -79,6 +82,10 @@ struct FitOptions {
   std::vector<std::string> stages;     // names to run, in table order; empty: all
   bool joint = false;                  // append the joint refinement
   bool fit_px_scale = false;           // joint also fits the image scale (fots: px_per_mm; the others' px/m gains are stage params)
+  // Parameters fitted only in the first stage that lists them: later stages and the joint refinement keep
+  // them (a stage left with none is skipped). E.g. {lambda_d, kappa_d}: the dilation kernel as the presses
+  // fit it, not moved to serve the shear frames.
+  std::vector<std::string> hold;
   RobustLoss robust = RobustLoss::None;
   double robust_scale_px = 1.0;        // where the robust loss bends
   int max_iterations = 50;             // per stage

@@ -70,6 +70,7 @@ nlohmann::json fit_file_json(const std::vector<CalibrationResult>& results, cons
                {"robust_scale_px", o.robust_scale_px},
                {"joint", o.joint},
                {"fit_px_scale", o.fit_px_scale},
+               {"hold", o.hold},
                {"models", models}};
   return j;
 }

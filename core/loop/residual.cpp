@@ -422,6 +422,11 @@ std::vector<std::string> model_form_variants(const std::string& model_id) {
   return {};
 }
 
+std::vector<std::string> model_form_hold(const std::string& model_id) {
+  if (model_id == "hydroshear") return {"lambda_d", "kappa_d"};
+  return {};
+}
+
 std::string effect_set_key(const std::vector<std::string>& ids) {
   std::string k;
   for (const auto& id : ids) k += (k.empty() ? "" : "+") + id;
@@ -608,6 +613,34 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       }
       rep.model_form_scores.push_back(std::move(sc));
       rep.model_form_fits[v] = std::move(ef);
+    }
+    // The selected variant fitted again with the dilation kernel held at the presses' fit: kept when it
+    // passes the rule and held-out data prefer it (model_form_hold).
+    const std::vector<std::string> hold = model_form_hold(in.model_id);
+    if (!rep.model_form_selected.empty() && !hold.empty()) {
+      const std::string v = rep.model_form_selected;
+      o.progress("model form " + v + ", held after their stage: " + effect_set_key(hold), 0.0);
+      const auto ts = std::chrono::steady_clock::now();
+      ParamSet start = default_params(v);
+      copy_shared(base_fit.params, &start);
+      FitOptions vo = fo;
+      vo.joint = true;
+      vo.hold = hold;
+      const CalibrationResult vr = fit_model(v, in.sensor, in.calibration, start, vo);
+      check_cancel(vr);
+      const SampleModelFactory make = [&in, v](const FitSample& s, std::size_t) {
+        return build_model(v, {}, in.sensor, s.indenter);
+      };
+      EffectFit ef = finish({}, vr.params, joint_stage(v, false).params.size(), ts, make, make);
+      CandidateScore sc = score_candidate(base_fit, ef.fit, o.selection);
+      sc.candidate = v;
+      if (sc.accepted && sc.rmse_px < best_rmse_px) {
+        rep.model_form_held = hold;
+        rep.model_form_joint_rmse_px = best_rmse_px;
+        for (auto& c : rep.model_form_scores)
+          if (c.candidate == v) c = std::move(sc);
+        rep.model_form_fits[v] = std::move(ef);
+      }
     }
   }
 

@@ -100,6 +100,10 @@ struct ResidualReport {
   std::map<std::string, EffectFit> model_form_fits;
   std::vector<CandidateScore> model_form_scores;
   std::string model_form_selected;
+  // How the selected variant was fitted: "" (its stages, then jointly) or the parameters held after their
+  // first stage (model_form_hold), when held-out data preferred that fit; then the joint fit's RMSE too.
+  std::vector<std::string> model_form_held;
+  double model_form_joint_rmse_px = 0;
   EffectFit before, after;
   double time_s = 0;
 };
@@ -109,6 +113,10 @@ std::string effect_set_key(const std::vector<std::string>& ids);
 // The model-form corrections of `model_id` that are models of their own (docs/effects.md, "Model-form
 // effects"): for hydroshear its layer, stick, layer+stick and contact variants; none for the others yet.
 std::vector<std::string> model_form_variants(const std::string& model_id);
+// The parameters the selected variant is also fitted with held after their first stage (FitOptions::hold):
+// for hydroshear the dilation kernel (lambda_d, kappa_d), which none of its variants changes. Fitted
+// jointly, the kernel can move to serve the shear frames; the loop keeps whichever fit held-out data prefers.
+std::vector<std::string> model_form_hold(const std::string& model_id);
 
 // The whole loop. Throws std::invalid_argument for empty splits or an unknown model / effect.
 ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions& options);

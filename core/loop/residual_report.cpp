@@ -282,6 +282,10 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
     }
     j["model_forms"] = forms;
     j["model_form_selected"] = r.model_form_selected;
+    if (!r.model_form_held.empty()) {
+      j["model_form_held"] = r.model_form_held;
+      j["model_form_joint_rmse_px"] = r.model_form_joint_rmse_px;
+    }
   }
   j["residual_before"] = structure_json(r.structure_before);
   j["residual_after"] = structure_json(r.structure_after);
@@ -316,6 +320,15 @@ std::vector<std::string> write_residual_plots(const ResidualReport& r, const std
   return names;
 }
 
+// How the selected variant was fitted, when not simply jointly.
+static std::string held_note(const ResidualReport& r) {
+  if (r.model_form_held.empty()) return "";
+  std::string names;
+  for (const auto& n : r.model_form_held) names += (names.empty() ? "" : ", ") + n;
+  return ", fitted with " + names + " held after their stage (the dilation kernel as the presses fit it; " +
+         f3(r.model_form_joint_rmse_px) + " px when the joint refinement moves them too)";
+}
+
 // The model-form round (issue 17): the base model's variants, each a model of its own, against the base.
 static std::string model_form_markdown(const ResidualReport& r) {
   if (r.model_form_scores.empty()) return "";
@@ -331,7 +344,7 @@ static std::string model_form_markdown(const ResidualReport& r) {
                     ? std::string("**No model form selected**: no variant passes the rule.")
                     : "**Selected model form: " + r.model_form_selected + "** (" + f3(r.model_form_scores.front().reference_rmse_px) +
                           " -> " + f3(validation_rmse(r.model_form_fits.at(r.model_form_selected).fit.validation)) +
-                          " px validation). The effect rounds below run on the base model.") + "\n";
+                          " px validation)" + held_note(r) + ". The effect rounds below run on the base model.") + "\n";
   return md;
 }
 

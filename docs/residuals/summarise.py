@@ -49,13 +49,41 @@ def model_form(d):
     if not sel:
         return "none passes"
     c = next(c for c in forms if c["model"] == sel)
-    return f"{sel} {c['validation_rmse_px']:.3f} ({-c['improvement_pct']:+.1f} %)"
+    held = " (dilation kernel held)" if d.get("model_form_held") else ""
+    return f"{sel}{held} {c['validation_rmse_px']:.3f} ({-c['improvement_pct']:+.1f} %)"
 
 
+def goal_table(runs):
+    """Issue 17's goal per twin set and motion: HydroShear plus the model form the loop selects against the
+    lowest of the published models' fits in this folder (FOTS re-impl., TacSL, HydroShear)."""
+    print()
+    print("Issue 17's goal, per twin set and motion: HydroShear plus the model form the loop selects, against the")
+    print("lowest of the published models' base fits above (FOTS re-impl., TacSL, HydroShear). docs/fidelity.md fits")
+    print("the same models from the published values; there HydroShear reaches 0.418 px on twin_torus's presses.")
+    print()
+    print("| twin set | motion | HydroShear + selection (px) | lowest published model (px) | lower |")
+    print("|---|---|---|---|---|")
+    for name in sorted({d["dataset"] for d in runs if d["dataset"].startswith("twin_")}):
+        by = {d["model"]: d for d in runs if d["dataset"] == name}
+        hs = by.get("hydroshear")
+        if not hs or not hs.get("model_form_selected"):
+            continue
+        sel = hs["model_form_selected"]
+        mine = next(c for c in hs["model_forms"] if c["model"] == sel)["fit"]["by_motion"]
+        for motion, m in mine.items():
+            best = min(((d["before"]["by_motion"][motion]["rmse_px"], k) for k, d in by.items()
+                        if motion in d["before"]["by_motion"]))
+            ok = "yes" if m["rmse_px"] < best[0] else "**no**"
+            print(f"| {name} | {motion} | {m['rmse_px']:.3f} ({sel}) | {best[0]:.3f} ({best[1]}) | {ok} |")
+
+
+runs = []
 print("| dataset | model | validation RMSE before -> after (px) | change | selected (fitted parameters) | best candidate not selected (95 % CI) | model form selected (val. RMSE px) |")
 print("|---|---|---|---|---|---|---|")
 for f in sorted(here.glob("*/residual.json")):
     d = json.loads(f.read_text())
+    runs.append(d)
     b, a = d["before"]["validation_rmse_px"], d["after"]["validation_rmse_px"]
     print(f"| [{d['dataset']}]({f.parent.name}/report.md) | {d['model']} | {b:.3f} -> {a:.3f} | {pct(b, a):+.1f} % | "
           f"{fmt_effects(d)} | {best_rejected(d)} | {model_form(d)} |")
+goal_table(runs)

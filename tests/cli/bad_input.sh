@@ -18,4 +18,6 @@ expect "unknown model 'nonsense'" "$exe" bench --model nonsense
 expect "$work/nope" "$exe" check --dataset "$work/nope"
 printf '{\n  "name": "x",\n  oops\n}\n' > "$work/broken_scene.json"
 expect "broken_scene.json:3" "$exe" simulate --scene "$work/broken_scene.json" --model tacsl --out "$work/out"
+expect "\-\-hold.*lambda_x: no stage of hydroshear fits it" "$exe" fit --dataset "$work/nope" --model hydroshear \
+  --hold lambda_d,lambda_x --out "$work/fit.json"
 exit $fail
