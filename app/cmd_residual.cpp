@@ -95,8 +95,10 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const MetricsResult b = rep.before.validation.overall.result(), f = rep.after.validation.overall.result();
     if (!rep.model_form_selected.empty())
-      std::fprintf(stderr, "residual: model form selected: %s (validation RMSE %.4f px)\n", rep.model_form_selected.c_str(),
-                   validation_rmse(rep.model_form_fits.at(rep.model_form_selected).fit.validation));
+      std::fprintf(stderr, "residual: model form selected: %s (validation RMSE %.4f px%s)\n",
+                   rep.model_form_selected.c_str(),
+                   validation_rmse(rep.model_form_fits.at(rep.model_form_selected).fit.validation),
+                   rep.model_form_held.empty() ? "" : "; fitted with the dilation kernel held at the presses' fit");
     std::fprintf(stderr, "residual: selected [%s]; validation RMSE %.4f -> %.4f px (%.1f s); wrote %s, %s\n",
                  effect_set_key(rep.selection.selected).c_str(), b.rmse_px, f.rmse_px, rep.time_s,
                  a.json_out.c_str(), report.string().c_str());

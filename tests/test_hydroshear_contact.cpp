@@ -58,6 +58,13 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
     INFO("marker " << j);
     CHECK((contact[j] - plain[j]).norm() < kPxTol + kFloatRel * max_norm(plain));
   }
+  // In double (single = 0) the same sums in another order.
+  p.set("single", 0);
+  const auto exact = hs_path_field(p);
+  for (std::size_t j = 0; j < exact.size(); ++j) {
+    INFO("marker " << j);
+    CHECK((exact[j] - plain[j]).norm() < kPxTol);
+  }
   CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
 }
 
@@ -126,7 +133,7 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
 // The far field's anisotropy, by hand: with everything else fixed, turning it on adds
 //   kappa_s sum_i beta_s3 exp(-l_s3 |m - a_i|^2) aniso l_s3 d_i (d_i . v_i),  d_i = (m - a_i) in the plane,
 // v_i = -E u_n,i K u_i^xy (the authors' weight and force). The factored sum splits d d^T into variants of
-// the axes' factors, in single precision (shear_sum_fast_aniso); this sums it point by point in double.
+// the axes' factors, in single precision (add_term_single); this sums it point by point in double.
 TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to each point's term",
           "[models][hydroshear_contact]") {
   constexpr double kBeta3 = 0.3, kLambda3 = 2e4, kAniso = 3;   // 5 mm wide: it reaches every marker

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <type_traits>
 
 namespace sb {
 
@@ -80,6 +81,9 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool conta
         {"aniso_s3", "", 3, 0, 10,
          "far field's anisotropy: + aniso_s3 l_s3 d (d . v), a tangential load moves the gel more along itself "
          "than across (Cerruti's Poisson term; 0 = isotropic)"},
+        {"single", "", 1, 0, 1,
+         "1: the shear sum in single precision (1.75x HydroShear's time; sums within ~1e-6 of the field); "
+         "0: in double (2.1x; fits always run it in double)"},
     };
     specs.insert(specs.end(), more.begin(), more.end());
   }
@@ -107,7 +111,8 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
   if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
   if (p.index_of("follow") >= 0) k.follow = p.get("follow");
-  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3"), k.single_precision = true;
+  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3"), k.shared_pass = true;
+  if (p.index_of("single") >= 0) k.single_precision = param_flag(p, "single");
   return k;
 }
 
@@ -148,8 +153,18 @@ struct HydroShearBatch::Scratch {
   // The single-precision path (shear_sum_single): the anchors, the exponents of the axis-split factors,
   // the operands of one chunk of points, the 8-lane partial sums and the recurrences' running row.
   std::vector<double> anchor_x, anchor_y, anchor_z, axis_args;
-  std::vector<float> vxf, vyf, wf;         // the point operands in single precision
-  std::vector<float> Xf, Wf, Sf;
+  template <typename T>
+  struct Operands {
+    std::vector<T> vx, vy, w;              // the point operands in T
+    std::vector<T> X, W, S;                // one chunk's operands and the lanes' partial sums
+  };
+  Operands<float> f32;
+  Operands<double> f64;
+  template <typename T>
+  Operands<T>& operands() {
+    if constexpr (std::is_same_v<T, float>) return f32;
+    else return f64;
+  }
   std::vector<double> run, sums;
   double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
@@ -581,8 +596,9 @@ void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
   const ShearTerm terms[] = {{1.0, k_.lambda_s, &gauss_x_, &gauss_y_, stick},
                              {k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_},
                              {k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_, false, k_.aniso_s3}};
-  if (k_.single_precision) {
-    shear_sum_single(terms, sc);
+  if (k_.shared_pass) {
+    if (k_.single_precision) shear_sum_shared<float>(terms, sc);
+    else shear_sum_shared<double>(terms, sc);
   } else {
     for (const ShearTerm& term : terms)
       if (term.weight > 0) add_shear_term(term, sc);
@@ -685,14 +701,16 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   if (fact) shear_sum_fast(term, sc, mp);
 }
 
-// The contact variant's shear sum in single precision, every Gaussian term in one pass over shared point
-// operands: v = -w f^xy, w and the anchor a are formed once (kernels::point_operands); per term, its
-// Gaussian splits by axis into factors of at most 1 (kernels::axis_exponents), whose recurrences run in
-// double and are stored as floats, and the products run per chunk of points small enough to stay in the
-// first-level cache, into 8-lane float partial sums. Its sums change by ~1e-6 of themselves against the
-// double path (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice the vector width:
-// the precision the authors' GPU code computes in.
-void HydroShearBatch::shear_sum_single(std::span<const ShearTerm> terms, Scratch& sc) const {
+// The contact variant's shear sum, every Gaussian term in one pass over shared point operands: v = -w f^xy,
+// w and the anchor a are formed once (kernels::point_operands); per term, its Gaussian splits by axis into
+// factors of at most 1 (kernels::axis_exponents), whose recurrences run in double and are stored as T, and
+// the products run per chunk of points small enough to stay in the first-level cache, into lane partial
+// sums. T = float (parameter single = 1, the default): the sums change by ~1e-6 of themselves against
+// double (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice the vector width, the
+// precision the authors' GPU code computes in. Fits run it in double (their cost must be smooth far below
+// that: core/calibration/fit.cpp).
+template <typename T>
+void HydroShearBatch::shear_sum_shared(std::span<const ShearTerm> terms, Scratch& sc) const {
   const PointColumns& F = *sc.field;
   const int n = F.size();
   const int mp = (n + 7) / 8 * 8;  // whole 8-float vectors
@@ -704,16 +722,18 @@ void HydroShearBatch::shear_sum_single(std::span<const ShearTerm> terms, Scratch
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   kernels::point_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(),
                           sc.anchor_y.data(), sc.anchor_z.data());
-  for (auto [from, to] : {std::pair{&sc.wvx, &sc.vxf}, std::pair{&sc.wvy, &sc.vyf}, std::pair{&sc.ww, &sc.wf}}) {
+  auto& ops = sc.operands<T>();
+  for (auto [from, to] : {std::pair{&sc.wvx, &ops.vx}, std::pair{&sc.wvy, &ops.vy}, std::pair{&sc.ww, &ops.w}}) {
     to->resize(mp);
-    std::copy(from->begin(), from->end(), to->begin());   // rounded to float
+    std::copy(from->begin(), from->end(), to->begin());   // rounded to T
   }
   for (const ShearTerm& term : terms)
-    if (term.weight > 0) add_term_single(term, sc, mp);
+    if (term.weight > 0) add_term_shared<T>(term, sc, mp);
 }
 
-// One Gaussian term of shear_sum_single: its slow points one by one, the rest factored per chunk.
-void HydroShearBatch::add_term_single(const ShearTerm& term, Scratch& sc, int mp) const {
+// One Gaussian term of shear_sum_shared: its slow points one by one, the rest factored per chunk.
+template <typename T>
+void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp) const {
   constexpr int kChunk = 96;   // points per chunk: the operands (at most 55 rows of floats) stay in L1
   const int n = sc.field->size();
   const double* vx = sc.wvx.data();
@@ -744,19 +764,21 @@ void HydroShearBatch::add_term_single(const ShearTerm& term, Scratch& sc, int mp
   // [W1; WB (2); WC] against [XC; XA; XB] (kernels::aniso_operands).
   const int w_blocks = aniso ? 4 : (term.with_weights ? 3 : 2);
   const int x_blocks = aniso ? 3 : 1;
-  sc.Xf.resize(static_cast<std::size_t>(x_blocks) * cols_pad * kChunk);
-  sc.Wf.resize(static_cast<std::size_t>(w_blocks) * rows * kChunk);
+  auto& ops = sc.operands<T>();
+  constexpr int kLanes = 32 / sizeof(T);   // the partial sums' lanes per output (add_products_acc)
+  ops.X.resize(static_cast<std::size_t>(x_blocks) * cols_pad * kChunk);
+  ops.W.resize(static_cast<std::size_t>(w_blocks) * rows * kChunk);
   sc.run.resize(kChunk);
-  sc.Sf.assign(8 * static_cast<std::size_t>(w_blocks) * nm, 0.0f);
-  float* S = sc.Sf.data();
+  ops.S.assign(kLanes * static_cast<std::size_t>(w_blocks) * nm, T(0));
+  T* S = ops.S.data();
   const double kl = term.aniso * term.lambda;
-  const float* vxf = sc.vxf.data();
-  const float* vyf = sc.vyf.data();
-  const float* wf = sc.wf.data();
+  const T* vxf = ops.vx.data();
+  const T* vyf = ops.vy.data();
+  const T* wf = ops.w.data();
   for (int off = 0; off < mp; off += kChunk) {
     const int m = std::min(kChunk, mp - off);   // a multiple of 8, as mp and kChunk are
-    float* X = sc.Xf.data();
-    float* W = sc.Wf.data();
+    T* X = ops.X.data();
+    T* W = ops.W.data();
     const std::ptrdiff_t xrows = static_cast<std::ptrdiff_t>(cols_pad) * m;
     const std::ptrdiff_t wrows = static_cast<std::ptrdiff_t>(rows) * m;
     if (aniso) {
@@ -764,8 +786,8 @@ void HydroShearBatch::add_term_single(const ShearTerm& term, Scratch& sc, int mp
                               sc.anchor_x.data() + off, sc.anchor_y.data() + off, grid_.xs.data(), grid_.ys.data(),
                               rows, cols, m, term.gx->q(), term.gy->q(), kl, X, W, sc.run.data());
       kernels::add_products_acc(W, rows, X + xrows, cols, m, S);                              // W1 XA
-      kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, m, S + 8 * nm);    // WB XB
-      kernels::add_products_acc(W + 3 * wrows, rows, X, cols, m, S + 8 * 3 * nm);             // WC XC
+      kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, m, S + kLanes * nm);       // WB XB
+      kernels::add_products_acc(W + 3 * wrows, rows, X, cols, m, S + kLanes * 3 * nm);           // WC XC
     } else {
       kernels::term_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off,
                              term.with_weights ? wf + off : nullptr, fast + off, rows, cols, m, term.gx->q(),
@@ -775,23 +797,23 @@ void HydroShearBatch::add_term_single(const ShearTerm& term, Scratch& sc, int mp
   }
   sc.sums.resize(static_cast<std::size_t>(w_blocks) * nm);
   kernels::lane_sums(S, w_blocks * nm, sc.sums.data());
-  const double* T = sc.sums.data();
+  const double* tot = sc.sums.data();
   double* sx = sc.shear_x.data();
   double* sy = sc.shear_y.data();
   if (aniso) {
     // S_x = W1 XA + kl WB[0] XB,  S_y = WC XC + kl WB[1] XB (see kernels::aniso_operands).
     for (int j = 0; j < nm; ++j) {
-      sx[j] += tw * (T[j] + kl * T[nm + j]);
-      sy[j] += tw * (T[3 * nm + j] + kl * T[2 * nm + j]);
+      sx[j] += tw * (tot[j] + kl * tot[nm + j]);
+      sy[j] += tw * (tot[3 * nm + j] + kl * tot[2 * nm + j]);
     }
     return;
   }
   for (int j = 0; j < nm; ++j) {
-    sx[j] += tw * T[j];
-    sy[j] += tw * T[nm + j];
+    sx[j] += tw * tot[j];
+    sy[j] += tw * tot[nm + j];
   }
   if (term.with_weights)
-    for (int j = 0; j < nm; ++j) sc.shear_w[j] += tw * T[2 * nm + j];
+    for (int j = 0; j < nm; ++j) sc.shear_w[j] += tw * tot[2 * nm + j];
 }
 
 // The fast points' share of the shear sum (see shear_sum).

@@ -54,7 +54,8 @@ struct HydroShearParams {
   double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
   double follow = 0;                  // contact-following tractions (0: the authors' anchors)
   double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
-  bool single_precision = false;      // the shear sum in single precision (the contact variant)
+  bool shared_pass = false;           // every term in one pass over shared operands (the contact variant)
+  bool single_precision = false;      // that pass in single precision (its parameter "single")
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
@@ -83,7 +84,8 @@ struct HydroShearPoint {
 // when the indenter's SDF bounds reach the marker plane, and only over the markers inside. Per slot,
 // the points are handled as columns (structure of arrays) by the branch-free loops of
 // core/models/hydroshear_kernels, which the compiler vectorises across points; the slot keeps only each
-// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed).
+// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed). The contact
+// variant sums its three terms over shared point operands, in single precision by default (shear_sum_shared).
 class HydroShearBatch {
  public:
   HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
@@ -150,8 +152,10 @@ class HydroShearBatch {
   bool factored(const ShearTerm& term) const;   // the term's Gaussians factor on the marker grid
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
-  void shear_sum_single(std::span<const ShearTerm> terms, Scratch& sc) const;
-  void add_term_single(const ShearTerm& term, Scratch& sc, int mp) const;
+  template <typename T>
+  void shear_sum_shared(std::span<const ShearTerm> terms, Scratch& sc) const;
+  template <typename T>
+  void add_term_shared(const ShearTerm& term, Scratch& sc, int mp) const;
   static Vec2 aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy);
   // vx, vy, vw: the point's term already scaled by the term's weight.
   void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy, double vw) const;

@@ -275,16 +275,8 @@ int axis_exponents(const double* ax, const double* ay, const double* az, const S
 }
 
 namespace {
-// One step of an axis' ratio recurrence on a running row in double (the k-th step multiplies by
-// r_i q^(k-1)): the row becomes the axis' Gaussian factor at the next marker. The callers below write
-// their loops out: a lambda's body can be compiled out of line for the baseline target (see
-// for_row_blocks), and these loops are the hot ones.
-[[gnu::always_inline]] inline void recurrence_step(double* run, const double* e_r, int m, double& q_pow, double q) {
-#pragma GCC ivdep
-  for (int i = 0; i < m; ++i) run[i] *= e_r[i] * q_pow;
-  q_pow *= q;
-}
-
+// The kernels below write their loops out: a lambda's body can be compiled out of line for the baseline
+// target (see for_row_blocks), and these loops are the hot ones.
 // The running row of the y factor at row 0: fast_i gy0_i.
 [[gnu::always_inline]] inline void y_factor_start(const double* e_y0, const std::uint8_t* fast, int m, double* run) {
 #pragma GCC ivdep
@@ -294,44 +286,123 @@ namespace {
   }
 }
 
-[[gnu::always_inline]] inline float* float_row(float* base, int r, int m) {
+// Four values of T: the recurrence's doubles rounded (float) or kept (double), and their loads and stores.
+template <typename T> struct Four;
+template <> struct Four<float> {
+  using type = v4f;
+  static type from(v4d v) { return to_float(v); }
+  static type load(const float* p) { return load4f(p); }
+  static void store(float* p, type v) { store4f(p, v); }
+};
+template <> struct Four<double> {
+  using type = v4d;
+  static type from(v4d v) { return v; }
+  static type load(const double* p) { return load4(p); }
+  static void store(double* p, type v) { std::memcpy(p, &v, sizeof v); }
+};
+
+template <typename T>
+[[gnu::always_inline]] inline T* row_of(T* base, int r, int m) {
   return base + static_cast<std::ptrdiff_t>(r) * m;
 }
 
 // Rows cols..round_up(cols, 3)-1 of an x-factor block: the products read them.
-[[gnu::always_inline]] inline void zero_padding_rows(float* block, int cols, int m) {
+template <typename T>
+[[gnu::always_inline]] inline void zero_padding_rows(T* block, int cols, int m) {
   const int cols_pad = (cols + 2) / 3 * 3;
-  for (int c = cols; c < cols_pad; ++c) std::memset(float_row(block, c, m), 0, sizeof(float) * m);
+  for (int c = cols; c < cols_pad; ++c) std::memset(row_of(block, c, m), 0, sizeof(T) * m);
 }
-}  // namespace
 
 // The operand builders run four points at a time with each axis' recurrence held in registers (in
 // double: its start may be far below float's range while a later marker's factor is not), storing each
-// marker's factor as float. Loops over the points with the rows outside kept the recurrence in memory.
-SB_VECTOR_CLONES
-void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
-                   const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                   double qy, float* X, float* W, double* run) {
+// marker's factor as T. Loops over the points with the rows outside kept the recurrence in memory.
+template <typename T>
+[[gnu::always_inline]] inline void term_operands_impl(const double* e_x0, const double* e_rx, const double* e_y0,
+                                                      const double* e_ry, const T* vx, const T* vy, const T* w,
+                                                      const std::uint8_t* fast, int rows, int cols, int m, double qx,
+                                                      double qy, T* X, T* W, double* run) {
+  using F = Four<T>;
   for (int i = 0; i < m; i += 4) {
     v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
     for (int c = 0; c < cols; ++c) {
       if (c > 0) g *= ratio, ratio *= qx;
-      store4f(float_row(X, c, m) + i, to_float(g));
+      F::store(row_of(X, c, m) + i, F::from(g));
     }
   }
   zero_padding_rows(X, cols, m);
   y_factor_start(e_y0, fast, m, run);
   for (int i = 0; i < m; i += 4) {
     v4d g = load4(run + i), ratio = load4(e_ry + i);
-    const v4f vx4 = load4f(vx + i), vy4 = load4f(vy + i), w4 = w != nullptr ? load4f(w + i) : v4f{};
+    const typename F::type vx4 = F::load(vx + i), vy4 = F::load(vy + i);
+    const typename F::type w4 = w != nullptr ? F::load(w + i) : typename F::type{};
     for (int r = 0; r < rows; ++r) {
       if (r > 0) g *= ratio, ratio *= qy;
-      const v4f gf = to_float(g);
-      store4f(float_row(W, r, m) + i, vx4 * gf);
-      store4f(float_row(W, rows + r, m) + i, vy4 * gf);
-      if (w != nullptr) store4f(float_row(W, 2 * rows + r, m) + i, w4 * gf);
+      const typename F::type gt = F::from(g);
+      F::store(row_of(W, r, m) + i, vx4 * gt);
+      F::store(row_of(W, rows + r, m) + i, vy4 * gt);
+      if (w != nullptr) F::store(row_of(W, 2 * rows + r, m) + i, w4 * gt);
     }
   }
+}
+
+template <typename T>
+[[gnu::always_inline]] inline void aniso_operands_impl(const double* e_x0, const double* e_rx, const double* e_y0,
+                                                       const double* e_ry, const T* vx, const T* vy,
+                                                       const std::uint8_t* fast, const double* ax, const double* ay,
+                                                       const double* xs, const double* ys, int rows, int cols, int m,
+                                                       double qx, double qy, double kl, T* X3, T* W4, double* run) {
+  using F = Four<T>;
+  using V = typename F::type;
+  const int cols_pad = (cols + 2) / 3 * 3;
+  T* XC = X3;
+  T* XA = row_of(X3, cols_pad, m);
+  T* XB = row_of(X3, 2 * cols_pad, m);
+  const T klt = static_cast<T>(kl);
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
+    const v4d a = load4(ax + i);
+    for (int c = 0; c < cols; ++c) {
+      if (c > 0) g *= ratio, ratio *= qx;
+      const V e = F::from(g), dx = F::from(xs[c] - a);   // the offset in double, then rounded
+      F::store(row_of(XC, c, m) + i, e);
+      F::store(row_of(XA, c, m) + i, e * (1 + klt * dx * dx));
+      F::store(row_of(XB, c, m) + i, e * dx);
+    }
+  }
+  for (T* block : {XC, XA, XB}) zero_padding_rows(block, cols, m);
+  T* W1 = W4;
+  T* WB = row_of(W4, rows, m);
+  T* WC = row_of(W4, 3 * rows, m);
+  y_factor_start(e_y0, fast, m, run);
+  for (int i = 0; i < m; i += 4) {
+    v4d g = load4(run + i), ratio = load4(e_ry + i);
+    const v4d a = load4(ay + i);
+    const V vx4 = F::load(vx + i), vy4 = F::load(vy + i);
+    for (int r = 0; r < rows; ++r) {
+      if (r > 0) g *= ratio, ratio *= qy;
+      const V gt = F::from(g), dy = F::from(ys[r] - a);
+      const V wx = vx4 * gt, wy = vy4 * gt;
+      F::store(row_of(W1, r, m) + i, wx);
+      F::store(row_of(WB, r, m) + i, wy * dy);
+      F::store(row_of(WB, rows + r, m) + i, wx * dy);
+      F::store(row_of(WC, r, m) + i, wy * (1 + klt * dy * dy));
+    }
+  }
+}
+}  // namespace
+
+SB_VECTOR_CLONES
+void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
+                   const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
+                   double qy, float* X, float* W, double* run) {
+  term_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, w, fast, rows, cols, m, qx, qy, X, W, run);
+}
+
+SB_VECTOR_CLONES
+void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
+                   const double* vy, const double* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
+                   double qy, double* X, double* W, double* run) {
+  term_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, w, fast, rows, cols, m, qx, qy, X, W, run);
 }
 
 SB_VECTOR_CLONES
@@ -339,41 +410,15 @@ void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, 
                     const float* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
                     const double* ys, int rows, int cols, int m, double qx, double qy, double kl, float* X3, float* W4,
                     double* run) {
-  const int cols_pad = (cols + 2) / 3 * 3;
-  float* XC = X3;
-  float* XA = float_row(X3, cols_pad, m);
-  float* XB = float_row(X3, 2 * cols_pad, m);
-  const float klf = static_cast<float>(kl);
-  for (int i = 0; i < m; i += 4) {
-    v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
-    const v4d a = load4(ax + i);
-    for (int c = 0; c < cols; ++c) {
-      if (c > 0) g *= ratio, ratio *= qx;
-      const v4f e = to_float(g), dx = to_float(xs[c] - a);   // the offset in double, then rounded
-      store4f(float_row(XC, c, m) + i, e);
-      store4f(float_row(XA, c, m) + i, e * (1 + klf * dx * dx));
-      store4f(float_row(XB, c, m) + i, e * dx);
-    }
-  }
-  for (float* block : {XC, XA, XB}) zero_padding_rows(block, cols, m);
-  float* W1 = W4;
-  float* WB = float_row(W4, rows, m);
-  float* WC = float_row(W4, 3 * rows, m);
-  y_factor_start(e_y0, fast, m, run);
-  for (int i = 0; i < m; i += 4) {
-    v4d g = load4(run + i), ratio = load4(e_ry + i);
-    const v4d a = load4(ay + i);
-    const v4f vx4 = load4f(vx + i), vy4 = load4f(vy + i);
-    for (int r = 0; r < rows; ++r) {
-      if (r > 0) g *= ratio, ratio *= qy;
-      const v4f gf = to_float(g), dy = to_float(ys[r] - a);
-      const v4f wx = vx4 * gf, wy = vy4 * gf;
-      store4f(float_row(W1, r, m) + i, wx);
-      store4f(float_row(WB, r, m) + i, wy * dy);
-      store4f(float_row(WB, rows + r, m) + i, wx * dy);
-      store4f(float_row(WC, r, m) + i, wy * (1 + klf * dy * dy));
-    }
-  }
+  aniso_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, fast, ax, ay, xs, ys, rows, cols, m, qx, qy, kl, X3, W4, run);
+}
+
+SB_VECTOR_CLONES
+void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
+                    const double* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
+                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3,
+                    double* W4, double* run) {
+  aniso_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, fast, ax, ay, xs, ys, rows, cols, m, qx, qy, kl, X3, W4, run);
 }
 
 namespace {
@@ -423,18 +468,20 @@ template <int A>
   }
 }
 
-// Single precision, accumulated into 8-lane partial sums (Sacc: 8 floats per output): a caller that runs the
-// product over chunks of points adds each chunk's vectors and sums the lanes once, at the end.
-template <int A>
-[[gnu::always_inline]] inline void add_row_block_acc(const float* Wt, int a, const float* Xt, int cols, int mp,
-                                                     float* Sacc) {
+// Accumulated into lane partial sums (Sacc: Vec<T>::width values per output, 8 floats or 4 doubles): a
+// caller that runs the product over chunks of points adds each chunk's vectors and sums the lanes once, at
+// the end.
+template <typename T, int A>
+[[gnu::always_inline]] inline void add_row_block_acc(const T* Wt, int a, const T* Xt, int cols, int mp, T* Sacc) {
+  using V = typename Vec<T>::type;
+  constexpr int kLanes = Vec<T>::width;
   for (int c = 0; c < cols; c += 3) {
-    v8f acc[A][3] = {};
-    block_sums<float, A>(Wt + static_cast<std::ptrdiff_t>(a) * mp, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, acc);
+    V acc[A][3] = {};
+    block_sums<T, A>(Wt + static_cast<std::ptrdiff_t>(a) * mp, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, acc);
     for (int k = 0; k < A; ++k)
       for (int d = 0; d < 3 && c + d < cols; ++d) {
-        float* out = Sacc + 8 * static_cast<std::ptrdiff_t>((a + k) * cols + c + d);
-        const v8f sum = load<v8f>(out) + acc[k][d];
+        T* out = Sacc + kLanes * static_cast<std::ptrdiff_t>((a + k) * cols + c + d);
+        const V sum = load<V>(out) + acc[k][d];
         std::memcpy(out, &sum, sizeof sum);
       }
   }
@@ -463,12 +510,13 @@ struct ProductRows {
   template <int A>
   [[gnu::always_inline]] inline void block(int a) const { add_row_block<A>(Wt, a, Xt, cols, mp, S); }
 };
+template <typename T>
 struct ProductRowsAcc {
-  const float *Wt, *Xt;
+  const T *Wt, *Xt;
   int cols, mp;
-  float* Sacc;
+  T* Sacc;
   template <int A>
-  [[gnu::always_inline]] inline void block(int a) const { add_row_block_acc<A>(Wt, a, Xt, cols, mp, Sacc); }
+  [[gnu::always_inline]] inline void block(int a) const { add_row_block_acc<T, A>(Wt, a, Xt, cols, mp, Sacc); }
 };
 }  // namespace
 
@@ -480,7 +528,12 @@ void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int m
 
 SB_VECTOR_CLONES
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc) {
-  for_row_blocks(nw, ProductRowsAcc{Wt, Xt, cols, mp, Sacc});
+  for_row_blocks(nw, ProductRowsAcc<float>{Wt, Xt, cols, mp, Sacc});
+}
+
+SB_VECTOR_CLONES
+void add_products_acc(const double* Wt, int nw, const double* Xt, int cols, int mp, double* Sacc) {
+  for_row_blocks(nw, ProductRowsAcc<double>{Wt, Xt, cols, mp, Sacc});
 }
 
 namespace {
@@ -510,6 +563,13 @@ void lane_sums(const float* Sacc, int n, double* out) {
     double s = 0;
     for (int k = 0; k < 8; ++k) s += Sacc[8 * static_cast<std::ptrdiff_t>(j) + k];
     out[j] = s;
+  }
+}
+
+void lane_sums(const double* Sacc, int n, double* out) {
+  for (int j = 0; j < n; ++j) {
+    const double* p = Sacc + 4 * static_cast<std::ptrdiff_t>(j);
+    out[j] = (p[0] + p[1]) + (p[2] + p[3]);
   }
 }
 

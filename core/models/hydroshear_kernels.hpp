@@ -70,7 +70,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
 void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
                   double* block);
 
-// The single-precision path (the contact variant, HydroShearBatch::shear_sum_single): the point operands
+// The shared-operand path (the contact variant, HydroShearBatch::shear_sum_shared): the point operands
 // shared by every Gaussian term, once per step: v = -w f^xy, the weight w and the anchor a = o + u + shift.
 void point_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* w,
                     double* ax, double* ay, double* az);
@@ -84,7 +84,7 @@ void point_operands(const ShearColumns& in, const ShearConstants& k, int n, doub
 int axis_exponents(const double* ax, const double* ay, const double* az, const ShearConstants& k, int n, double* ex0,
                    double* rx, double* ey0, double* ry, std::uint8_t* fast);
 
-// An isotropic term's single-precision operands for a chunk of m points (a multiple of 8), from the
+// An isotropic term's operands (in float or in double) for a chunk of m points (a multiple of 8), from the
 // exponentials of axis_exponents:
 //   X[c * m + i] = gx0_i X_i[c]  (round_up(cols, 3) rows, the padding rows zeroed)
 //   W[r * m + i] = fast vx gy0 Y_i[r],  W[(rows + r) * m + i] = fast vy gy0 Y_i[r]
@@ -93,8 +93,11 @@ int axis_exponents(const double* ax, const double* ay, const double* az, const S
 void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
                    const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
                    double qy, float* X, float* W, double* run);
+void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
+                   const double* vy, const double* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
+                   double qy, double* X, double* W, double* run);
 
-// The anisotropic term's operands in single precision (the factor 1 + k l d d^T; dx = xs[c] - ax_i,
+// The anisotropic term's operands in float or double (the factor 1 + k l d d^T; dx = xs[c] - ax_i,
 // dy = ys[r] - ay_i; ax, ay finite for every i < m), from the exponentials of axis_exponents:
 //   X3 = [XC; XA; XB], each round_up(cols, 3) rows (padding rows zeroed):
 //        XC[c] = gx0 X_i[c],  XA[c] = XC[c] (1 + kl dx^2),  XB[c] = XC[c] dx
@@ -105,6 +108,10 @@ void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, 
                     const float* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
                     const double* ys, int rows, int cols, int m, double qx, double qy, double kl, float* X3, float* W4,
                     double* run);
+void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
+                    const double* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
+                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3, double* W4,
+                    double* run);
 
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
@@ -112,9 +119,13 @@ void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int m
 // The same in single precision into 8-lane partial sums: Sacc[8 (a * cols + c) + k] += lane k of the sum
 // (the lanes' total is the product), mp a multiple of 8. For products run over chunks of points.
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc);
+// The same in double into 4-lane partial sums (Sacc: 4 doubles per output), mp a multiple of 4.
+void add_products_acc(const double* Wt, int nw, const double* Xt, int cols, int mp, double* Sacc);
 
 // out[j] = the sum of the 8 lanes of Sacc[8 j .. 8 j + 7], j < n (add_products_acc's partial sums).
 void lane_sums(const float* Sacc, int n, double* out);
+// out[j] = the sum of the 4 lanes of Sacc[4 j .. 4 j + 3] (the double add_products_acc's partial sums).
+void lane_sums(const double* Sacc, int n, double* out);
 
 // The dilation's sums over the markers inside the indenter: d[j] = sum_q h[q] K[ks[q] * stride + j] for
 // j < stride, for both axes (Kx, Ky k-major, rows padded with zeros to dilation_stride(markers)).
