@@ -591,35 +591,10 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
   // fitted base's values and the variant's own defaults, scored against the base by the selection rule.
   if (o.model_forms && o.fit_base) {
     const FitResult& base_fit = rep.fits.at("").fit;
-    double best_rmse_px = 0;
-    for (const std::string& v : model_form_variants(in.model_id)) {
-      o.progress("model form " + v, 0.0);
-      const auto ts = std::chrono::steady_clock::now();
-      ParamSet start = default_params(v);
-      copy_shared(base_fit.params, &start);
-      FitOptions vo = fo;
-      vo.joint = true;
-      const CalibrationResult vr = fit_model(v, in.sensor, in.calibration, start, vo);
-      check_cancel(vr);
-      const SampleModelFactory make = [&in, v](const FitSample& s, std::size_t) {
-        return build_model(v, {}, in.sensor, s.indenter);
-      };
-      EffectFit ef = finish({}, vr.params, joint_stage(v, false).params.size(), ts, make, make);
-      CandidateScore sc = score_candidate(base_fit, ef.fit, o.selection);
-      sc.candidate = v;
-      if (sc.accepted && (rep.model_form_selected.empty() || sc.rmse_px < best_rmse_px)) {
-        rep.model_form_selected = v;
-        best_rmse_px = sc.rmse_px;
-      }
-      rep.model_form_scores.push_back(std::move(sc));
-      rep.model_form_fits[v] = std::move(ef);
-    }
-    // The selected variant fitted again with the dilation kernel held at the presses' fit: kept when it
-    // passes the rule and held-out data prefer it (model_form_hold).
-    const std::vector<std::string> hold = model_form_hold(in.model_id);
-    if (!rep.model_form_selected.empty() && !hold.empty()) {
-      const std::string v = rep.model_form_selected;
-      o.progress("model form " + v + ", held after their stage: " + effect_set_key(hold), 0.0);
+    // One variant fitted like the base from the fitted base's values (with `hold` held after their first
+    // stage), and its score against the base.
+    const auto fit_variant = [&](const std::string& v, const std::vector<std::string>& hold) {
+      o.progress("model form " + v + (hold.empty() ? "" : ", held after their stage: " + effect_set_key(hold)), 0.0);
       const auto ts = std::chrono::steady_clock::now();
       ParamSet start = default_params(v);
       copy_shared(base_fit.params, &start);
@@ -634,6 +609,24 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
       EffectFit ef = finish({}, vr.params, joint_stage(v, false).params.size(), ts, make, make);
       CandidateScore sc = score_candidate(base_fit, ef.fit, o.selection);
       sc.candidate = v;
+      return std::pair{std::move(ef), std::move(sc)};
+    };
+    double best_rmse_px = 0;
+    for (const std::string& v : model_form_variants(in.model_id)) {
+      auto [ef, sc] = fit_variant(v, {});
+      if (sc.accepted && (rep.model_form_selected.empty() || sc.rmse_px < best_rmse_px)) {
+        rep.model_form_selected = v;
+        best_rmse_px = sc.rmse_px;
+      }
+      rep.model_form_scores.push_back(std::move(sc));
+      rep.model_form_fits[v] = std::move(ef);
+    }
+    // The selected variant fitted again with the dilation kernel held at the presses' fit: kept when it
+    // passes the rule and held-out data prefer it (model_form_hold).
+    const std::vector<std::string> hold = model_form_hold(in.model_id);
+    if (!rep.model_form_selected.empty() && !hold.empty()) {
+      const std::string v = rep.model_form_selected;
+      auto [ef, sc] = fit_variant(v, hold);
       if (sc.accepted && sc.rmse_px < best_rmse_px) {
         rep.model_form_held = hold;
         rep.model_form_joint_rmse_px = best_rmse_px;

@@ -108,6 +108,19 @@ void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n,
 }
 
 namespace {
+// One point's weight w and term v = -w f^xy (the paper's or the code's weight; split along n or +z).
+template <bool kWeightPaper, bool kNormalZ>
+[[gnu::always_inline]] inline void point_term(const ShearColumns& c, const ShearConstants& k, int i, double& vx,
+                                              double& vy, double& w) {
+  const double u_n = c.un[i];
+  const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
+  const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
+  const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
+  w = kWeightPaper ? -c.phi[i] : k.E * u_n;
+  vx = -w * fx;
+  vy = -w * fy;
+}
+
 // The loop of shear_operands for one weight choice: a select on a loop-invariant bool stops GCC's
 // vectoriser, two instantiations do not.
 template <bool kWeightPaper, bool kNormalZ>
@@ -117,13 +130,8 @@ template <bool kWeightPaper, bool kNormalZ>
   const double l = k.lambda_s;
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
-    const double u_n = c.un[i];
-    const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
-    const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
-    const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
-    const double w = kWeightPaper ? -c.phi[i] : k.E * u_n;
-    vx[i] = -w * fx;
-    vy[i] = -w * fy;
+    double w;
+    point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w);
     const double ax = c.px[i] + c.ux[i] + k.shift_x, ay = c.py[i] + c.uy[i] + k.shift_y, az = c.pz[i] + c.uz[i];
     const double dx0 = k.x0 - ax, dxn = k.xn - ax, dy0 = k.y0 - ay, dyn = k.yn - ay, dz = k.z0 - az;
     const double lz = l * dz * dz;
@@ -224,14 +232,7 @@ template <bool kWeightPaper, bool kNormalZ>
                                                        double* az) {
 #pragma GCC ivdep
   for (int i = 0; i < n; ++i) {
-    const double u_n = c.un[i];
-    const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
-    const double fx = k.E * u_n * nx + k.K * (c.ux[i] - u_n * nx);
-    const double fy = k.E * u_n * ny + k.K * (c.uy[i] - u_n * ny);
-    const double wi = kWeightPaper ? -c.phi[i] : k.E * u_n;
-    vx[i] = -wi * fx;
-    vy[i] = -wi * fy;
-    w[i] = wi;
+    point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w[i]);
     ax[i] = c.px[i] + c.ux[i] + k.shift_x;
     ay[i] = c.py[i] + c.uy[i] + k.shift_y;
     az[i] = c.pz[i] + c.uz[i];
