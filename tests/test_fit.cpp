@@ -413,7 +413,7 @@ TEST_CASE("a fit with the dilation kernel held keeps it as the presses fit it", 
 
 TEST_CASE("the contact variant is fitted in double whatever its precision parameter", "[fit]") {
   // Its single-precision sums move by ~1e-7 of the field, noise far above the solver's tolerances: fits
-  // run it in double (fit.cpp, in_double), so a start with single = 1 or 0 gives the same fit, bit for bit,
+  // run it in double (fit.cpp, in_double), so a start with float32 = 1 or 0 gives the same fit, bit for bit,
   // and the result keeps the start's setting.
   ParamSet truth = sb::default_params("hydroshear-contact");
   truth.set("kappa_d", 2e5), truth.set("kappa_s", 1e6);
@@ -423,14 +423,14 @@ TEST_CASE("the contact variant is fitted in double whatever its precision parame
   ParamSet start = sb::default_params("hydroshear-contact");
   start.set("kappa_d", 2e5), start.set("kappa_s", 1e6);
   const auto single = sb::fit_model("hydroshear-contact", real_setup().sensor, samples, start, o);
-  start.set("single", 0);
+  start.set("float32", 0);
   const auto dbl = sb::fit_model("hydroshear-contact", real_setup().sensor, samples, start, o);
   for (const std::string name : {"beta_s3", "lambda_s3", "follow", "aniso_s3"}) {
     INFO(name);
     CHECK(single.params.get(name) == dbl.params.get(name));
   }
-  CHECK(single.params.get("single") == 1);
-  CHECK(dbl.params.get("single") == 0);
+  CHECK(single.params.get("float32") == 1);
+  CHECK(dbl.params.get("float32") == 0);
 }
 
 // ------------------------------------------------------------------ the split rule on files

@@ -58,8 +58,8 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
     INFO("marker " << j);
     CHECK((contact[j] - plain[j]).norm() < kPxTol + kFloatRel * max_norm(plain));
   }
-  // In double (single = 0) the same sums in another order.
-  p.set("single", 0);
+  // In double (float32 = 0) the same sums in another order.
+  p.set("float32", 0);
   const auto exact = hs_path_field(p);
   for (std::size_t j = 0; j < exact.size(); ++j) {
     INFO("marker " << j);

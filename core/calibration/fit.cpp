@@ -85,11 +85,11 @@ struct SampleSlot {
   int offset;                                  // first scored marker-frame of this sample
 };
 
-// A model with a single-precision option (hydroshear-contact's "single") runs in double while fitted: its
+// A model with a single-precision option (hydroshear-contact's "float32") runs in double while fitted: its
 // float sums move by ~1e-7 of the field, noise far above the solver's tolerances (1e-10), and on twin_punch
 // the fit stopped early in that noise (0.393 px validation against 0.335 in double).
 void in_double(ParamSet* p) {
-  if (p->index_of("single") >= 0) p->set("single", 0);
+  if (p->index_of("float32") >= 0) p->set("float32", 0);
 }
 
 // Runs the model over the stage's samples for a parameter vector and forms the residual vector.

@@ -81,7 +81,7 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool conta
         {"aniso_s3", "", 3, 0, 10,
          "far field's anisotropy: + aniso_s3 l_s3 d (d . v), a tangential load moves the gel more along itself "
          "than across (Cerruti's Poisson term; 0 = isotropic)"},
-        {"single", "", 1, 0, 1,
+        {"float32", "", 1, 0, 1,
          "1: the shear sum in single precision (1.75x HydroShear's time; sums within ~1e-6 of the field); "
          "0: in double (2.1x; fits always run it in double)"},
     };
@@ -112,7 +112,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
   if (p.index_of("follow") >= 0) k.follow = p.get("follow");
   if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3"), k.shared_pass = true;
-  if (p.index_of("single") >= 0) k.single_precision = param_flag(p, "single");
+  if (p.index_of("float32") >= 0) k.single_precision = param_flag(p, "float32");
   return k;
 }
 
@@ -705,7 +705,7 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
 // w and the anchor a are formed once (kernels::point_operands); per term, its Gaussian splits by axis into
 // factors of at most 1 (kernels::axis_exponents), whose recurrences run in double and are stored as T, and
 // the products run per chunk of points small enough to stay in the first-level cache, into lane partial
-// sums. T = float (parameter single = 1, the default): the sums change by ~1e-6 of themselves against
+// sums. T = float (parameter float32 = 1, the default): the sums change by ~1e-6 of themselves against
 // double (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice the vector width, the
 // precision the authors' GPU code computes in. Fits run it in double (their cost must be smooth far below
 // that: core/calibration/fit.cpp).

@@ -55,7 +55,7 @@ struct HydroShearParams {
   double follow = 0;                  // contact-following tractions (0: the authors' anchors)
   double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
   bool shared_pass = false;           // every term in one pass over shared operands (the contact variant)
-  bool single_precision = false;      // that pass in single precision (its parameter "single")
+  bool single_precision = false;      // that pass in single precision (its parameter "float32")
   Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
   bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
