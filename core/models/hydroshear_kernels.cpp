@@ -539,10 +539,11 @@ void add_products_acc(const double* Wt, int nw, const double* Xt, int cols, int 
 
 namespace {
 #pragma GCC diagnostic ignored "-Wpsabi"
-using i8 = int __attribute__((vector_size(32)));
 // The horizontal add per 128-bit half: [a0+a1, a2+a3, b0+b1, b2+b3 | a4+a5, a6+a7, b4+b5, b6+b7].
+// (__builtin_shufflevector: GCC >= 12 and Clang both have it; GCC's __builtin_shuffle is GCC's alone.)
 [[gnu::always_inline]] inline v8f hadd(v8f a, v8f b) {
-  return __builtin_shuffle(a, b, i8{0, 2, 8, 10, 4, 6, 12, 14}) + __builtin_shuffle(a, b, i8{1, 3, 9, 11, 5, 7, 13, 15});
+  return __builtin_shufflevector(a, b, 0, 2, 8, 10, 4, 6, 12, 14) +
+         __builtin_shufflevector(a, b, 1, 3, 9, 11, 5, 7, 13, 15);
 }
 }  // namespace
 
@@ -556,8 +557,8 @@ void lane_sums(const float* Sacc, int n, double* out) {
     for (int k = 0; k < 8; ++k) v[k] = load<v8f>(Sacc + 8 * static_cast<std::ptrdiff_t>(j + k));
     const v8f ab = hadd(v[0], v[1]), cd = hadd(v[2], v[3]), ef = hadd(v[4], v[5]), gh = hadd(v[6], v[7]);
     const v8f abcd = hadd(ab, cd), efgh = hadd(ef, gh);   // [a b c d | a b c d] halves of the sums
-    const v8f total = __builtin_shuffle(abcd, efgh, i8{0, 1, 2, 3, 8, 9, 10, 11}) +
-                      __builtin_shuffle(abcd, efgh, i8{4, 5, 6, 7, 12, 13, 14, 15});
+    const v8f total = __builtin_shufflevector(abcd, efgh, 0, 1, 2, 3, 8, 9, 10, 11) +
+                      __builtin_shufflevector(abcd, efgh, 4, 5, 6, 7, 12, 13, 14, 15);
     for (int k = 0; k < 8; ++k) out[j + k] = total[k];
   }
   for (; j < n; ++j) {
