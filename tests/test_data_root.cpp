@@ -1,6 +1,8 @@
 // Data-root paths: "data:<relative>" resolves under the root, and data_path is its inverse for display.
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <filesystem>
 
 #include "core/base/data_root.hpp"
@@ -8,7 +10,7 @@
 namespace fs = std::filesystem;
 
 TEST_CASE("data_path shows a file under the data root as data:<relative>, others unchanged", "[data_root]") {
-  const fs::path root = fs::temp_directory_path() / "sb_test_data_root";
+  const fs::path root = sbtest::temp_path("sb_test_data_root");
   fs::create_directories(root / "twin" / "set");
   const std::string r = root.string();
   CHECK(sb::data_path((root / "twin" / "set").string(), r) == "data:twin/set");
@@ -28,7 +30,7 @@ TEST_CASE("a relative data root is made absolute once, so a scene's folder canno
   // From a working folder W with a data root "rel/data": the root is W/rel/data; a scene in W/scenes
   // naming data:meshes/m.obj resolves to W/rel/data/meshes/m.obj, not W/scenes/rel/data/meshes/m.obj
   // (joining a relative root to the scene's folder was the bug).
-  const fs::path work = fs::temp_directory_path() / "sb_test_data_root_rel";
+  const fs::path work = sbtest::temp_path("sb_test_data_root_rel");
   fs::create_directories(work / "rel" / "data" / "meshes");
   fs::create_directories(work / "scenes");
   const fs::path saved = fs::current_path();

@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+
+#include "temp_path.hpp"
 #include <filesystem>
 
 #include "core/base/display_path.hpp"
@@ -7,7 +9,7 @@ using namespace sb;
 namespace fs = std::filesystem;
 
 TEST_CASE("display_path: data: inside the data root, relative inside the working folder, else as given", "[display_path]") {
-  const fs::path tmp = fs::temp_directory_path() / "sb_display_path_test";
+  const fs::path tmp = sbtest::temp_path("sb_display_path_test");
   fs::remove_all(tmp);
   fs::create_directories(tmp / "data/twin/set");
   fs::create_directories(tmp / "repo/tests/out");

@@ -4,6 +4,8 @@
 // stage and the coarse scan alone; the real models follow.
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <atomic>
 #include <cmath>
 
@@ -446,7 +448,7 @@ namespace {
 // A tsd/1 dataset in a temporary folder: the 4 mm sphere's trajectories, simulated by HydroShear with
 // known gains, written as calibration samples, plus one validation copy of each.
 std::string write_split_dataset(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / ("sb_fit_split_" + name);
+  const auto dir = sbtest::temp_path("sb_fit_split_" + name);
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir / "meshes");
   sb::save_obj(sb::make_sphere_mesh(0.004, 3), (dir / "meshes" / "sphere.obj").string());

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -26,7 +28,7 @@ std::string require_data(const std::string& rel) {
 }
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / name;
+  const fs::path d = sbtest::temp_path(name);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

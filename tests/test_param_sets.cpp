@@ -2,6 +2,8 @@
 // file and JSON pointer, and each still reproduces the validation RMSE it records.
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -19,7 +21,7 @@ namespace fs = std::filesystem;
 namespace {
 
 std::string write_temp(const std::string& name, const std::string& text) {
-  const fs::path p = fs::temp_directory_path() / name;
+  const fs::path p = sbtest::temp_path(name);
   std::ofstream(p) << text;
   return p.string();
 }
@@ -90,7 +92,7 @@ TEST_CASE("each fitted set reproduces its recorded validation RMSE within 2 %", 
     const std::string dataset = sb::resolve_path(set.provenance.at("dataset").get<std::string>(), root, "");
     INFO("set " << name << ", dataset " << dataset);
     REQUIRE(fs::exists(dataset));
-    const fs::path work = fs::temp_directory_path() / ("sb_param_sets_" + name);
+    const fs::path work = sbtest::temp_path("sb_param_sets_" + name);
     const sb::Dataset ds = sb::read_param_set_dataset(sb::param_set_data(set.provenance, root, work.string()));
     for (const auto& [id, table] : set.tables) {
       const double recorded = set.provenance.at("validation").at(id).at("overall").at("rmse_px").get<double>();

@@ -2,6 +2,8 @@
 // importer on a few samples of ../shared/data/raw/tactip_shear (imported into a temporary folder).
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -113,7 +115,7 @@ TEST_CASE("TacTip pose path: above, pressed at (pose + shear), slid to the pose"
 
 TEST_CASE("tactip_shear import of three samples per split reads back as tsd/1", "[import][tactip]") {
   const std::string in = tactip_data("");
-  const fs::path out = fs::temp_directory_path() / "sb_test_import_tactip";
+  const fs::path out = sbtest::temp_path("sb_test_import_tactip");
   fs::remove_all(out);
   TactipImportOptions opts;
   opts.max_samples_per_split = 3;
@@ -167,7 +169,7 @@ TEST_CASE("tactip_shear import of three samples per split reads back as tsd/1", 
 }
 
 TEST_CASE("a malformed targets.csv row is an InputError naming file, line and column", "[import][tactip]") {
-  const fs::path dir = fs::temp_directory_path() / "sb_test_tactip_bad";
+  const fs::path dir = sbtest::temp_path("sb_test_tactip_bad");
   fs::remove_all(dir);
   for (const char* split : {"calibration", "validation"}) {
     fs::create_directories(dir / split / "images");
@@ -193,7 +195,7 @@ TEST_CASE("a malformed targets.csv row is an InputError naming file, line and co
 TEST_CASE("tactip_shear import with frames: the reference and the image, none where nothing was imaged",
           "[import][tactip]") {
   const std::string in = tactip_data("");
-  const fs::path out = fs::temp_directory_path() / "sb_test_import_tactip_frames";
+  const fs::path out = sbtest::temp_path("sb_test_import_tactip_frames");
   fs::remove_all(out);
   TactipImportOptions opts;
   opts.max_samples_per_split = 1;

@@ -3,6 +3,8 @@
 // effect, and check it selects that effect, recovers its parameters and lowers the validation RMSE.
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -200,7 +202,7 @@ TEST_CASE("residual loop selects nothing when the data hold no effect", "[residu
   CHECK(j["before"]["by_motion"].contains("shear"));
   REQUIRE(j["candidates"].size() == sb::effect_ids().size());
   for (const auto& c : j["candidates"]) CHECK(c["ci95_pct"].size() == 2);
-  const auto dir = std::filesystem::temp_directory_path() / "sb_test_residual_plots";
+  const auto dir = sbtest::temp_path("sb_test_residual_plots");
   std::filesystem::create_directories(dir);
   const auto plots = sb::write_residual_plots(r, dir.string(), "r");
   CHECK(plots.size() == r.structure_before.covariates.size() + 2);

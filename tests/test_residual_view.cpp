@@ -2,6 +2,8 @@
 // and the worker that computes the corrected model's fields along a replay.
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -39,9 +41,9 @@ nlohmann::json residual_json() {
 }
 
 std::string write_temp(const std::string& name, const nlohmann::json& j) {
-  const auto path = std::filesystem::temp_directory_path() / ("sb_test_residual_view_" + name + ".json");
+  const auto path = sbtest::temp_path("sb_test_residual_view_" + name).string() + ".json";
   std::ofstream(path) << j.dump(1);
-  return path.string();
+  return path;
 }
 
 // The message of the InputError that loading `j` throws ("" when it loads).

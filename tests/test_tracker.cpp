@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "temp_path.hpp"
+
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -135,7 +137,7 @@ TEST_CASE("a dot that leaves the image is lost, the others are unaffected, and i
 }
 
 TEST_CASE("an unreadable video gives an InputError naming it", "[tracker]") {
-  const fs::path dir = fs::temp_directory_path() / "sb_test_tracker_badvideo";
+  const fs::path dir = sbtest::temp_path("sb_test_tracker_badvideo");
   fs::create_directories(dir);
   const std::string bad = (dir / "not_a_video.avi").string();
   std::ofstream(bad) << "this is text, not a video\n";
