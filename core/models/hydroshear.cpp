@@ -155,7 +155,7 @@ struct HydroShearBatch::Scratch {
   std::vector<double> anchor_x, anchor_y, anchor_z, axis_args;
   template <typename T>
   struct Operands {
-    std::vector<T> vx, vy, w;              // the point operands in T
+    std::vector<T> vx, vy, w;              // the point operands in float (double reads wvx, wvy, ww)
     std::vector<T> X, W, S;                // one chunk's operands and the lanes' partial sums
   };
   Operands<float> f32;
@@ -722,10 +722,12 @@ void HydroShearBatch::shear_sum_shared(std::span<const ShearTerm> terms, Scratch
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   kernels::point_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(),
                           sc.anchor_y.data(), sc.anchor_z.data());
-  auto& ops = sc.operands<T>();
-  for (auto [from, to] : {std::pair{&sc.wvx, &ops.vx}, std::pair{&sc.wvy, &ops.vy}, std::pair{&sc.ww, &ops.w}}) {
-    to->resize(mp);
-    std::copy(from->begin(), from->end(), to->begin());   // rounded to T
+  if constexpr (std::is_same_v<T, float>) {   // in double, the terms read sc.wvx, wvy, ww themselves
+    auto& ops = sc.operands<T>();
+    for (auto [from, to] : {std::pair{&sc.wvx, &ops.vx}, std::pair{&sc.wvy, &ops.vy}, std::pair{&sc.ww, &ops.w}}) {
+      to->resize(mp);
+      std::copy(from->begin(), from->end(), to->begin());   // rounded to float
+    }
   }
   for (const ShearTerm& term : terms)
     if (term.weight > 0) add_term_shared<T>(term, sc, mp);
@@ -772,9 +774,11 @@ void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp
   ops.S.assign(kLanes * static_cast<std::size_t>(w_blocks) * nm, T(0));
   T* S = ops.S.data();
   const double kl = term.aniso * term.lambda;
-  const T* vxf = ops.vx.data();
-  const T* vyf = ops.vy.data();
-  const T* wf = ops.w.data();
+  const T* vxf;
+  const T* vyf;
+  const T* wf;
+  if constexpr (std::is_same_v<T, float>) vxf = ops.vx.data(), vyf = ops.vy.data(), wf = ops.w.data();
+  else vxf = vx, vyf = vy, wf = w;
   for (int off = 0; off < mp; off += kChunk) {
     const int m = std::min(kChunk, mp - off);   // a multiple of 8, as mp and kChunk are
     T* X = ops.X.data();
