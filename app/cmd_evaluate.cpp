@@ -24,6 +24,7 @@ struct EvaluateArgs {
 };
 
 int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
+  if (a.model != "all") require_model(a.model);
   const std::string root = resolve_data_root(g.data_root_flag);
   const Dataset ds = read_dataset(resolve_path(a.dataset, root, ""));
   split_selected(a.split, "calibration", "--split");  // rejects an unknown split before any work
@@ -60,7 +61,7 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, EvaluateArgs& a) {
   add_dataset_flag(sub, a.dataset);
-  sub.add_option("--model", a.model, "model id or 'all'")->required();
+  sub.add_option("--model", a.model, "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--split", a.split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));

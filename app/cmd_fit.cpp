@@ -16,6 +16,7 @@
 #include "core/calibration/evaluate.hpp"
 #include "core/calibration/fit_data.hpp"
 #include "core/data/json_read.hpp"
+#include "core/effects/model_spec.hpp"
 
 namespace sb::app {
 namespace {
@@ -39,7 +40,7 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   std::vector<std::string> ids;
   if (a.model == "all") ids = model_ids();
   else ids.push_back(a.model);
-  for (const auto& id : ids) default_params(id);    // unknown ids fail before any work
+  for (const auto& id : ids) require_model(id);    // unknown ids fail before any work
   for (const auto& name : a.hold) {                 // so does a held name no model fits
     const bool fitted = std::any_of(ids.begin(), ids.end(), [&](const std::string& id) {
       const auto params = joint_stage(id, false).params;
@@ -75,7 +76,7 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   std::vector<CalibrationResult> done;
   bool cancelled = false;
   for (const auto& id : ids) {
-    ParamSet start = default_params(id);
+    ParamSet start = model_spec_params(id);
     start.update_from_json(params_for_model(start_file, id, ids.size() == 1, a.start), a.start);
     o.on_stage_done = [&](const CalibrationResult& partial) {
       auto all = done;
@@ -107,7 +108,7 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, FitArgs& a) {
   add_dataset_flag(sub, a.dataset);
-  sub.add_option("--model", a.model, "model id or 'all'")->required();
+  sub.add_option("--model", a.model, "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")->required();
   sub.add_option("--stages", a.stages, "stages to run (default: the model's whole table); 'joint' too")
       ->delimiter(',');
   sub.add_flag("--stages-only", a.stages_only,

@@ -10,7 +10,7 @@
 #include "app/interrupt.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/base/data_root.hpp"
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/calibration/evaluate.hpp"
 #include "core/calibration/fit_data.hpp"
 #include "core/data/json_read.hpp"
@@ -89,19 +89,24 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   const std::filesystem::path report = std::filesystem::absolute(a.report_out);
   const std::string stem = report.stem().string();
   const auto plots = write_residual_plots(rep, report.parent_path().string(), stem);
+  // The loop's answer as a parameter file: `--model <after_model> --params <it>` in evaluate, simulate, fit.
+  const std::filesystem::path params_out = report.parent_path() / (stem + "_params.json");
+  write_file_atomic(params_out.string(), final_model_params_json(rep).dump(2) + "\n");
   write_file_atomic(report.string(), residual_to_markdown(rep, plots));
   write_file_atomic(a.json_out, residual_to_json(rep).dump(2) + "\n");
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const MetricsResult b = rep.before.validation.overall.result(), f = rep.after.validation.overall.result();
-    if (!rep.model_form_selected.empty())
+    if (!rep.model_form.selected.empty())
       std::fprintf(stderr, "residual: model form selected: %s (validation RMSE %.4f px%s)\n",
-                   rep.model_form_selected.c_str(),
-                   validation_rmse(rep.model_form_fits.at(rep.model_form_selected).fit.validation),
-                   rep.model_form_held.empty() ? "" : "; fitted with the dilation kernel held at the presses' fit");
-    std::fprintf(stderr, "residual: selected [%s]; validation RMSE %.4f -> %.4f px (%.1f s); wrote %s, %s\n",
-                 effect_set_key(rep.selection.selected).c_str(), b.rmse_px, f.rmse_px, rep.time_s,
-                 a.json_out.c_str(), report.string().c_str());
+                   rep.model_form.selected.c_str(),
+                   validation_rmse(rep.model_form.fits.at(rep.model_form.selected).fit.validation),
+                   rep.model_form.held.empty() ? "" : "; fitted with the dilation kernel held at the presses' fit");
+    std::fprintf(stderr, "residual: effects on %s: [%s]\n", rep.effects.form.c_str(),
+                 effect_set_key(rep.effects.selection.selected).c_str());
+    std::fprintf(stderr, "residual: answer %s; validation RMSE %.4f -> %.4f px (%.1f s); wrote %s, %s, %s\n",
+                 rep.after_model.c_str(), b.rmse_px, f.rmse_px, rep.time_s, a.json_out.c_str(),
+                 report.string().c_str(), params_out.string().c_str());
   }
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "core/effects/model_spec.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/base/reproducible.hpp"
 #include "core/base/data_root.hpp"
@@ -30,6 +31,7 @@ struct SimulateArgs {
 };
 
 int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
+  require_model(a.model);
   const std::string root = resolve_data_root(g.data_root_flag);
   const Scene scene = load_scene(a.scene, root);
   Warnings warnings;
@@ -45,7 +47,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
     params.update_from_json(it->second, a.scene + ": /params/" + a.model);
   if (!a.params.empty())
     params.update_from_json(params_for_model(jsonin::load_file(a.params), a.model, true, a.params), a.params);
-  auto model = make_model(a.model, scene.sensor, indenter);
+  auto model = make_spec_model(a.model, scene.sensor, indenter);
   model->set_params(params);
 
   const auto start = std::chrono::steady_clock::now();
@@ -92,7 +94,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, SimulateArgs& a) {
   sub.add_option("--scene", a.scene, "scene JSON (scenes/*.json)")->required();
-  sub.add_option("--model", a.model, model_ids_text())->required();
+  sub.add_option("--model", a.model, model_ids_text() + ", or a form with effects (hydroshear-contact+viscoelastic_creep)")->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--out", a.out, "output dataset folder")->required();

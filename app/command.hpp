@@ -53,5 +53,8 @@ CLI::Option* add_params_flag(CLI::App& sub, std::string& params, const std::stri
 // --param-set NAME|FILE: the parameter set a command starts from (assets/params; default twin_sphere35,
 // `published` for the authors' values); --params applies on top.
 CLI::Option* add_param_set_flag(CLI::App& sub, std::string& param_set);
+// Throws InputError naming `flag` when `model_id` is not a model by name (a form, or a form with effects:
+// core/effects/model_spec.hpp), so a typo exits 2 before any work.
+void require_model(const std::string& model_id, const std::string& flag = "--model");
 
 }  // namespace sb::app

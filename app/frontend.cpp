@@ -16,6 +16,7 @@
 
 #include <imgui.h>
 
+#include "core/effects/model_spec.hpp"
 #include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/base/free_memory.hpp"
@@ -219,7 +220,7 @@ int Frontend::export_fields(const std::string& dir) {
 
 void Frontend::switch_model(int slot, const std::string& model_id) {
   AppState& state = *session_.state;
-  auto model = make_model(model_id, state.sensor(), state.indenter());
+  auto model = make_spec_model(model_id, state.sensor(), state.indenter());
   model->set_params(session_.param_set.params(model_id));   // the variant starts from the set too
   state.request_model(static_cast<std::size_t>(slot), std::move(model));
   // The session remembers the variant (what `gui --hydroshear/--fots/--tacsl` would open).

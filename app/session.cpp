@@ -1,6 +1,7 @@
 #include "app/session.hpp"
 
 #include "app/command.hpp"
+#include "core/effects/model_spec.hpp"
 #include "core/calibration/param_sets.hpp"
 
 #include <filesystem>
@@ -70,7 +71,7 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
     ids.insert(ids.begin() + 1, beside);
   }
   for (const std::string& id : ids) {
-    auto m = make_model(id, scene.sensor, indenter);
+    auto m = make_spec_model(id, scene.sensor, indenter);
     m->set_params(param_set.params(id));
     if (auto it = scene.params.find(id); it != scene.params.end()) {
       ParamSet p = m->params();

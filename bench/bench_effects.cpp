@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 
 namespace {
 

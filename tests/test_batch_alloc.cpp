@@ -16,7 +16,7 @@
 #include "core/geometry/sdf.hpp"
 #include "core/sensor/sensor.hpp"
 #include "core/models/tacsl.hpp"
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "tests/asan_detect.hpp"
 
 namespace {

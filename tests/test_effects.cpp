@@ -2,7 +2,7 @@
 #include <cmath>
 #include <memory>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 
 using namespace sb;
 

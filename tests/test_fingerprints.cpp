@@ -7,7 +7,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/fingerprints.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 

@@ -12,7 +12,7 @@
 #include <random>
 #include <tuple>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
@@ -134,9 +134,9 @@ void check_recovers(const std::string& effect, const std::map<std::string, doubl
   const auto r = run_loop(effect, truth);
   const auto j = sb::residual_to_json(r);
   INFO(j["candidates"].dump(1));
-  REQUIRE(r.selection.selected.size() >= 1);
-  CHECK(r.selection.selected.front() == effect);
-  REQUIRE(r.selection.selected.size() == 1);   // the second greedy round finds nothing left to explain
+  REQUIRE(r.effects.selection.selected.size() >= 1);
+  CHECK(r.effects.selection.selected.front() == effect);
+  REQUIRE(r.effects.selection.selected.size() == 1);   // the second greedy round finds nothing left to explain
   for (const auto& [name, value] : truth) {
     const double fitted = r.after.fit.params.get(effect + "." + name);
     INFO(effect << "." << name << ": fitted " << fitted << ", injected " << value);
@@ -190,13 +190,14 @@ TEST_CASE("residual loop attributes an undeclared camera misalignment", "[residu
 TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual][slow]") {
   const auto r = run_loop("", {});
   INFO(sb::residual_to_json(r)["candidates"].dump(1));
-  CHECK(r.selection.selected.empty());
+  CHECK(r.effects.selection.selected.empty());
   // The base alone is the truth: its validation RMSE is the noise's, sqrt(2) sigma (within 15 %).
   CHECK(std::abs(r.before.validation.overall.result().rmse_px - std::sqrt(2.0) * kNoisePx) < 0.15 * std::sqrt(2.0) * kNoisePx);
 
   // The report: the JSON shape the CLI promises, and one PNG per covariate plus the two quiver plots.
   const auto j = sb::residual_to_json(r);
-  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after"}) CHECK(j.contains(key));
+  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after", "after_model"}) CHECK(j.contains(key));
+  CHECK(j["after_model"] == kBase);   // nothing selected: the answer is the base
   CHECK(j["before"].contains("validation_rmse_px"));
   CHECK(j["before"].contains("validation_cs"));
   CHECK(j["before"]["by_motion"].contains("shear"));
@@ -226,7 +227,7 @@ TEST_CASE("residual structure: a rank-one residual is one principal component, b
   double biggest = 0;
   for (auto& f : s.meas_px) for (auto& d : f) biggest = std::max(biggest, d.norm());
   INFO("largest measured displacement " << biggest << " px");
-  const auto st = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  const auto st = sb::analyse_residual(kBase, sb::default_params(kBase), setup().sensor, {s}, 5);
   REQUIRE(st.frames > 2);
   REQUIRE(st.explained_variance.size() == 3);
   CHECK(st.explained_variance[0] == Approx(1.0).margin(kTol));
@@ -292,7 +293,7 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
     for (std::size_t j = 0; j < sensor.p_EM.size(); ++j)
       s.meas_px[k][j] += 0.2 * (sensor.p_EM[j].head<2>() - pen.centre_E).normalized();
   }
-  const auto radial = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  const auto radial = sb::analyse_residual(kBase, sb::default_params(kBase), setup().sensor, {s}, 5);
   for (const auto& t : radial.covariates) {
     if (!t.contact_frame) continue;
     for (std::size_t b = 0; b < t.labels.size(); ++b) {
@@ -305,7 +306,7 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
   s.meas_px = base;
   for (auto& frame : s.meas_px)
     for (auto& d : frame) d += Vec2(0.3, 0.0);
-  const auto uniform = sb::analyse_residual(kBase, {}, sb::default_params(kBase), setup().sensor, {s}, 5);
+  const auto uniform = sb::analyse_residual(kBase, sb::default_params(kBase), setup().sensor, {s}, 5);
   long n_lead = 0, n_trail = 0;
   for (const auto& [name, along, sign] : {std::tuple{leading, 0.3, 1}, std::tuple{trailing, 0.3, -1},
                                           std::tuple{no_travel, 0.0, 0}}) {

@@ -188,6 +188,48 @@ TEST_CASE("corrected model: base wrapped with the selected effects at the fitted
   CHECK(largest > 0.1);   // the press does move markers: the check above is not 0 == 0
 }
 
+// Issue 31: the loop's answer is the selected model form with the selected effects on it. A report that
+// selected hydroshear-contact and then camera_misalignment must give exactly that model, not the base with the
+// effect: the section says the same as the report.
+TEST_CASE("corrected model: the selected model form with the effects selected on it", "[residual_view]") {
+  const auto sensor = sbtest::test_sensor();
+  const auto sphere = sbtest::sphere_indenter(0.004);
+  auto j = residual_json();
+  j["model"] = "hydroshear";
+  j["before"]["params"] = {{"kappa_s", 15000.0}};
+  j["model_form_selected"] = "hydroshear-contact";
+  j["after_model"] = "hydroshear-contact+camera_misalignment";
+  const ResidualSummary s = load_residual_summary(write_temp("form", j));
+  CHECK(s.after_model == "hydroshear-contact+camera_misalignment");
+  CHECK(s.model_form == "hydroshear-contact");
+  auto corrected = make_corrected_model(s, sensor, sphere);
+  CHECK(corrected->id() == "hydroshear-contact+camera_misalignment");
+  // camera_misalignment at scale 1.2 and rotation 0 is exactly 1.2 x its form's field (as above).
+  auto form = make_model("hydroshear-contact", sensor, sphere);
+  ParamSet p = form->params();
+  for (std::size_t i = 0; i < p.size(); ++i) p.set(i, corrected->params().get(p.specs()[i].name));
+  form->set_params(p);
+  FieldOutput a, b;
+  for (int k = 1; k <= 5; ++k) {
+    const Pose X = make_pose(Vec3(1e-3 + 1e-4 * k, 0, 0.004 - 2e-4 * k), Quat::Identity());
+    corrected->step(X, 0.02, &a);
+    form->step(X, 0.02, &b);
+  }
+  double largest = 0;
+  for (std::size_t i = 0; i < a.disp_px.size(); ++i) {
+    CHECK((a.disp_px[i] - 1.2 * b.disp_px[i]).norm() < 1e-9);
+    largest = std::max(largest, b.disp_px[i].norm());
+  }
+  CHECK(largest > 0.1);
+  // Older reports (no after_model) mean the base with the selection; an answer whose effects are not the
+  // selection is refused, naming the entry.
+  CHECK(load_residual_summary(write_temp("old", residual_json())).after_model == "fots-reimpl+camera_misalignment");
+  j["after_model"] = "hydroshear-contact+tracker_bias";
+  CHECK_THAT(load_error(j), Catch::Contains("/after_model"));
+  j["after_model"] = "hydroshear-nope+camera_misalignment";
+  CHECK_THAT(load_error(j), Catch::Contains("/after_model") && Catch::Contains("unknown model"));
+}
+
 TEST_CASE("residual field is measured minus predicted; a lost marker stays NaN", "[residual_view]") {
   const std::vector<Vec2> measured = {Vec2(1.0, 2.0), Vec2(kNaN, kNaN), Vec2(0.0, 0.0)};
   const std::vector<Vec2> predicted = {Vec2(0.5, 0.5), Vec2(1.0, 1.0)};

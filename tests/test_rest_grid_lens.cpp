@@ -7,7 +7,7 @@
 #include <random>
 #include <set>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 #include "core/sensor/sensor.hpp"
 

@@ -680,7 +680,7 @@ void Workbench::draw_fields(float width, float height) {
       if (i == corrected_slot() && show_corrected_) {
         if (const auto* c = corrected_at_step()) {
           field = c;
-          for (const auto& e : residual_->selected) in.title += " + " + e;
+          in.title = residual_->after_model;   // the loop's answer: the form and its effects
         } else {
           in.title += corrected_job_.running() ? " (correcting ...)" : "";
         }

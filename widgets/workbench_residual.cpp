@@ -1,6 +1,7 @@
 // The Residual section of the workbench: a residual analysis (shearbench residual --json) read back,
 // its ranked candidates, and the field panels switched to the residual (measured - model) and to the
-// corrected model (base + the selected effects at their fitted parameters).
+// corrected model: the loop's answer, the selected model form (else the base) with the selected effects, at
+// their fitted parameters.
 #include <imgui.h>
 
 #include <algorithm>
@@ -8,7 +9,7 @@
 #include <cstdio>
 
 #include "core/base/display_path.hpp"
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "widgets/workbench.hpp"
 
 namespace sb::ui {
@@ -46,7 +47,7 @@ bool Workbench::apply_residual_base_params() {
 }
 
 int Workbench::corrected_slot() const {
-  if (!residual_ || residual_->selected.empty()) return -1;
+  if (!residual_ || residual_->after_model == residual_->model_id) return -1;
   for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m)
     if (snap_.models[m].id == residual_->model_id) return m;
   return -1;
@@ -130,7 +131,14 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
   ImGui::TextWrapped("%s on %s", display_name(r.model_id).c_str(), r.dataset.c_str());
   const double change = 100.0 * (r.after_rmse_px - r.before_rmse_px) / r.before_rmse_px;
   ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
-  ImGui::Text("selected: %s", r.selected.empty() ? "nothing" : joined(r.selected, " + ").c_str());
+  ImGui::TextWrapped("answer: %s", r.after_model.c_str());
+  if (ImGui::IsItemHovered())
+    wrapped_tooltip("The model the analysis found: the selected model form (" +
+                    (r.model_form.empty() ? std::string("none, so the base") : r.model_form) + ") with the selected effects (" +
+                    (r.selected.empty() ? std::string("none") : joined(r.selected, " + ")) +
+                    "), fitted jointly. Load it anywhere as --model " + r.after_model +
+                    " with the report's _params.json file.");
+  ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : joined(r.selected, " + ").c_str());
   constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
   if (ImGui::BeginTable("##candidates", 4, kTable)) {
     ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 1.7f);
@@ -173,12 +181,14 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
     ImGui::SetTooltip("%s's parameters as the analysis fitted them without effects:\nthe fair reference for the corrected model",
                       display_name(r.model_id).c_str());
   const int slot = corrected_slot();
-  if (r.selected.empty()) {
+  if (r.after_model == r.model_id) {
     ImGui::TextDisabled("nothing selected: no corrected model");
   } else if (slot < 0) {
     ImGui::TextDisabled("%s is not one of the shown models", display_name(r.model_id).c_str());
   } else {
-    ImGui::Checkbox(("with " + joined(r.selected, " + ")).c_str(), &show_corrected_);
+    ImGui::Checkbox(("show " + r.after_model).c_str(), &show_corrected_);
+    if (ImGui::IsItemHovered())
+      wrapped_tooltip(display_name(r.model_id) + "'s panel shows the loop's answer instead, at its fitted parameters");
     if (show_corrected_ && measured_.poses.empty()) ImGui::TextDisabled("(needs a replay with measurements)");
     else if (show_corrected_ && corrected_job_.running()) ImGui::TextDisabled("computing the corrected fields ...");
   }

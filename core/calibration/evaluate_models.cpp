@@ -4,6 +4,7 @@
 #include <map>
 #include <mutex>
 
+#include "core/effects/model_spec.hpp"
 #include "core/calibration/evaluate.hpp"
 
 namespace sb {
@@ -37,7 +38,7 @@ std::shared_ptr<const Indenter> cached_dataset_indenter(const Dataset& ds, const
 ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_id, const nlohmann::json& params,
                                    const std::string& data_root, const std::string& params_where,
                                    Warnings* warnings) {
-  ParamSet param_set = default_params(model_id);
+  ParamSet param_set = model_spec_params(model_id);
   param_set.update_from_json(params, params_where);
   std::shared_ptr<const Sensor> sensor;
   if (!gel_surface_is_mesh(ds.gel.surface)) {
@@ -57,7 +58,7 @@ ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_i
     (*indenters)[name] = cached_dataset_indenter(ds, name, data_root, warnings);
   }
   return [=](const TsdSampleInfo& info) {
-    auto model = make_model(model_id, sensor, indenters->at(info.indenter));
+    auto model = make_spec_model(model_id, sensor, indenters->at(info.indenter));
     model->set_params(param_set);
     return model;
   };

@@ -14,6 +14,10 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/data/tsd.hpp"
+#include "core/effects/effects.hpp"
+#include "core/effects/model_spec.hpp"
+
 namespace sb {
 
 namespace {
@@ -306,7 +310,9 @@ std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas
   return out;
 }
 
-const std::vector<FitStage>& fit_stages(const std::string& id) {
+namespace {
+
+const std::vector<FitStage>& form_fit_stages(const std::string& id) {
   // HydroShear as the paper stages it: the dilation kernel and gain on presses; the shear kernel's shape
   // on slides with a free scale; then the shear gain; then the friction ratio on slips, which sets the
   // slip plateau. The shear gain is kappa_s, not K: in the stick regime the field is kappa_s E K u_n u_t,
@@ -374,6 +380,20 @@ const std::vector<FitStage>& fit_stages(const std::string& id) {
   const auto it = table.find(id);
   if (it == table.end()) throw std::invalid_argument("fit: no stage table for model '" + id + "'");
   return it->second;
+}
+
+}  // namespace
+
+std::vector<FitStage> fit_stages(const std::string& id) {
+  const ModelSpec spec = parse_model_spec(id);
+  std::vector<FitStage> stages = form_fit_stages(spec.form);
+  if (spec.effects.empty()) return stages;
+  const ParamSet table = model_spec_params(id);
+  FitStage effects{"effects", {}, tsd_motions(), false, {}};
+  for (const auto& e : spec.effects)
+    for (const auto& name : effect_fit_params(table, e)) effects.params.push_back(name);
+  if (!effects.params.empty()) stages.push_back(std::move(effects));
+  return stages;
 }
 
 FitStage joint_stage(const std::string& id, bool px_scale) {
@@ -579,7 +599,7 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
     if (wanted(s.name)) stages.push_back(s);
   if (o.joint || (!o.stages.empty() && wanted("joint"))) stages.push_back(joint_stage(model_id, o.fit_px_scale));
   hold_after_first_stage(o.hold, &stages);
-  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_model(model_id, sensor, ind); };
+  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_spec_model(model_id, sensor, ind); };
   return run_fit_stages(model_id, make, stages, samples, start, o);
 }
 
@@ -590,7 +610,7 @@ double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> se
   std::vector<double> sse_i(samples.size(), 0.0);
   std::vector<long> n_i(samples.size(), 0);
   tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
-    auto model = make_model(model_id, sensor, samples[i].indenter);
+    auto model = make_spec_model(model_id, sensor, samples[i].indenter);
     model->set_params(params);
     const auto pred = simulate_sample(*model, samples[i]);
     const std::size_t m = samples[i].meas_px.front().size();

@@ -55,8 +55,9 @@ struct FitStage {
   std::vector<std::string> fallback_motions;   // used (and reported) when no sample has `motions`
 };
 
-// The stage table of a model id (throws std::invalid_argument for an unknown id).
-const std::vector<FitStage>& fit_stages(const std::string& model_id);
+// The stage table of a model id (throws std::invalid_argument for an unknown id). A form with effects
+// (core/effects/model_spec.hpp) has the form's stages, then one stage of the effects' parameters on every motion.
+std::vector<FitStage> fit_stages(const std::string& model_id);
 // The joint refinement: every parameter of the stages (plus the image scale when px_scale), on every
 // motion the stages use, without rescaling.
 FitStage joint_stage(const std::string& model_id, bool px_scale);

@@ -10,6 +10,7 @@
 #include "core/data/importers.hpp"
 #include "core/data/json_read.hpp"
 #include "core/base/data_root.hpp"
+#include "core/effects/model_spec.hpp"
 #include "core/models/model.hpp"
 
 namespace fs = std::filesystem;
@@ -17,9 +18,14 @@ namespace fs = std::filesystem;
 namespace sb {
 
 ParamSet NamedParamSet::params(const std::string& model_id) const {
-  ParamSet p = default_params(model_id);
-  if (const auto it = tables.find(model_id); it != tables.end())
-    p.update_from_json(it->second, (file.empty() ? name : file) + ": /params/" + model_id);
+  // A form with effects starts from the set's table of its form, then its own table if the set has one.
+  ParamSet p = model_spec_params(model_id);
+  const std::string form = parse_model_spec(model_id).form;
+  std::vector<std::string> layers = {form};
+  if (model_id != form) layers.push_back(model_id);
+  for (const std::string& id : layers)
+    if (const auto it = tables.find(id); it != tables.end())
+      p.update_from_json(it->second, (file.empty() ? name : file) + ": /params/" + id);
   return p;
 }
 

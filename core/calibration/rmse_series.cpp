@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/effects/model_spec.hpp"
 #include "core/calibration/metrics.hpp"
 
 namespace sb {
@@ -39,7 +40,7 @@ void RmseSeriesJob::start(RmseSeriesRequest request) {
     std::vector<std::vector<double>> series;
     try {
       for (std::size_t m = 0; m < req.model_ids.size() && !cancel_; ++m) {
-        auto model = make_model(req.model_ids[m], req.sensor, req.indenter);
+        auto model = make_spec_model(req.model_ids[m], req.sensor, req.indenter);
         model->set_params(req.params.at(m));
         series.push_back(rmse_over_time(*model, req.path, req.dt_s, req.measured_px, &cancel_));
       }

@@ -8,7 +8,7 @@
 #include <functional>
 #include <stdexcept>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
 namespace sb {

@@ -1,8 +1,15 @@
 #pragma once
-// Closing the loop (`shearbench residual`): fit a shear model on the calibration split, look at the
-// structure of its residual (measured - predicted) against physical covariates and by principal
-// components, then attribute it to catalogued effects (core/loop/effects.hpp) with the selection rule of
-// core/loop/residual_select.hpp, and report the validation error before and after.
+// Closing the loop (`shearbench residual`, docs/effects.md "The loop, step by step"): a pipeline of five
+// named steps, each a method of ResidualLoop with its inputs and outputs as types:
+//   1. fit_base           the base model fitted on the calibration split            -> EffectFit ("before")
+//   2. model_form_round   each model-form variant of the base, fitted and scored   -> ModelFormRound
+//                         against it on validation; the best accepted one is the form the effects build on
+//   3. effect_rounds      the catalogued effects (core/effects) on top of that form, -> EffectRounds
+//                         greedily, by the selection rule of residual_select.hpp (with fingerprints)
+//   4. final_fit          the form plus the selected effects, fitted jointly        -> FinalModel ("after")
+//   5. score              the residual structure of "before" and "after"           -> both ResidualStructures
+// "before" is the base model as fitted; "after" is the model the analysis found, a model by name
+// (core/effects/model_spec.hpp) that every other command and the workbench load.
 //
 // Scoring follows the field metric (core/calibration/metrics.hpp): frames where a measured marker moves >= 0.5 px,
 // every finite marker in them. A validation "sample" for the bootstrap is a whole sequence; its count is
@@ -18,12 +25,13 @@
 #include "core/calibration/fit.hpp"
 #include "core/calibration/metrics.hpp"
 #include "core/loop/residual_select.hpp"
+#include "core/loop/residual_structure.hpp"
 
 namespace sb {
 
 struct ResidualInputs {
   std::string dataset;                   // name, for reports
-  std::string model_id;                  // base model (make_model id)
+  std::string model_id;                  // base model (a model_ids() entry)
   std::shared_ptr<const Sensor> sensor;
   std::vector<FitSample> calibration;    // split "calibration" (fits see only these)
   std::vector<FitSample> validation;     // split "validation" (scores only)
@@ -40,45 +48,15 @@ struct ResidualOptions {
   bool model_forms = true;
   SelectionOptions selection;
   int max_iterations = 30;               // Levenberg-Marquardt iterations per stage
-  // A candidate gets its joint refit (base + effects, every run a full model run) only when its effect
-  // alone, over the reference's base field, improves the validation RMSE by at least this (%).
+  // A candidate gets its joint refit (form + effects, every run a full model run) only when its effect
+  // alone, over the reference's recorded field, improves the validation RMSE by at least this (%).
   double screen_min_pct = 0.5;
   int bins = 6;                          // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;
 };
 
-// RMS of |residual| (px) per bin of one covariate.
-struct CovariateTable {
-  std::string name;
-  std::string unit;
-  std::vector<std::string> labels;       // bin labels ("0.00-0.25", or "loading" ...)
-  std::vector<double> centre;            // bin centre (numeric covariates; index for categorical)
-  std::vector<double> rms_px;            // NaN for an empty bin
-  std::vector<long> count;               // marker-frames in the bin
-  // Contact-frame tables only (in contact, a subset of the marker-frames): the mean residual component
-  // along the direction from the contact centre to the marker (+: outward) and along the indenter's
-  // tangential travel since first contact (+: the way it moved). Empty for the other tables.
-  bool contact_frame = false;
-  std::vector<double> mean_radial_px, mean_along_px;
-};
-
-struct ResidualStructure {
-  double rmse_px = 0;
-  long marker_frames = 0;
-  long frames = 0;
-  std::vector<CovariateTable> covariates;
-  std::vector<double> explained_variance;  // first 3 principal components of the centred residual, fractions
-  std::vector<Vec2> mean_field_px;         // per marker, mean residual over scored frames
-  std::vector<Vec2> pc1_px;                // first component, scaled to its RMS amplitude (s1 / sqrt(frames))
-};
-
-// The residual structure of `params` over `samples` (the model is make_model(model_id) + `effects`).
-ResidualStructure analyse_residual(const std::string& model_id, const std::vector<std::string>& effects,
-                                   const ParamSet& params, std::shared_ptr<const Sensor> sensor,
-                                   const std::vector<FitSample>& samples, int bins);
-
-// The fit of one effect set, with its validation scores and metrics.
+// The fit of one model (a form, or a form with effects), with its validation scores and metrics.
 struct EffectFit {
   std::vector<std::string> effects;
   FitResult fit;                          // what select_effects sees
@@ -86,25 +64,42 @@ struct EffectFit {
   double time_s = 0;
 };
 
+// Step 2's output: each variant's fit and its score against the fitted base.
+struct ModelFormRound {
+  std::map<std::string, EffectFit> fits;
+  std::vector<CandidateScore> scores;
+  std::string selected;                   // the best accepted variant; "" when none is
+  // How the selected variant was fitted: {} (its stages, then jointly) or the parameters held after their
+  // first stage (model_form_hold), when held-out data preferred that fit; then the joint fit's RMSE too.
+  std::vector<std::string> held;
+  double joint_rmse_px = 0;
+};
+
+// Step 3's output: the greedy selection of effects on top of `form`.
+struct EffectRounds {
+  std::string form;                       // the model the effects wrap: the selected form, else the base
+  SelectionResult selection;
+  std::map<std::string, EffectFit> fits;  // keyed by effect_set_key ("" = the form as fitted)
+};
+
+// Step 4's output: the loop's answer.
+struct FinalModel {
+  std::string model_id;                   // "<form>+<effect>+..." (core/effects/model_spec.hpp)
+  EffectFit fit;
+};
+
 struct ResidualReport {
   std::string dataset;
-  std::string model_id;
+  std::string model_id;                   // the base model
   bool fit_base = true;
   std::shared_ptr<const Sensor> sensor;
+  EffectFit before;                       // the base model as fitted
+  ModelFormRound model_form;
+  EffectRounds effects;
+  std::string after_model;                // the final model by name
+  EffectFit after;                        // its joint fit and scores
   ResidualStructure structure_before;     // base model, all samples (calibration + validation)
-  ResidualStructure structure_after;      // selected model, all samples
-  SelectionResult selection;
-  std::map<std::string, EffectFit> fits;  // keyed by the ids joined with '+' ("" = base)
-  // The model-form round (issue 17): each variant's fit and its score against the fitted base, and the
-  // best accepted one ("" when none is). The effect rounds run on the base model either way.
-  std::map<std::string, EffectFit> model_form_fits;
-  std::vector<CandidateScore> model_form_scores;
-  std::string model_form_selected;
-  // How the selected variant was fitted: "" (its stages, then jointly) or the parameters held after their
-  // first stage (model_form_hold), when held-out data preferred that fit; then the joint fit's RMSE too.
-  std::vector<std::string> model_form_held;
-  double model_form_joint_rmse_px = 0;
-  EffectFit before, after;
+  ResidualStructure structure_after;      // final model, all samples
   double time_s = 0;
 };
 
@@ -118,13 +113,41 @@ std::vector<std::string> model_form_variants(const std::string& model_id);
 // jointly, the kernel can move to serve the shear frames; the loop keeps whichever fit held-out data prefers.
 std::vector<std::string> model_form_hold(const std::string& model_id);
 
-// The whole loop. Throws std::invalid_argument for empty splits or an unknown model / effect.
+class ResidualLoop {
+ public:
+  // Throws std::invalid_argument for empty splits or an unknown model / effect.
+  ResidualLoop(const ResidualInputs& in, const ResidualOptions& options);
+
+  EffectFit fit_base() const;
+  ModelFormRound model_form_round(const EffectFit& base) const;
+  // The form the effect rounds build on: the selected variant's fit, else the base's.
+  EffectRounds effect_rounds(const std::string& form, const EffectFit& form_fit) const;
+  FinalModel final_fit(const EffectRounds& rounds) const;
+  ResidualStructure score(const std::string& model_id, const EffectFit& fit) const;
+  // Every step in order.
+  ResidualReport run() const;
+
+ private:
+  // One fitted model's scores on both splits (what `fit` of EffectFit needs besides the parameters).
+  EffectFit scored(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
+                   std::size_t free_params) const;
+  FitOptions fit_options() const;
+
+  const ResidualInputs& in_;
+  const ResidualOptions& o_;
+  std::vector<std::string> candidates_;
+};
+
+// The whole loop: ResidualLoop(in, options).run().
 ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions& options);
 
 // The effect's own parameters ("tau_s", ...) from a combined table (prefix removed).
 nlohmann::ordered_json effect_params_json(const ParamSet& params, const std::string& effect_id);
 
 nlohmann::ordered_json residual_to_json(const ResidualReport& r);
+// The final model as a parameter file ({"<after_model>": {name: value}}) that `evaluate --params`,
+// `simulate --params` and the workbench load.
+nlohmann::ordered_json final_model_params_json(const ResidualReport& r);
 // Writes the PNG plots into `dir` named "<stem>_*.png" and returns their file names (not paths).
 std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir, const std::string& stem);
 std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots);

@@ -8,10 +8,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <tuple>
 
 #include "core/base/reproducible.hpp"
 #include "core/base/error.hpp"
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
 #include "core/data/tsd.hpp"
 #include "core/base/format.hpp"
@@ -96,8 +97,8 @@ nlohmann::ordered_json fingerprint_json(const FingerprintCheck& f) {
 }
 
 const EffectFit* fit_of(const ResidualReport& r, const std::vector<std::string>& ids) {
-  auto it = r.fits.find(effect_set_key(ids));
-  return it == r.fits.end() ? nullptr : &it->second;
+  auto it = r.effects.fits.find(effect_set_key(ids));
+  return it == r.effects.fits.end() ? nullptr : &it->second;
 }
 
 // ------------------------------------------------------------------ plots
@@ -216,11 +217,11 @@ std::string contact_frame_markdown(const ResidualStructure& s) {
 
 }  // namespace
 
-// The base parameters a candidate's joint refit moved by more than 5 % from the base fit: what the
-// effect let the base stop doing (value before -> after).
+// The form's parameters a candidate's joint refit moved by more than 5 % from the form's fit: what the
+// effect let the form stop doing (value before -> after).
 nlohmann::ordered_json base_shifts_json(const ResidualReport& r, const EffectFit& f) {
   nlohmann::ordered_json j = nlohmann::ordered_json::object();
-  const ParamSet& before = r.before.fit.params;
+  const ParamSet& before = r.effects.fits.at("").fit.params;
   for (std::size_t i = 0; i < before.size(); ++i) {
     const std::string& name = before.specs()[i].name;
     const int k = f.fit.params.index_of(name);
@@ -231,62 +232,75 @@ nlohmann::ordered_json base_shifts_json(const ResidualReport& r, const EffectFit
   return j;
 }
 
+namespace {
+
+nlohmann::ordered_json candidate_json(const ResidualReport& r, const CandidateScore& c, std::size_t round,
+                                      nlohmann::ordered_json* symptoms) {
+  nlohmann::ordered_json cj;
+  cj["effect"] = c.candidate;
+  const EffectFit* f = fit_of(r, c.effect_ids);
+  cj["params"] = f ? effect_params_json(f->fit.params, c.candidate) : nlohmann::ordered_json::object();
+  add_score_json(c, &cj);
+  if (std::isfinite(c.fingerprint_pct)) cj["held_drift_explained_pct"] = num(c.fingerprint_pct);
+  if (c.fingerprint) cj["fingerprint"] = fingerprint_json(*c.fingerprint);
+  if (!c.veto.empty()) cj["veto"] = c.veto;
+  if (c.model_form_symptom) {
+    cj["model_form_symptom"] = true;
+    symptoms->push_back({{"effect", c.candidate}, {"round", round + 1}, {"veto", c.veto},
+                         {"compensated_pct", num(c.improvement_pct)},
+                         {"base_shifts", f ? base_shifts_json(r, *f) : nlohmann::ordered_json::object()}});
+  }
+  cj["fitted_with"] = c.effect_ids;
+  return cj;
+}
+
+nlohmann::ordered_json model_forms_json(const ModelFormRound& m) {
+  nlohmann::ordered_json forms = nlohmann::ordered_json::array();
+  for (const auto& c : m.scores) {
+    nlohmann::ordered_json cj;
+    cj["model"] = c.candidate;
+    add_score_json(c, &cj);
+    cj["fit"] = metrics_json(m.fits.at(c.candidate));
+    forms.push_back(cj);
+  }
+  return forms;
+}
+
+}  // namespace
+
 nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   nlohmann::ordered_json j;
   j["dataset"] = r.dataset;
   j["model"] = r.model_id;
   j["base_fitted"] = r.fit_base;
+  j["after_model"] = r.after_model;
   j["before"] = metrics_json(r.before);
-  nlohmann::ordered_json cands = nlohmann::ordered_json::array();
-  nlohmann::ordered_json symptoms = nlohmann::ordered_json::array();
-  nlohmann::ordered_json rounds = nlohmann::ordered_json::array();
-  for (std::size_t round = 0; round < r.selection.rounds.size(); ++round) {
-    nlohmann::ordered_json rj = nlohmann::ordered_json::array();
-    for (const auto& c : r.selection.rounds[round]) {
-      nlohmann::ordered_json cj;
-      cj["effect"] = c.candidate;
-      const EffectFit* f = fit_of(r, c.effect_ids);
-      cj["params"] = f ? effect_params_json(f->fit.params, c.candidate) : nlohmann::ordered_json::object();
-      add_score_json(c, &cj);
-      if (std::isfinite(c.fingerprint_pct)) cj["held_drift_explained_pct"] = num(c.fingerprint_pct);
-      if (c.fingerprint) cj["fingerprint"] = fingerprint_json(*c.fingerprint);
-      if (!c.veto.empty()) cj["veto"] = c.veto;
-      if (c.model_form_symptom) {
-        cj["model_form_symptom"] = true;
-        symptoms.push_back({{"effect", c.candidate}, {"round", round + 1}, {"veto", c.veto},
-                            {"compensated_pct", num(c.improvement_pct)},
-                            {"base_shifts", f ? base_shifts_json(r, *f) : nlohmann::ordered_json::object()}});
-      }
-      cj["fitted_with"] = c.effect_ids;
-      if (round == 0) cands.push_back(cj);
-      rj.push_back(cj);
+  j["after"] = metrics_json(r.after);
+  if (!r.model_form.scores.empty()) {
+    j["model_forms"] = model_forms_json(r.model_form);
+    j["model_form_selected"] = r.model_form.selected;
+    if (!r.model_form.held.empty()) {
+      j["model_form_held"] = r.model_form.held;
+      j["model_form_joint_rmse_px"] = r.model_form.joint_rmse_px;
     }
+  }
+  j["effects_on"] = r.effects.form;
+  j["effects_reference"] = metrics_json(r.effects.fits.at(""));
+  nlohmann::ordered_json cands = nlohmann::ordered_json::array(), symptoms = nlohmann::ordered_json::array(),
+                         rounds = nlohmann::ordered_json::array();
+  for (std::size_t round = 0; round < r.effects.selection.rounds.size(); ++round) {
+    nlohmann::ordered_json rj = nlohmann::ordered_json::array();
+    for (const auto& c : r.effects.selection.rounds[round]) rj.push_back(candidate_json(r, c, round, &symptoms));
+    if (round == 0) cands = rj;
     rounds.push_back(rj);
   }
   j["candidates"] = cands;
   j["model_form_symptoms"] = symptoms;
-  j["selected"] = r.selection.selected;
+  j["selected"] = r.effects.selection.selected;
   nlohmann::ordered_json sel_params = nlohmann::ordered_json::object();
-  for (const auto& id : r.selection.selected) sel_params[id] = effect_params_json(r.after.fit.params, id);
+  for (const auto& id : r.effects.selection.selected) sel_params[id] = effect_params_json(r.after.fit.params, id);
   j["selected_params"] = sel_params;
-  j["after"] = metrics_json(r.after);
   j["rounds"] = rounds;
-  if (!r.model_form_scores.empty()) {
-    nlohmann::ordered_json forms = nlohmann::ordered_json::array();
-    for (const auto& c : r.model_form_scores) {
-      nlohmann::ordered_json cj;
-      cj["model"] = c.candidate;
-      add_score_json(c, &cj);
-      cj["fit"] = metrics_json(r.model_form_fits.at(c.candidate));
-      forms.push_back(cj);
-    }
-    j["model_forms"] = forms;
-    j["model_form_selected"] = r.model_form_selected;
-    if (!r.model_form_held.empty()) {
-      j["model_form_held"] = r.model_form_held;
-      j["model_form_joint_rmse_px"] = r.model_form_joint_rmse_px;
-    }
-  }
   j["residual_before"] = structure_json(r.structure_before);
   j["residual_after"] = structure_json(r.structure_after);
   if (timings_in_outputs()) j["time_s"] = r.time_s;
@@ -295,7 +309,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
 
 std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir, const std::string& stem) {
   std::vector<std::string> names;
-  const bool changed = !r.selection.selected.empty();
+  const bool changed = r.after_model != r.model_id;
   for (std::size_t c = 0; c < r.structure_before.covariates.size(); ++c) {
     const auto& t = r.structure_before.covariates[c];
     const CovariateTable* after = changed && c < r.structure_after.covariates.size() ? &r.structure_after.covariates[c]
@@ -306,56 +320,54 @@ std::vector<std::string> write_residual_plots(const ResidualReport& r, const std
     write_png((std::filesystem::path(dir) / name).string(), covariate_plot(t, after));
     names.push_back(name);
   }
-  const std::string mean = stem + "_mean_residual.png", pc1 = stem + "_pc1.png";
-  write_png((std::filesystem::path(dir) / mean).string(),
-            quiver_plot(*r.sensor, r.structure_before.mean_field_px, "mean residual (measured - " + r.model_id + ")"));
-  write_png((std::filesystem::path(dir) / pc1).string(),
-            quiver_plot(*r.sensor, r.structure_before.pc1_px,
-                        "residual PC1 (" + f3(100 * (r.structure_before.explained_variance.empty()
-                                                         ? 0.0
-                                                         : r.structure_before.explained_variance[0])) +
-                            " % of variance)"));
-  names.push_back(mean);
-  names.push_back(pc1);
+  const auto pc1_title = [](const ResidualStructure& s) {
+    return " PC1 (" + f3(100 * (s.explained_variance.empty() ? 0.0 : s.explained_variance[0])) + " % of variance)";
+  };
+  const std::vector<std::tuple<std::string, const ResidualStructure*, std::string>> fields = {
+      {"mean_residual", &r.structure_before, "mean residual (measured - " + r.model_id + ")"},
+      {"pc1", &r.structure_before, "residual" + pc1_title(r.structure_before)},
+      {"mean_residual_after", &r.structure_after, "mean residual (measured - " + r.after_model + ")"}};
+  for (const auto& [suffix, structure, title] : fields) {
+    if (structure == &r.structure_after && !changed) continue;
+    const std::string name = stem + "_" + suffix + ".png";
+    write_png((std::filesystem::path(dir) / name).string(),
+              quiver_plot(*r.sensor, suffix == "pc1" ? structure->pc1_px : structure->mean_field_px, title));
+    names.push_back(name);
+  }
   return names;
 }
 
+namespace {
+
 // How the selected variant was fitted, when not simply jointly.
-static std::string held_note(const ResidualReport& r) {
-  if (r.model_form_held.empty()) return "";
+std::string held_note(const ModelFormRound& m) {
+  if (m.held.empty()) return "";
   std::string names;
-  for (const auto& n : r.model_form_held) names += (names.empty() ? "" : ", ") + n;
+  for (const auto& n : m.held) names += (names.empty() ? "" : ", ") + n;
   return ", fitted with " + names + " held after their stage (the dilation kernel as the presses fit it; " +
-         f3(r.model_form_joint_rmse_px) + " px when the joint refinement moves them too)";
+         f3(m.joint_rmse_px) + " px when the joint refinement moves them too)";
 }
 
-// The model-form round (issue 17): the base model's variants, each a model of its own, against the base.
-static std::string model_form_markdown(const ResidualReport& r) {
-  if (r.model_form_scores.empty()) return "";
-  std::string md = "\n## Which model form explains it\n\n";
-  md += "Each model-form variant of " + r.model_id + " (docs/effects.md, \"Model-form effects\") fitted like the base "
-        "(its stages, then jointly) on calibration, scored on validation with the same rule as the effects: the 95 % "
-        "paired-bootstrap interval of the improvement above the margin and a better calibration BIC.\n\n"
-        "| model | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted |\n|---|---|---|---|---|---|\n";
-  for (const auto& c : r.model_form_scores)
-    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" + f3(c.improvement_ci_pct.low) +
-          ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " + (c.accepted ? "yes" : "no") + " |\n";
-  md += "\n" + (r.model_form_selected.empty()
-                    ? std::string("**No model form selected**: no variant passes the rule.")
-                    : "**Selected model form: " + r.model_form_selected + "** (" + f3(r.model_form_scores.front().reference_rmse_px) +
-                          " -> " + f3(validation_rmse(r.model_form_fits.at(r.model_form_selected).fit.validation)) +
-                          " px validation)" + held_note(r) + ". The effect rounds below run on the base model.") + "\n";
+double rmse_of(const EffectFit& f) { return f.validation.overall.result().rmse_px; }
+
+// The answer first: the model the loop ends with, and how it got there.
+std::string answer_markdown(const ResidualReport& r) {
+  std::string md = "## The loop's answer: `" + r.after_model + "`\n\n";
+  md += "Validation RMSE " + f3(rmse_of(r.before)) + " px (" + r.model_id + " as fitted) -> **" + f3(rmse_of(r.after)) +
+        " px** (" + r.after_model + ", fitted jointly)";
+  const double change = 100.0 * (rmse_of(r.after) - rmse_of(r.before)) / rmse_of(r.before);
+  md += std::isfinite(change) ? ", " + format_number(change, "%+.1f") + " %.\n\n" : ".\n\n";
+  md += "- model form: " + (r.model_form.selected.empty() ? std::string(r.model_form.scores.empty() ? "not tried" : "none selected")
+                                                          : r.model_form.selected + held_note(r.model_form)) + "\n";
+  md += "- effects on " + r.effects.form + ": " +
+        (r.effects.selection.selected.empty() ? std::string("none selected") : effect_set_key(r.effects.selection.selected)) +
+        "\n\nLoad it anywhere as `--model " + r.after_model + "` with the parameter file written beside this report "
+        "(`--params`), or open this report in the workbench.\n\n";
   return md;
 }
 
-std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots) {
-  std::string md;
-  md += "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
-  md += std::string("Base model ") + (r.fit_base ? "fitted on the calibration split (staged + joint)"
-                                                  : "with the given parameters (not refitted)") +
-        "; scores on the validation split. Residual = measured − predicted.\n\n";
-  const auto& sb = r.structure_before;
-  md += "## What the residual looked like\n\n";
+std::string structure_markdown(const ResidualStructure& sb, const std::vector<std::string>& plots) {
+  std::string md = "## What the residual looked like\n\n";
   md += "Base residual RMS " + f3(sb.rmse_px) + " px over " + std::to_string(sb.marker_frames) + " marker-frames (" +
         std::to_string(sb.frames) + " frames, calibration + validation). Principal components of the centred residual "
         "(frames × 2·markers) explain ";
@@ -374,91 +386,133 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
     md += "\n\n";
   }
   for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
-  md += model_form_markdown(r);
-  md += "\n## Which effect explains it\n\n";
-  md += "Each catalogued effect was wrapped around the base model and fitted alone over the base's recorded field, "
-        "then (unless screened) jointly with it on calibration; accepted when the 95 % paired-bootstrap interval "
-        "of the validation improvement lies above the margin (or the effect explains the held drift) and the "
-        "calibration BIC improves, and vetoed when a parameter sits at a bound of its range (docs/effects.md).\n\n";
-  for (std::size_t round = 0; round < r.selection.rounds.size(); ++round) {
-    md += "Round " + std::to_string(round + 1) + ":\n\n| effect | val. RMSE px | improvement % | 95 % CI % | ΔBIC | "
-          "accepted | parameters |\n|---|---|---|---|---|---|---|\n";
-    auto row = r.selection.rounds[round];
+  return md;
+}
+
+// The model-form round: the base model's variants, each a model of its own, against the base.
+std::string model_form_markdown(const ResidualReport& r) {
+  const ModelFormRound& m = r.model_form;
+  if (m.scores.empty()) return "";
+  std::string md = "\n## Which model form explains it\n\n";
+  md += "Each model-form variant of " + r.model_id + " (docs/effects.md, \"Model-form effects\") fitted like the base "
+        "(its stages, then jointly) on calibration, scored on validation with the same rule as the effects: the 95 % "
+        "paired-bootstrap interval of the improvement above the margin and a better calibration BIC.\n\n"
+        "| model | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted |\n|---|---|---|---|---|---|\n";
+  for (const auto& c : m.scores)
+    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" + f3(c.improvement_ci_pct.low) +
+          ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " + (c.accepted ? "yes" : "no") + " |\n";
+  md += "\n" + (m.selected.empty()
+                    ? std::string("**No model form selected**: no variant passes the rule; the effect rounds below run on ") +
+                          r.model_id + "."
+                    : "**Selected model form: " + m.selected + "** (" + f3(m.scores.front().reference_rmse_px) + " -> " +
+                          f3(validation_rmse(m.fits.at(m.selected).fit.validation)) + " px validation)" + held_note(m) +
+                          ". The effect rounds below run on it.") + "\n";
+  return md;
+}
+
+std::string round_table_markdown(const ResidualReport& r, const std::vector<CandidateScore>& row) {
+  std::string md = "| effect | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted | parameters |\n"
+                   "|---|---|---|---|---|---|---|\n";
+  for (const auto& c : row) {
+    const EffectFit* f = fit_of(r, c.effect_ids);
+    std::string params;
+    if (f) {
+      const auto pj = effect_params_json(f->fit.params, c.candidate);   // items() must not outlive it
+      for (const auto& [k, v] : pj.items()) params += (params.empty() ? "" : ", ") + k + " = " + g3(v.get<double>());
+    }
+    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
+          f3(c.improvement_ci_pct.low) + ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " +
+          (c.accepted ? "yes" : "no") + " | " + params + " |\n";
+  }
+  return md + "\n";
+}
+
+std::string symptoms_markdown(const ResidualReport& r, const std::vector<CandidateScore>& row) {
+  std::string md;
+  for (const auto& c : row) {
+    if (!c.model_form_symptom) continue;
+    const EffectFit* f = fit_of(r, c.effect_ids);
+    const std::string prefix = "model-form symptom: ";
+    const std::string why = c.veto.rfind(prefix, 0) == 0 ? c.veto.substr(prefix.size()) : c.veto;
+    md += "- **Model-form symptom: " + c.candidate + "** (not selected) — " + why + "; it bought " +
+          f3(c.improvement_pct) + " % on validation";
+    if (f) {
+      const auto shifts = base_shifts_json(r, *f);
+      std::string moved;
+      for (const auto& [k, v] : shifts.items())
+        moved += (moved.empty() ? "" : ", ") + k + " " + g3(v[0].get<double>()) + " → " + g3(v[1].get<double>());
+      if (!moved.empty()) md += ", with the form refitted (" + moved + ")";
+    }
+    md += ". The effect was compensating the model's form, not measuring its own physics.\n";
+  }
+  return md + "\n";
+}
+
+std::string fingerprints_markdown(const std::vector<CandidateScore>& row) {
+  std::string md;
+  for (const auto& c : row) {
+    if (!c.fingerprint) continue;
+    if (md.empty()) md += "Fingerprints (each estimated on the calibration and, as a check, the validation split):\n\n";
+    const FingerprintCheck& f = *c.fingerprint;
+    md += "- **" + c.candidate + "** — " + f.evidence + ": `" + f.param + "` " + g3(f.calibration) + " / " +
+          g3(f.validation) + " (evidence " + f3(f.signal_px) + " px); " + f.verdict;
+    if (f.consistent) {
+      std::string how;
+      for (const auto& [name, value] : f.held) how += (how.empty() ? "" : ", ") + name + " held at " + g3(value);
+      for (const auto& b : f.band)
+        how += (how.empty() ? "" : ", ") + b.name + " required to end in [" + g3(b.low) + ", " + g3(b.high) + "]";
+      md += "; fitted with " + how;
+    }
+    md += std::string(" → ") + (c.accepted ? "**accepted**" : "not accepted") + ": " +
+          c.reason.substr(c.reason.find(": ") + 2) + ".\n";
+  }
+  return md.empty() ? md : md + "\n";
+}
+
+std::string selected_markdown(const ResidualReport& r) {
+  const auto& selected = r.effects.selection.selected;
+  if (selected.empty())
+    return "**Selected: nothing.** No catalogued effect improves the validation error of " + r.effects.form +
+           " reliably at this data size; the rest of its residual is not attributed.\n\n";
+  std::string md = "**Selected: " + effect_set_key(selected) + "** on " + r.effects.form + ". Parameters found:\n\n";
+  bool any_bound = false;
+  for (const auto& id : selected) {
+    const auto pj = effect_params_json(r.after.fit.params, id);
+    for (const auto& [k, v] : pj.items()) {
+      md += "- `" + id + "." + k + "` = " + g3(v.get<double>());
+      const ParamSpec& spec = r.after.fit.params.specs()[r.after.fit.params.index_of(id + kEffectParamSeparator + k)];
+      const bool at_min = v.get<double>() <= spec.min, at_max = v.get<double>() >= spec.max;
+      if (at_min || at_max) md += std::string(" **(at its ") + (at_min ? "lower" : "upper") + " bound)**";
+      any_bound = any_bound || at_min || at_max;
+      md += "\n";
+    }
+  }
+  if (any_bound)
+    md += "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
+          "effect is standing in for something the model lacks rather than measuring that physics.\n";
+  return md + "\n";
+}
+
+std::string effects_markdown(const ResidualReport& r) {
+  std::string md = "\n## Which effect explains it\n\n";
+  md += "Each catalogued effect was wrapped around " + r.effects.form + " (the model form the round above ended with) "
+        "and fitted alone over its recorded field, then (unless screened) jointly with it on calibration; accepted "
+        "when the 95 % paired-bootstrap interval of the validation improvement lies above the margin (or the effect "
+        "explains the held drift) and the calibration BIC improves, and vetoed when a parameter sits at a bound of its "
+        "range (docs/effects.md).\n\n";
+  for (std::size_t round = 0; round < r.effects.selection.rounds.size(); ++round) {
+    auto row = r.effects.selection.rounds[round];
     std::sort(row.begin(), row.end(), [](auto& a, auto& b) { return a.improvement_pct > b.improvement_pct; });
-    for (const auto& c : row) {
-      const EffectFit* f = fit_of(r, c.effect_ids);
-      std::string params;
-      if (f) {
-        const auto pj = effect_params_json(f->fit.params, c.candidate);   // items() must not outlive it
-        for (const auto& [k, v] : pj.items()) params += (params.empty() ? "" : ", ") + k + " = " + g3(v.get<double>());
-      }
-      md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
-            f3(c.improvement_ci_pct.low) + ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " +
-            (c.accepted ? "yes" : "no") + " | " + params + " |\n";
-    }
-    md += "\n";
-    for (const auto& c : row) {
-      if (!c.model_form_symptom) continue;
-      const EffectFit* f = fit_of(r, c.effect_ids);
-      const std::string prefix = "model-form symptom: ";
-      const std::string why = c.veto.rfind(prefix, 0) == 0 ? c.veto.substr(prefix.size()) : c.veto;
-      md += "- **Model-form symptom: " + c.candidate + "** (not selected) — " + why + "; it bought " +
-            f3(c.improvement_pct) + " % on validation";
-      if (f) {
-        const auto shifts = base_shifts_json(r, *f);
-        std::string moved;
-        for (const auto& [k, v] : shifts.items())
-          moved += (moved.empty() ? "" : ", ") + k + " " + g3(v[0].get<double>()) + " → " + g3(v[1].get<double>());
-        if (!moved.empty()) md += ", with the base refitted (" + moved + ")";
-      }
-      md += ". The effect was compensating the base model's form, not measuring its own physics.\n";
-    }
-    md += "\n";
-    bool any_fingerprint = false;
-    for (const auto& c : row) {
-      if (!c.fingerprint) continue;
-      if (!any_fingerprint) md += "Fingerprints (each estimated on the calibration and, as a check, the validation split):\n\n";
-      any_fingerprint = true;
-      const FingerprintCheck& f = *c.fingerprint;
-      md += "- **" + c.candidate + "** — " + f.evidence + ": `" + f.param + "` " + g3(f.calibration) + " / " +
-            g3(f.validation) + " (evidence " + f3(f.signal_px) + " px); " + f.verdict;
-      if (f.consistent) {
-        std::string how;
-        for (const auto& [name, value] : f.held) how += (how.empty() ? "" : ", ") + name + " held at " + g3(value);
-        for (const auto& b : f.band)
-          how += (how.empty() ? "" : ", ") + b.name + " required to end in [" + g3(b.low) + ", " + g3(b.high) + "]";
-        md += "; fitted with " + how;
-      }
-      md += std::string(" → ") + (c.accepted ? "**accepted**" : "not accepted") + ": " +
-            c.reason.substr(c.reason.find(": ") + 2) + ".\n";
-    }
-    if (any_fingerprint) md += "\n";
+    md += "Round " + std::to_string(round + 1) + ":\n\n" + round_table_markdown(r, row) + symptoms_markdown(r, row) +
+          fingerprints_markdown(row);
   }
-  if (r.selection.selected.empty()) {
-    md += "**Selected: nothing.** No catalogued effect improves the validation error reliably at this data size; "
-          "the residual is not attributed.\n\n";
-  } else {
-    md += "**Selected: " + effect_set_key(r.selection.selected) + ".** Parameters found:\n\n";
-    bool any_bound = false;
-    for (const auto& id : r.selection.selected) {
-      const auto pj = effect_params_json(r.after.fit.params, id);
-      for (const auto& [k, v] : pj.items()) {
-        md += "- `" + id + "." + k + "` = " + g3(v.get<double>());
-        const std::string name = id + kEffectParamSeparator + k;
-        const ParamSpec& spec = r.after.fit.params.specs()[r.after.fit.params.index_of(name)];
-        const bool at_min = v.get<double>() <= spec.min, at_max = v.get<double>() >= spec.max;
-        if (at_min || at_max) md += std::string(" **(at its ") + (at_min ? "lower" : "upper") + " bound)**";
-        any_bound = any_bound || at_min || at_max;
-        md += "\n";
-      }
-    }
-    if (any_bound)
-      md += "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
-            "effect is standing in for something the model lacks rather than measuring that physics.\n";
-    md += "\n";
-  }
-  md += "## Error before and after (validation)\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
-        "|---|---|---|---|---|\n";
+  return md + selected_markdown(r);
+}
+
+std::string errors_markdown(const ResidualReport& r) {
+  std::string md = "## Error before and after (validation)\n\nBefore: " + r.model_id + " as fitted. After: " +
+                   r.after_model + ".\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
+                   "|---|---|---|---|---|\n";
   for (const auto& [motion, acc] : r.before.validation.per_motion) {
     const MetricsResult b = acc.result();
     auto it = r.after.validation.per_motion.find(motion);
@@ -466,7 +520,18 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
     md += "| " + motion + " | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n";
   }
   const MetricsResult b = r.before.validation.overall.result(), a = r.after.validation.overall.result();
-  md += "| **all** | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n\n";
+  return md + "| **all** | " + f3(b.rmse_px) + " | " + f3(a.rmse_px) + " | " + f3(b.cs) + " | " + f3(a.cs) + " |\n\n";
+}
+
+}  // namespace
+
+std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots) {
+  std::string md = "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
+  md += std::string("Base model ") + (r.fit_base ? "fitted on the calibration split (staged + joint)"
+                                                  : "with the given parameters (not refitted)") +
+        "; scores on the validation split. Residual = measured − predicted.\n\n";
+  md += answer_markdown(r) + structure_markdown(r.structure_before, plots) + model_form_markdown(r) +
+        effects_markdown(r) + errors_markdown(r);
   if (timings_in_outputs()) md += "Run time " + f3(r.time_s) + " s.\n";
   return md;
 }

@@ -5,7 +5,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
+#include "core/effects/model_spec.hpp"
 #include "core/base/error.hpp"
 #include "core/data/json_read.hpp"
 #include "core/calibration/prediction_export.hpp"
@@ -128,6 +129,14 @@ ResidualSummary load_residual_summary(const std::string& path) {
   s.after_params = jsonin::member(after, "params", path, "/after");
   jsonin::require_object(s.after_params, path, "/after/params");
   s.selected = effect_list(jsonin::member(j, "selected", path, ""), path, "/selected");
+  if (const auto* form = jsonin::find(j, "model_form_selected")) s.model_form = jsonin::string(*form, path, "/model_form_selected");
+  s.after_model = ModelSpec{s.model_id, s.selected}.id();
+  if (const auto* m = jsonin::find(j, "after_model")) s.after_model = jsonin::string(*m, path, "/after_model");
+  try {
+    if (parse_model_spec(s.after_model).effects != s.selected) jsonin::fail(path, "/after_model", "its effects differ from /selected");
+  } catch (const std::invalid_argument& e) {
+    jsonin::fail(path, "/after_model", e.what());
+  }
   // The corrected model is the one "after" was fitted with: it must be the selection.
   const auto after_effects = effect_list(jsonin::member(after, "effects", path, "/after"), path, "/after/effects");
   if (after_effects != s.selected) jsonin::fail(path, "/after/effects", "differs from /selected");
@@ -146,7 +155,7 @@ ResidualSummary load_residual_summary(const std::string& path) {
   // The parameter table must fit the corrected model (names and ranges): check it here, where the
   // error can still name the file.
   try {
-    ParamSet p = combined_param_table(default_params(s.model_id), s.selected);
+    ParamSet p = model_spec_params(s.after_model);
     p.update_from_json(s.after_params, path + ": /after/params");
     (void)fitted_base_params(s);
   } catch (const InputError&) {
@@ -166,8 +175,7 @@ ParamSet fitted_base_params(const ResidualSummary& summary) {
 
 std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary, std::shared_ptr<const Sensor> sensor,
                                                  std::shared_ptr<const Indenter> indenter) {
-  auto base = make_model(summary.model_id, sensor, indenter);
-  auto model = wrap_with_effects(std::move(base), summary.selected, std::move(sensor), std::move(indenter));
+  auto model = make_spec_model(summary.after_model, std::move(sensor), std::move(indenter));
   ParamSet p = model->params();
   p.update_from_json(summary.after_params, summary.file + ": /after/params");
   model->set_params(p);

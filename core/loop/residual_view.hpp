@@ -41,9 +41,13 @@ struct ResidualSummary {
   std::string dataset;
   std::string model_id;        // the base model: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized
   double before_rmse_px = 0;   // validation split, base model
-  double after_rmse_px = 0;    // validation split, base model + selected effects
+  double after_rmse_px = 0;    // validation split, the final model
+  // The loop's answer (core/effects/model_spec.hpp): the selected model form (else the base) with the selected
+  // effects. Reports older than the model-form round's effects on the form: model_id + selected.
+  std::string after_model;
+  std::string model_form;      // the selected model form ("" when none was, or the report is older)
   std::vector<ResidualCandidateView> candidates;   // ranked: largest improvement first
-  std::vector<std::string> selected;               // effect ids, in the order they wrap the base
+  std::vector<std::string> selected;               // effect ids, in the order they wrap the form
   nlohmann::json before_params;                    // the base model fitted alone (or as given)
   nlohmann::json after_params;                     // the corrected model's whole parameter table
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
@@ -57,8 +61,8 @@ ResidualSummary load_residual_summary(const std::string& path);
 // the corrected model. Throws InputError when they do not fit the model's table.
 ParamSet fitted_base_params(const ResidualSummary& summary);
 
-// The corrected model: `model_id` wrapped with the selected effects at the fitted parameters (the base's
-// own parameters included: they were refitted jointly when the analysis fitted the base).
+// The corrected model: `after_model` at its fitted parameters (the form's own parameters included: they were
+// refitted jointly with the effects when the analysis fitted the base).
 std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary,
                                                  std::shared_ptr<const Sensor> sensor,
                                                  std::shared_ptr<const Indenter> indenter);

@@ -139,6 +139,37 @@ LatticeIndices assign_lattice_indices(const std::vector<Vec2>& rest_px, const Ve
   return out;
 }
 
+namespace {
+
+// k1's standard error: the Jacobian at the optimum, (J^T J)^-1 times the residual variance SSE / (2N - 7)
+// (o: 2, A: 4, k1: 1 parameters; k1 is column 6). NaN without degrees of freedom or for a singular J^T J.
+double k1_standard_error(ceres::Problem& problem, double sse, int markers) {
+  ceres::CRSMatrix crs;
+  problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
+  for (int r = 0; r < crs.num_rows; ++r)
+    for (int e = crs.rows[r]; e < crs.rows[r + 1]; ++e) J(r, crs.cols[e]) = crs.values[e];
+  const int dof = 2 * markers - 7;
+  const Eigen::FullPivLU<Eigen::MatrixXd> lu(J.transpose() * J);
+  if (dof <= 0 || !lu.isInvertible()) return std::numeric_limits<double>::quiet_NaN();
+  return std::sqrt(lu.inverse()(6, 6) * sse / dof);
+}
+
+// Why the fitted grid is not a lattice the lens can be read from ("" when it is).
+std::string lattice_verdict(const RestGridLens& fit, const ceres::Solver::Summary& summary) {
+  if (summary.termination_type == ceres::FAILURE || !std::isfinite(fit.k1))
+    return "the lattice fit did not converge (" + summary.message + ")";
+  if (fit.span.minCoeff() < kMinLatticeSpan)
+    return "the markers span " + std::to_string(fit.span.x()) + " x " + std::to_string(fit.span.y()) +
+           " lattice indices (< " + std::to_string(kMinLatticeSpan) + " along an axis)";
+  if (!(fit.rms_px < kMaxLatticeRmsPitchFraction * fit.pitch_px))
+    return "RMS " + fmt("%.2f", fit.rms_px) + " px about the lattice (>= " + fmt("%.2g", kMaxLatticeRmsPitchFraction) +
+           " of the " + fmt("%.1f", fit.pitch_px) + " px pitch)";
+  return "";
+}
+
+}  // namespace
+
 RestGridLens rest_grid_lens(const Camera& camera, const std::vector<Vec2>& rest_px) {
   RestGridLens fit;
   fit.indices = assign_lattice_indices(rest_px, camera.principal_px);
@@ -201,26 +232,8 @@ RestGridLens rest_grid_lens(const Camera& camera, const std::vector<Vec2>& rest_
   fit.rms_px = std::sqrt(sse / N);
   fit.shift_rms_px = std::sqrt(shift / N);
 
-  // k1's standard error: the Jacobian at the optimum, (J^T J)^-1 times the residual variance SSE / (2N - 7).
-  ceres::CRSMatrix crs;
-  problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, &crs);
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(crs.num_rows, crs.num_cols);
-  for (int r = 0; r < crs.num_rows; ++r)
-    for (int e = crs.rows[r]; e < crs.rows[r + 1]; ++e) J(r, crs.cols[e]) = crs.values[e];
-  const int dof = 2 * N - 7;
-  const Eigen::MatrixXd JtJ = J.transpose() * J;
-  const Eigen::FullPivLU<Eigen::MatrixXd> lu(JtJ);
-  fit.k1_stderr = std::numeric_limits<double>::quiet_NaN();
-  if (dof > 0 && lu.isInvertible()) fit.k1_stderr = std::sqrt(lu.inverse()(6, 6) * sse / dof);   // k1: column 6
-
-  if (summary.termination_type == ceres::FAILURE || !std::isfinite(k1))
-    fit.why_not = "the lattice fit did not converge (" + summary.message + ")";
-  else if (fit.span.minCoeff() < kMinLatticeSpan)
-    fit.why_not = "the markers span " + std::to_string(fit.span.x()) + " x " + std::to_string(fit.span.y()) +
-                  " lattice indices (< " + std::to_string(kMinLatticeSpan) + " along an axis)";
-  else if (!(fit.rms_px < kMaxLatticeRmsPitchFraction * fit.pitch_px))
-    fit.why_not = "RMS " + fmt("%.2f", fit.rms_px) + " px about the lattice (>= " +
-                  fmt("%.2g", kMaxLatticeRmsPitchFraction) + " of the " + fmt("%.1f", fit.pitch_px) + " px pitch)";
+  fit.k1_stderr = k1_standard_error(problem, sse, N);
+  fit.why_not = lattice_verdict(fit, summary);
   fit.is_lattice = fit.why_not.empty();
   return fit;
 }

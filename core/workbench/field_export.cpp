@@ -2,6 +2,7 @@
 
 #include <filesystem>
 
+#include "core/effects/model_spec.hpp"
 #include "core/base/error.hpp"
 #include "core/data/json_read.hpp"
 #include "core/models/model.hpp"
@@ -59,7 +60,7 @@ int export_fields(const FieldExportRequest& req, const Progress& progress) {
   for (std::size_t i = 0; i < req.models.size(); ++i) {
     const FieldExportModel& m = req.models[i];
     progress.check("field export");
-    auto model = make_model(m.id, req.sensor, req.indenter);
+    auto model = make_spec_model(m.id, req.sensor, req.indenter);
     model->set_params(m.params);
     const double done_before = static_cast<double>(i * req.path.size());
     PredictionExport e = describe(req, m);

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates the residual analyses in this folder: every twin dataset with every model (FOTS re-impl.,
 # TacSL, HydroShear). Each run fits the base model on the calibration split, then every catalogued effect
-# (core/loop/effects.hpp), first alone over the recorded base field and, when that shows promise, with the
+# (core/effects/effects.hpp), first alone over the recorded base field and, when that shows promise, with the
 # base refitted jointly, and scores them on the validation split (shearbench residual; docs/effects.md
 # has the selection rule, the bound verdict and the fingerprints).
 #   usage: docs/residuals/run.sh [build/shearbench]      (data root: $SHEARBENCH_DATA or ../shared/data)

@@ -20,4 +20,13 @@ printf '{\n  "name": "x",\n  oops\n}\n' > "$work/broken_scene.json"
 expect "broken_scene.json:3" "$exe" simulate --scene "$work/broken_scene.json" --model tacsl --out "$work/out"
 expect "\-\-hold.*lambda_x: no stage of hydroshear fits it" "$exe" fit --dataset "$work/nope" --model hydroshear \
   --hold lambda_d,lambda_x --out "$work/fit.json"
+# Models by name (a form with effects): a typo in either part names the part (issue 31).
+expect "\-\-model.*unknown effect 'wobble'" "$exe" simulate --scene "$work/broken_scene.json" --model hydroshear+wobble --out "$work/out"
+expect "\-\-model.*unknown model id 'hydroshear-nope'" "$exe" evaluate --dataset "$work/nope" --model hydroshear-nope+lens_distortion --json "$work/e.json"
+# inject: an unknown effect, a value outside its range, and never into a folder that holds a dataset.
+expect "\-\-effect.*unknown effect 'wobble'" "$exe" inject --dataset data:twin/twin_sphere8 --effect wobble --out "$work/inj"
+expect "\-\-set.*tau_s.*range" "$exe" inject --dataset data:twin/twin_sphere8 --effect viscoelastic_creep --set tau_s=99 --out "$work/inj"
+mkdir -p "$work/taken" && echo '{}' > "$work/taken/dataset.json"
+expect "taken.*already holds a dataset" "$exe" inject --dataset data:twin/twin_sphere8 --effect lens_distortion --out "$work/taken"
+[[ $(cat "$work/taken/dataset.json") == '{}' ]] || { echo "FAIL: inject overwrote $work/taken/dataset.json"; fail=1; }
 exit $fail

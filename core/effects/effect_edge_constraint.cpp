@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

@@ -1,7 +1,7 @@
 // viscoelastic_creep: a standard linear solid (Zener) gel. See docs/effects.md.
 #include <cmath>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

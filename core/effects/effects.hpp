@@ -119,6 +119,10 @@ std::unique_ptr<Effect> make_effect(const std::string& id);
 // "<effect id>.<name>" per effect (EffectModel::params() without building a model).
 ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effect*>& effects);
 ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids);
+// The parameters of `effect_id` in a combined table that a fit may move (full names "<effect>.<name>"): all
+// but those that make the output discontinuous (the tracker's moving threshold, docs/effects.md), which stay
+// at their defaults.
+std::vector<std::string> effect_fit_params(const ParamSet& table, const std::string& effect_id);
 // Convenience: wraps `base` with the effects named by `ids`, in that order.
 std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
                                                const std::vector<std::string>& ids,

@@ -1,7 +1,7 @@
 // subsurface_markers: markers printed below the gel surface see a smoothed, attenuated field.
 #include <cmath>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 #include "core/sensor/depth_smoothing.hpp"
 
 namespace sb::effects {

@@ -1,7 +1,7 @@
 // load_stiffening: the gel's response per unit of the linear prediction falls with indentation depth.
 #include <algorithm>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

@@ -1,4 +1,4 @@
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb {
 
@@ -122,6 +122,16 @@ ParamSet combined_param_table(const ParamSet& base, const std::vector<std::strin
   std::vector<const Effect*> effects;
   for (const auto& id : effect_ids) effects.push_back(owned.emplace_back(make_effect(id)).get());
   return combined_param_table(base, effects);
+}
+
+std::vector<std::string> effect_fit_params(const ParamSet& table, const std::string& effect_id) {
+  static const std::vector<std::string> kFixed = {"tracker_bias.moving_threshold_px"};
+  std::vector<std::string> out;
+  const std::string prefix = effect_id + kEffectParamSeparator;
+  for (const auto& s : table.specs())
+    if (s.name.rfind(prefix, 0) == 0 && std::find(kFixed.begin(), kFixed.end(), s.name) == kFixed.end())
+      out.push_back(s.name);
+  return out;
 }
 
 void EffectModel::rebuild_param_table() {

@@ -1,5 +1,5 @@
 // tracker_bias: systematic error of the marker tracker.
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

@@ -1,9 +1,9 @@
 #pragma once
-// Factories of the catalogued effects (one implementation file each: core/loop/effect_<id>.cpp). Callers
-// outside core/loop/effects.cpp use make_effect(id) instead.
+// Factories of the catalogued effects (one implementation file each: core/effects/effect_<id>.cpp). Callers
+// outside core/effects/effects.cpp use make_effect(id) instead.
 #include <memory>
 
-#include "core/loop/effects.hpp"
+#include "core/effects/effects.hpp"
 
 namespace sb::effects {
 

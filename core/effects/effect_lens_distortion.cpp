@@ -1,7 +1,7 @@
 // lens_distortion: radial (Brown-Conrady k1, k2) distortion about the principal point.
 #include <cmath>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

@@ -1,7 +1,7 @@
 // camera_misalignment: camera axes rotated against E and a mis-calibrated pixel scale.
 #include <cmath>
 
-#include "core/loop/effect_catalogue.hpp"
+#include "core/effects/effect_catalogue.hpp"
 
 namespace sb::effects {
 namespace {

@@ -1,0 +1,249 @@
+// Step 3 of the residual loop: effects on top of the fitted form (effect_search.hpp).
+#include "core/loop/effect_search.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "core/base/format.hpp"
+#include "core/data/tsd.hpp"
+#include "core/effects/effects.hpp"
+#include "core/effects/model_spec.hpp"
+#include "core/loop/fingerprints.hpp"
+
+namespace sb {
+
+namespace {
+
+// A fitted parameter closer to a bound than this fraction of its range (log range for log-scale specs)
+// sits at the bound.
+constexpr double kAtBoundFraction = 0.005;
+
+std::vector<std::string> without(std::vector<std::string> names, const std::vector<std::string>& held) {
+  std::erase_if(names, [&](const std::string& n) { return std::find(held.begin(), held.end(), n) != held.end(); });
+  return names;
+}
+
+// The free parameters of `effect_id` that sit at a bound of their range ("name = value"), except a bound
+// that is the parameter's own "no effect" default (subsurface depth 0, edge strength 0): reaching that
+// means the effect switched itself off, not that it was pushed past physics.
+std::string params_at_bound(const ParamSet& params, const std::string& effect_id, const std::vector<std::string>& held) {
+  std::string out;
+  for (const auto& name : without(effect_fit_params(params, effect_id), held)) {
+    const ParamSpec& sp = params.specs()[static_cast<std::size_t>(params.index_of(name))];
+    const double v = params.get(name);
+    const bool lg = sp.log_scale && sp.min > 0;
+    const auto x = [&](double u) { return lg ? std::log(u) : u; };
+    const double tol = kAtBoundFraction * (x(sp.max) - x(sp.min));
+    for (double b : {sp.min, sp.max})
+      if (std::abs(x(v) - x(b)) <= tol && b != sp.default_value)
+        out += (out.empty() ? "" : ", ") + name + " = " + format_number(v, "%.4g");
+  }
+  return out;
+}
+
+// A fingerprint that model form can mimic must agree with the whole-field fit: a fitted value outside its
+// band is a verdict like a bound (the whole field wants something else than the evidence).
+std::string outside_band(const ParamSet& fitted, const std::string& candidate, const std::optional<FingerprintCheck>& fp) {
+  std::string out;
+  if (!fp || !fp->consistent) return out;
+  for (const auto& b : fp->band) {
+    const std::string name = candidate + kEffectParamSeparator + b.name;
+    const double v = fitted.get(name);
+    if (v >= b.low && v <= b.high) continue;
+    out += (out.empty() ? "" : ", ") + name + " = " + format_number(v, "%.4g") + " outside its fingerprint's band [" +
+           format_number(b.low, "%.4g") + ", " + format_number(b.high, "%.4g") + "]";
+  }
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+EffectFit score_fit(const ResidualInputs& in, std::vector<std::string> effects, const ParamSet& params,
+                    std::size_t free_params, const SampleModelFactory& make_cal, const SampleModelFactory& make_val) {
+  EffectFit ef;
+  ef.effects = std::move(effects);
+  ef.fit.params = params;
+  ef.fit.free_params = free_params;
+  const SplitScores cal = score_samples(make_cal, params, *in.sensor, in.calibration);
+  for (std::size_t i = 0; i < cal.sse.size(); ++i) {
+    ef.fit.calibration_sse_px2 += cal.sse[i];
+    ef.fit.calibration_count += 2 * cal.count[i];
+  }
+  SplitScores val = score_samples(make_val, params, *in.sensor, in.validation);
+  ef.fit.held_sse_px2 = val.held_sse;
+  ef.fit.held_signal_px2 = val.held_signal;
+  ef.fit.held_count = val.held_count;
+  ef.fit.validation.sq_err_px2 = std::move(val.sse);
+  ef.fit.validation.count = std::move(val.count);
+  ef.validation = std::move(val.metrics);
+  return ef;
+}
+
+EffectSearch::EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
+                           const EffectFit& form_fit, std::size_t candidate_count)
+    : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidate_count_(candidate_count) {
+  if (o.fit_base) form_free_ = joint_stage(form_, false).params;
+  fits_[""] = form_fit;
+  fp_cal_ = fingerprint_samples(*in.sensor, in.calibration);
+  fp_val_ = fingerprint_samples(*in.sensor, in.validation);
+}
+
+void EffectSearch::progress(const std::string& what) const {
+  const double total = static_cast<double>(candidate_count_ * o_.selection.max_effects + 1);
+  o_.progress(what, static_cast<double>(fits_.size()) / total);
+}
+
+EffectSearch::Start EffectSearch::start_of(const std::vector<std::string>& ids) const {
+  Start s{model_spec_params(ModelSpec{form_, ids}.id()), {}};
+  copy_shared(fits_.at("").fit.params, &s.params);
+  const std::vector<std::string> prefix(ids.begin(), ids.end() - 1);
+  if (auto it = fits_.find(effect_set_key(prefix)); it != fits_.end()) {
+    copy_shared(it->second.fit.params, &s.params);
+    s.warm = prefix;
+  }
+  return s;
+}
+
+const EffectSearch::Recording& EffectSearch::recording(const std::string& key) {
+  if (auto it = recordings_.find(key); it != recordings_.end()) return it->second;
+  const ParamSet& p = fits_.at(key).fit.params;
+  Recording r{record_field(form_, p, in_.sensor, in_.calibration), record_field(form_, p, in_.sensor, in_.validation)};
+  return recordings_.emplace(key, std::move(r)).first->second;   // map nodes are stable: factories keep pointers
+}
+
+SampleModelFactory EffectSearch::replay(const std::vector<std::string>& ids, const std::string& warm_key,
+                                        const std::vector<RecordedField>& field) const {
+  return replay_factory(form_, ids, fits_.at(warm_key).fit.params, &field, in_.sensor);
+}
+
+std::optional<FingerprintCheck> EffectSearch::fingerprint_of(const std::string& candidate,
+                                                             const std::vector<std::string>& warm) {
+  progress("fingerprint " + candidate);
+  if (!fingerprint_needs_model(candidate, *in_.sensor)) return fingerprint_check(candidate, *in_.sensor, fp_cal_, fp_val_);
+  const std::string key = effect_set_key(warm);
+  const Recording& rec = recording(key);
+  const ParamSet& p = fits_.at(key).fit.params;
+  return fingerprint_check(candidate, *in_.sensor,
+                           with_model_field(fp_cal_, replay(warm, key, rec.cal), p, in_.calibration),
+                           with_model_field(fp_val_, replay(warm, key, rec.val), p, in_.validation));
+}
+
+std::vector<std::string> EffectSearch::hold_fingerprint(const std::string& candidate, const FingerprintCheck& fp,
+                                                        ParamSet* start) {
+  std::vector<std::string> held;
+  for (const auto& [name, value] : fp.held) {
+    const std::string full = candidate + kEffectParamSeparator + name;
+    const ParamSpec& sp = start->specs()[static_cast<std::size_t>(start->index_of(full))];
+    start->set(full, std::clamp(value, sp.min, sp.max));
+    held.push_back(full);
+  }
+  // Later rounds hold the band's parameters too, at this fit's values.
+  auto& later = held_by_effect_[candidate];
+  later = held;
+  for (const auto& b : fp.band) later.push_back(candidate + kEffectParamSeparator + b.name);
+  return held;
+}
+
+std::vector<std::string> EffectSearch::held_of(const std::string& effect, const std::string& candidate,
+                                               const std::vector<std::string>& held_now) const {
+  if (effect == candidate) return held_now;
+  const auto it = held_by_effect_.find(effect);
+  return it == held_by_effect_.end() ? std::vector<std::string>{} : it->second;
+}
+
+EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Start& start,
+                                  const std::vector<FitStage>& stages) {
+  const std::string key = effect_set_key(ids), warm_key = effect_set_key(start.warm);
+  const Recording& rec = recording(warm_key);
+  const auto replay_cal = replay(ids, warm_key, rec.cal), replay_val = replay(ids, warm_key, rec.val);
+  CalibrationResult r{form_ + "+" + key, start.params, {}, false, 0};
+  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, replay_cal, stages, in_.calibration, start.params, fo_);
+  if (r.cancelled || o_.progress.cancelled()) throw Cancelled("residual analysis");
+  std::size_t free_count = 0;
+  for (const auto& st : stages) free_count += st.params.size();
+  return score_fit(in_, ids, r.params, free_count + fits_.at(warm_key).fit.free_params, replay_cal, replay_val);
+}
+
+// The joint refit (every run reruns the form) only for an effect that alone, over the reference's recorded
+// field, already buys part of the acceptance margin on validation, explains the held drift, or whose
+// fingerprint was found. Joint refits may let the form's parameters lean on the effect, but an effect the
+// data hold shows on the form as fitted.
+bool EffectSearch::promising(const EffectFit& alone, const std::string& warm_key,
+                             const std::optional<FingerprintCheck>& fp, std::string* screen_note) const {
+  const FitResult& ref = fits_.at(warm_key).fit;
+  const double ref_rmse = validation_rmse(ref.validation);
+  const double alone_pct = 100.0 * (ref_rmse - validation_rmse(alone.fit.validation)) / ref_rmse;
+  const double drift_pct = fingerprint_explained_pct(ref, alone.fit, o_.selection);
+  const bool drift = std::isfinite(drift_pct) && drift_pct >= o_.selection.min_fingerprint_pct;
+  if (fp) return fp->consistent;
+  if (alone_pct >= o_.screen_min_pct || drift) return true;
+  *screen_note = "screened: alone over the fitted base it gains " + format_number(alone_pct, "%.2f") + "% (< " +
+                 format_number(o_.screen_min_pct, "%.2f") + "%), no joint refit";
+  return false;
+}
+
+EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
+                                    const ParamSet& from) {
+  const std::string model = ModelSpec{form_, ids}.id();
+  const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
+  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_spec_model(model, in_.sensor, ind); };
+  const CalibrationResult r = run_fit_stages(model, make, stage, in_.calibration, from, fo_);
+  if (r.cancelled || o_.progress.cancelled()) throw Cancelled("residual analysis");
+  const SampleModelFactory full = spec_model_factory(model, in_.sensor);
+  return score_fit(in_, ids, r.params, joint.size(), full, full);
+}
+
+// A bound or a band verdict on the candidate's fitted parameters (docs/effects.md, "Model-form symptoms").
+void EffectSearch::add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,
+                               const std::optional<FingerprintCheck>& fp, EffectFit* ef) const {
+  if (!ef->fit.veto.empty()) return;
+  const std::string bound = params_at_bound(ef->fit.params, candidate, held_of(candidate, candidate, held_now));
+  const std::string band = outside_band(ef->fit.params, candidate, fp);
+  if (bound.empty() && band.empty()) return;
+  ef->fit.veto = "model-form symptom: " + (bound.empty() ? band + ": the whole field disagrees with the evidence"
+                                                         : bound + " at a bound of its physical range");
+  ef->fit.model_form_symptom = true;
+}
+
+FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
+  const std::string key = effect_set_key(ids);
+  if (auto it = fits_.find(key); it != fits_.end()) return it->second.fit;
+  const auto t0 = std::chrono::steady_clock::now();
+  Start start = start_of(ids);
+  const std::string candidate = ids.back();
+  // The candidate's fingerprint, against the reference (the warm start's model). Found: its parameters are
+  // held at the estimate (evidence beyond model form), or fitted as without a fingerprint and checked against
+  // its band (evidence model form can mimic: it may add a verdict, never lift one). Not found: fitted alone.
+  std::optional<FingerprintCheck> fp;
+  std::vector<std::string> held_now;
+  if (has_fingerprint(candidate) && start.warm.size() + 1 == ids.size()) {
+    fp = fingerprint_of(candidate, start.warm);
+    if (fp && fp->consistent) held_now = hold_fingerprint(candidate, *fp, &start.params);
+  }
+  std::vector<FitStage> stages;
+  std::vector<std::string> joint = form_free_;
+  for (const auto& id : ids) {
+    const auto free = without(effect_fit_params(start.params, id), held_of(id, candidate, held_now));
+    joint.insert(joint.end(), free.begin(), free.end());
+    if (std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end() && !free.empty())
+      stages.push_back({"effect:" + id, free, tsd_motions(), false, {}});
+  }
+  progress("fit " + form_ + "+" + key);
+  EffectFit ef = fit_alone(ids, start, stages);
+  const std::size_t free_count = ef.fit.free_params - fits_.at(effect_set_key(start.warm)).fit.free_params;
+  std::string screen_note;
+  const bool refit = promising(ef, effect_set_key(start.warm), fp, &screen_note);
+  if (refit && joint.size() > free_count) ef = joint_refit(ids, joint, ef.fit.params);
+  else if (joint.size() > free_count && !fp) ef.fit.veto = screen_note;
+  add_verdict(candidate, held_now, fp, &ef);
+  ef.fit.fingerprint = fp;
+  ef.time_s = seconds_since(t0);
+  return (fits_[key] = std::move(ef)).fit;
+}
+
+}  // namespace sb

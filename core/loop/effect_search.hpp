@@ -1,0 +1,70 @@
+#pragma once
+// Step 3 of the residual loop (residual.hpp): the catalogued effects on top of a fitted form, searched
+// greedily by select_effects. EffectSearch owns what the search accumulates: each effect set's fit, the
+// form's recorded field per fitted parameter set (an effect-only fit replays it instead of rerunning the
+// form), and the effect parameters a fingerprint settled. See docs/effects.md, "The loop, step by step".
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/loop/loop_samples.hpp"
+#include "core/loop/residual.hpp"
+
+namespace sb {
+
+// A fitted model's scores on both splits: calibration SSE for the BIC, validation errors per sample, the
+// held-drift sums and the per-motion metrics.
+EffectFit score_fit(const ResidualInputs& in, std::vector<std::string> effects, const ParamSet& params,
+                    std::size_t free_params, const SampleModelFactory& make_cal, const SampleModelFactory& make_val);
+
+class EffectSearch {
+ public:
+  // `form_fit` is the form as fitted (the search's reference, key ""); `fo` the fits' options.
+  EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
+               const EffectFit& form_fit, std::size_t candidate_count);
+
+  // select_effects' FitAndScore: the set `ids` fitted on top of the form and scored (cached by set).
+  FitResult fit_and_score(const std::vector<std::string>& ids);
+  std::map<std::string, EffectFit> take_fits() { return std::move(fits_); }
+
+ private:
+  struct Recording {
+    std::vector<RecordedField> cal, val;
+  };
+  // The start of a set's fit and the fitted set it is warm-started from (the set without its last effect).
+  struct Start {
+    ParamSet params;
+    std::vector<std::string> warm;
+  };
+
+  Start start_of(const std::vector<std::string>& ids) const;
+  const Recording& recording(const std::string& key);
+  SampleModelFactory replay(const std::vector<std::string>& ids, const std::string& warm_key,
+                            const std::vector<RecordedField>& field) const;
+  std::optional<FingerprintCheck> fingerprint_of(const std::string& candidate, const std::vector<std::string>& warm);
+  // Holds the candidate's fingerprinted parameters in `start` (and in later rounds); returns their names.
+  std::vector<std::string> hold_fingerprint(const std::string& candidate, const FingerprintCheck& fp, ParamSet* start);
+  std::vector<std::string> held_of(const std::string& effect, const std::string& candidate,
+                                   const std::vector<std::string>& held_now) const;
+  EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
+  bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
+                 std::string* screen_note) const;
+  EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint, const ParamSet& from);
+  void add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,
+                   const std::optional<FingerprintCheck>& fp, EffectFit* ef) const;
+  void progress(const std::string& what) const;
+
+  const ResidualInputs& in_;
+  const ResidualOptions& o_;
+  FitOptions fo_;
+  std::string form_;
+  std::vector<std::string> form_free_;   // the form's joint parameters (none when the base is not fitted)
+  std::size_t candidate_count_;
+  std::map<std::string, EffectFit> fits_;
+  std::map<std::string, Recording> recordings_;
+  std::vector<FingerprintSample> fp_cal_, fp_val_;
+  std::map<std::string, std::vector<std::string>> held_by_effect_;   // parameters a fingerprint settled (full names)
+};
+
+}  // namespace sb

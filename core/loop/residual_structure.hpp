@@ -1,0 +1,50 @@
+#pragma once
+// The structure of a model's residual (measured - predicted) over a set of samples: RMS per bin of physical
+// covariates (time since contact, loading state, distances, depth, travel, and in the contact's own frame),
+// the mean residual field and its first principal component. The residual loop (residual.hpp) reports it
+// for the base model and for the model it ends with.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/calibration/fit.hpp"
+
+namespace sb {
+
+// Whether the indenter's penetration grows, holds or shrinks at a frame (held: changes below kHeldStillM).
+enum class LoadingState { kLoading, kHeld, kUnloading, kNoContact };
+// The contact's phase at a frame: held and moving tangentially (held_still) is a slide.
+enum class ContactPhase { kLoading, kHold, kSlide, kUnloading, kNoContact };
+
+// RMS of |residual| (px) per bin of one covariate.
+struct CovariateTable {
+  std::string name;
+  std::string unit;
+  std::vector<std::string> labels;       // bin labels ("0.00-0.25", or "loading" ...)
+  std::vector<double> centre;            // bin centre (numeric covariates; index for categorical)
+  std::vector<double> rms_px;            // NaN for an empty bin
+  std::vector<long> count;               // marker-frames in the bin
+  // Contact-frame tables only (in contact, a subset of the marker-frames): the mean residual component
+  // along the direction from the contact centre to the marker (+: outward) and along the indenter's
+  // tangential travel since first contact (+: the way it moved). Empty for the other tables.
+  bool contact_frame = false;
+  std::vector<double> mean_radial_px, mean_along_px;
+};
+
+struct ResidualStructure {
+  double rmse_px = 0;
+  long marker_frames = 0;
+  long frames = 0;
+  std::vector<CovariateTable> covariates;
+  std::vector<double> explained_variance;  // first 3 principal components of the centred residual, fractions
+  std::vector<Vec2> mean_field_px;         // per marker, mean residual over scored frames
+  std::vector<Vec2> pc1_px;                // first component, scaled to its RMS amplitude (s1 / sqrt(frames))
+};
+
+// The residual structure of model `model_id` (core/effects/model_spec.hpp: a form and effects) at `params`
+// over `samples`, with `bins` bins per numeric covariate.
+ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
+                                   std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples,
+                                   int bins);
+
+}  // namespace sb
