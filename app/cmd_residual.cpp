@@ -26,6 +26,7 @@ struct ResidualArgs {
   std::string param_set;   // empty: the default for the dataset's sensor
   std::vector<std::string> effects;
   std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
+  std::vector<std::string> validation_ids;    // with calibration_ids: only these validate (a fixed subset of a large set)
   int max_iterations = 30;
   int resamples = 2000;
   bool no_model_forms = false;
@@ -34,10 +35,13 @@ struct ResidualArgs {
 };
 
 // The samples of `split`; with --calibration IDS the listed samples are the calibration split and every
-// other sample the validation split (recordings published without splits, e.g. the FOTS pair).
-std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std::string& split,
-                                  const std::vector<std::string>& calibration_ids, Warnings* warnings) {
-  if (!calibration_ids.empty()) assign_calibration_split(ds, calibration_ids, "--calibration");
+// other sample the validation split (recordings published without splits, e.g. the FOTS pair), or with
+// --validation IDS only those (a fixed subset of a large set).
+std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std::string& split, const ResidualArgs& a,
+                                  Warnings* warnings) {
+  if (!a.validation_ids.empty() && a.calibration_ids.empty())
+    throw InputError("--validation", "needs --calibration (the two name a subset of the samples together)");
+  if (!a.calibration_ids.empty()) assign_calibration_split(ds, a.calibration_ids, "--calibration", a.validation_ids);
   const auto indenters = dataset_indenters(ds, root, split, warnings);
   std::vector<FitSample> out;
   for (const auto& info : ds.samples)
@@ -73,8 +77,8 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   Warnings warnings;
   if (const std::string w = sensor_mismatch(set, ds.sensor_model); !w.empty()) warnings.add(w);
   in.sensor = dataset_sensor(ds);
-  in.calibration = load_split(ds, root, "calibration", a.calibration_ids, &warnings);
-  in.validation = load_split(ds, root, "validation", a.calibration_ids, &warnings);
+  in.calibration = load_split(ds, root, "calibration", a, &warnings);
+  in.validation = load_split(ds, root, "validation", a, &warnings);
   if (!g.quiet)
     std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples, from parameter set '%s'\n",
                  a.model.c_str(), ds.name.c_str(), in.calibration.size(), in.validation.size(), set.name.c_str());
@@ -119,6 +123,9 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--effects", a.effects, "candidate effects (default: the whole catalogue)")->delimiter(',');
   sub.add_option("--calibration", a.calibration_ids,
                  "sample ids that calibrate (the others validate), instead of the dataset's splits")
+      ->delimiter(',');
+  sub.add_option("--validation", a.validation_ids,
+                 "with --calibration: only these sample ids validate, the rest are left out (a fixed subset of a large set)")
       ->delimiter(',');
   sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
