@@ -128,11 +128,12 @@ void Frontend::poll_load() {
     return;
   }
   try {
+    const double read_s = now_s() - load_started_s_;
+    const double t0 = now_s();
     install_session(std::move(*st.session), loading_options_, loading_baseline_);
-    const double took = now_s() - load_started_s_;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, " (%.1f s)", took);
-    workbench_.set_message("opened " + loading_what_ + buf);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", read_s, 1e3 * (now_s() - t0));
+    workbench_.set_message("opened " + loading_what_ + " (parameter set " + session_.param_set.name + buf);
     if (then) then();
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());
@@ -175,9 +176,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   }
   if (from_session_field) workbench_.revert_session_path();   // a scene or dataset is not the session file
   const std::string what = display_path(t.path, root);
-  reopen_then(o, Baseline::None, what, [this, what] {
-    workbench_.set_message("opened " + what + " (parameter set " + session_.param_set.name + ")");
-  });
+  reopen_then(o, Baseline::None, what);
 }
 
 void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {

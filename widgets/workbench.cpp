@@ -267,10 +267,12 @@ void Workbench::draw_session_section(WorkbenchRequest& req) {
   if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
   if (unsaved_) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.3f, 1.0f));
-    ImGui::TextUnformatted("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
+    ImGui::TextWrapped("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
     ImGui::PopStyleColor();
   } else if (!saved_once_) {
+    ImGui::PushTextWrapPos(0.0f);
     ImGui::TextDisabled("new session, not saved yet (Ctrl+S saves it)");
+    ImGui::PopTextWrapPos();
   } else {
     ImGui::TextDisabled("saved");
   }
@@ -883,23 +885,29 @@ void Workbench::draw_view_cell(float x, float y, float w, float h) {
 
 void Workbench::draw_view_legend(ImVec2 at, float width) {
   const std::string model = snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id);
-  struct Item { ImU32 colour; std::string text; };
-  const std::vector<Item> items = {
-      {IM_COL32(230, 230, 120, 255), "markers: |d| of " + model + " (panel colours)"},
-      {IM_COL32(60, 200, 90, 255), "stick"}, {IM_COL32(240, 150, 40, 255), "slip"}, {IM_COL32(150, 150, 150, 255), "free"},
-      {IM_COL32(220, 220, 220, 255), "line: tracked point to its anchor"}};
-  ImDrawList* dl = ImGui::GetWindowDrawList();
+  struct Item { ImU32 colour; std::string text; bool line; ImVec2 pos; };
+  std::vector<Item> items = {
+      {IM_COL32(230, 230, 120, 255), "markers: |d| of " + model + " (panel colours)", false, {}},
+      {IM_COL32(60, 200, 90, 255), "stick", false, {}}, {IM_COL32(240, 150, 40, 255), "slip", false, {}},
+      {IM_COL32(150, 150, 150, 255), "free (tracked points)", false, {}},
+      {IM_COL32(220, 220, 220, 255), "line: a tracked point to its anchor", true, {}}};
   const float lh = ImGui::GetTextLineHeight();
-  float x = at.x + 6, y = at.y + 4;
-  dl->PushClipRect(at, ImVec2(at.x + width, at.y + 4 * lh + 12), true);
-  for (std::size_t k = 0; k < items.size(); ++k) {
-    const float w = ImGui::CalcTextSize(items[k].text.c_str()).x + 16;
-    if (k > 0 && (k == 1 || k == 4 || x + w > at.x + width - 4)) x = at.x + 6, y += lh + 2;
-    dl->AddRectFilled(ImVec2(x - 2, y - 1), ImVec2(x + w, y + lh + 1), IM_COL32(20, 20, 25, 170), 3.0f);
-    if (k == 4) dl->AddLine(ImVec2(x + 1, y + lh / 2), ImVec2(x + 10, y + lh / 2), items[k].colour, 1.5f);
-    else dl->AddCircleFilled(ImVec2(x + 5, y + lh / 2), 4.0f, items[k].colour);
-    dl->AddText(ImVec2(x + 14, y), IM_COL32(240, 240, 240, 255), items[k].text.c_str());
-    x += w + 6;
+  float x = 0, y = 0, right = 0;
+  for (std::size_t k = 0; k < items.size(); ++k) {   // rows: the markers, the point states, the lines
+    const float w = ImGui::CalcTextSize(items[k].text.c_str()).x + 14;
+    if (k == 1 || k == 4 || (k > 0 && x + w > width - 12)) x = 0, y += lh + 2;
+    items[k].pos = ImVec2(at.x + 6 + x, at.y + 4 + y);
+    x += w + 10;
+    right = std::max(right, x);
+  }
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(at, ImVec2(at.x + width, at.y + y + lh + 12), true);
+  dl->AddRectFilled(ImVec2(at.x + 2, at.y + 2), ImVec2(at.x + 6 + right, at.y + 6 + y + lh), IM_COL32(20, 20, 25, 170), 3.0f);
+  for (const Item& it : items) {
+    const float cy = it.pos.y + lh / 2;
+    if (it.line) dl->AddLine(ImVec2(it.pos.x + 1, cy), ImVec2(it.pos.x + 10, cy), it.colour, 1.5f);
+    else dl->AddCircleFilled(ImVec2(it.pos.x + 5, cy), 4.0f, it.colour);
+    dl->AddText(ImVec2(it.pos.x + 14, it.pos.y), IM_COL32(240, 240, 240, 255), it.text.c_str());
   }
   dl->PopClipRect();
 }
