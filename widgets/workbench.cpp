@@ -148,16 +148,17 @@ void Workbench::auto_scale() {
       max_px = maxes[maxes.size() / 2];
     }
   }
-  // Held: the scale only grows (a sample's largest measurement from its first frame), so a colour keeps
-  // its meaning through a drag or a replay (issue 34: 2 -> 40 -> 10 px within one drag).
+  // Without a field yet keep the previous scale rather than blowing up the gain.
+  constexpr double kMinFieldPx = 0.05;
+  if (max_px < kMinFieldPx) return;
+  // Arrows follow the frame (the legend's scale bar says how long a pixel is drawn) ...
+  scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
+  // ... and colours, held, only grow (from a sample's largest measurement on), so a colour keeps its meaning
+  // through a drag or a replay (issue 34: the colour maximum went 2 -> 40 -> 10 px within one drag).
   if (hold_scale_) {
     held_max_px_ = std::max({held_max_px_, max_px, sample_max_px_});
     max_px = held_max_px_;
   }
-  // Without a field yet keep the previous scale rather than blowing up the gain.
-  constexpr double kMinFieldPx = 0.05;
-  if (max_px < kMinFieldPx) return;
-  scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
   // The colour map tops out at a round number just above the reference's largest displacement.
   const double top = nice_floor(max_px);
   scale_.colour_max_px = static_cast<float>(top >= max_px ? top : (top * 2 >= max_px ? top * 2 : top * 5));
@@ -283,11 +284,11 @@ void Workbench::draw_session_section(WorkbenchRequest& req) {
 void Workbench::draw_display_section(WorkbenchRequest& req) {
   ImGui::Checkbox("auto scale", &auto_scale_);
   ImGui::SameLine();
-  if (ImGui::Checkbox("hold the largest", &hold_scale_)) held_max_px_ = 0;
+  if (ImGui::Checkbox("hold colours", &hold_scale_)) held_max_px_ = 0;
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("on: the auto scale only grows (over a dataset sample: its largest measured |d|), so a colour\n"
-                      "means the same from frame to frame; off: it follows every frame's field.\n"
-                      "Untick auto scale to fix both at the sliders' values.");
+    ImGui::SetTooltip("on: the colour scale only grows (a dataset sample: from its largest measured |d|), so a\n"
+                      "colour means the same from frame to frame; the arrows still follow each frame.\n"
+                      "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
   ImGui::SetNextItemWidth(-110);
   if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
     auto_scale_ = false;
