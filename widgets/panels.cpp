@@ -104,7 +104,7 @@ bool pose_panel(Pose& X) {
 void open_row(ReplayUi& ui, ReplayRequest& req) {
   ImGui::SetNextItemWidth(-90);
   if (ImGui::InputTextWithHint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_buf,
-                               sizeof ui.dataset_buf, ImGuiInputTextFlags_EnterReturnsTrue))
+                               sizeof ui.dataset_buf, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
     req.open_dataset = true;
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("a tsd/1 dataset folder, a scene (scenes/*.json) or a session file;\n"

@@ -260,7 +260,9 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
 // without becoming the session file) and whether the work is saved.
 void Workbench::draw_session_section(WorkbenchRequest& req) {
   ImGui::SetNextItemWidth(-110);
-  ImGui::InputText("##session", session_path_, sizeof session_path_);
+  // A click selects the whole path, so what is typed replaces it (a path typed into the middle of the old one
+  // named a file nobody meant).
+  ImGui::InputText("##session", session_path_, sizeof session_path_, ImGuiInputTextFlags_AutoSelectAll);
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("session file (JSON): %s", session_path_);
   ImGui::SameLine();
   if (ImGui::SmallButton("Open##session")) req.open_session = std::string(session_path_);
