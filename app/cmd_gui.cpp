@@ -83,9 +83,18 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   }
   if (!a.stats.empty()) front.enable_stats(a.stats, a.stats_interval_s);
   front.session().state->start_thread();
-  if (!a.session.empty()) front.open_session_file(a.session);
-  else front.offer_autosave();
-  if (!a.residual.empty()) front.load_residual(a.residual);
+  // A session opens on the worker: the window shows the default scene with a progress line meanwhile
+  // (it was black for ~3 s, issue 34); a residual asked for goes on top of it once it is in place.
+  const std::string residual = a.residual;
+  const auto load_residual = [&front, residual] {
+    if (!residual.empty()) front.load_residual(residual);
+  };
+  if (!a.session.empty()) {
+    front.open_session_file(a.session, load_residual);
+  } else {
+    front.offer_autosave();
+    load_residual();
+  }
   while (front.frame()) {}
   return 0;
 }

@@ -16,6 +16,16 @@ struct ImportArgs {
   bool no_pin_prior = false, no_lattice_check = false;
 };
 
+// Fewer calibration samples than the pin prior needs: no prior is fitted and every deep press loses all
+// its pins, so the import would write samples with nothing tracked (issue 34). Refused before any work.
+void require_enough_for_pin_prior(const ImportArgs& a) {
+  const int need = tactip_prior_min_calibration_samples();
+  if (a.no_pin_prior || a.max_samples == 0 || a.max_samples >= need) return;
+  throw InputError("--max-samples", std::to_string(a.max_samples) + " calibration samples are too few for the pin prior (it needs " +
+                                        std::to_string(need) + "; with fewer, deep presses keep 0 pins): use --max-samples " +
+                                        std::to_string(need) + " or more, 0 for all, or --no-pin-prior");
+}
+
 int run_import(const ImportArgs& a, const GlobalOptions&) {
   TrackerOptions opts;
   parse_grid(a.grid, "--grid", opts);
@@ -25,6 +35,7 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
   else if (a.source == "fots") report = import_fots(a.in, a.out);
   else if (a.source == "feats") report = import_feats(a.in, a.out);
   else if (a.source == "tactip_shear") {
+    require_enough_for_pin_prior(a);
     TactipImportOptions t;
     t.max_samples_per_split = a.max_samples;
     t.use_prior = !a.no_pin_prior;
@@ -45,7 +56,7 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
       ->required();
   sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
   sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();
-  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all; the pin prior is fitted on the calibration samples imported, none below 66)")
+  sub.add_option("--max-samples", a.max_samples, "tactip_shear: only the first N samples of each split (0 = all; the pin prior is fitted on the calibration samples imported and needs 66: fewer is refused unless --no-pin-prior)")
       ->check(CLI::NonNegativeNumber);
   sub.add_flag("--no-pin-prior", a.no_pin_prior,
                "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");

@@ -18,6 +18,7 @@
 
 #include "core/effects/model_spec.hpp"
 #include "core/base/data_root.hpp"
+#include "core/base/display_path.hpp"
 #include "core/base/error.hpp"
 #include "core/base/free_memory.hpp"
 #include "core/workbench/field_export.hpp"
@@ -55,22 +56,128 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
   workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
+  workbench_.set_session_path(default_session_path());   // never the working folder (often the repository)
+  refresh_open_choices();
 }
 
 Frontend::~Frontend() {
   if (session_.state) session_.state->stop_thread();
 }
 
-void Frontend::reopen(const SessionOptions& session) {
-  Session next = open_session(session);
+void Frontend::reopen(const SessionOptions& session, Baseline baseline) {
+  install_session(open_session(session), session, baseline);
+}
+
+// The one place a new session replaces the running one (the sync point of a reopen).
+void Frontend::install_session(Session next, const SessionOptions& options, Baseline baseline) {
+  // A residual analysis belongs to its dataset: another dataset (or a scene) drops it, and with it
+  // "Apply the fitted base parameters" (issue 34).
+  if (next.scene.dataset_dir != session_.scene.dataset_dir) workbench_.clear_residual();
   session_.state->stop_thread();
   session_ = std::move(next);
-  session_options_ = session;
+  session_options_ = options;
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
-  baseline_pending_ = Baseline::Clean;
+  baseline_pending_ = baseline;
+  refresh_open_choices();
+}
+
+void Frontend::reopen_then(const SessionOptions& session, Baseline baseline, const std::string& what,
+                           std::function<void()> then) {
+  if (!options_.interactive) {
+    reopen(session, baseline);
+    if (then) then();
+    return;
+  }
+  if (load_pending_) throw InputError(what, "still opening " + loading_what_ + ": wait for it, then open again");
+  load_pending_ = true;
+  loading_options_ = session;
+  loading_baseline_ = baseline;
+  after_load_ = std::move(then);
+  loading_what_ = what;
+  load_started_s_ = now_s();
+  workbench_.set_loading(what);
+  load_job_.start(LoadStatus{LoadStatus::Phase::Running, nullptr, ""},
+                  [session](const std::atomic<bool>&, StatusJob<LoadStatus>& job) {
+                    LoadStatus done;
+                    try {
+                      done.session = std::make_shared<Session>(open_session(session));
+                      done.phase = LoadStatus::Phase::Done;
+                    } catch (const std::exception& e) {
+                      done.error = e.what();
+                      done.phase = LoadStatus::Phase::Failed;
+                    }
+                    job.update([&](LoadStatus& s) { s = std::move(done); });
+                    glfwPostEmptyEvent();   // wake the idle frame loop
+                  });
+}
+
+// At the start of a frame: a finished open is swapped in here, never mid-frame.
+void Frontend::poll_load() {
+  if (!load_pending_) return;
+  const LoadStatus st = load_job_.status();
+  if (st.running()) return;
+  load_pending_ = false;
+  workbench_.set_loading("");
+  std::function<void()> then = std::move(after_load_);
+  after_load_ = nullptr;
+  if (st.phase != LoadStatus::Phase::Done || !st.session) {
+    workbench_.set_message("error: " + st.error);
+    workbench_.revert_session_path();
+    return;
+  }
+  try {
+    const double read_s = now_s() - load_started_s_;
+    const double t0 = now_s();
+    install_session(std::move(*st.session), loading_options_, loading_baseline_);
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", read_s, 1e3 * (now_s() - t0));
+    workbench_.set_message("opened " + loading_what_ + " (parameter set " + session_.param_set.name + buf);
+    if (then) then();
+  } catch (const std::exception& e) {
+    workbench_.set_message(std::string("error: ") + e.what());
+  }
+}
+
+// What the Open list offers: this run's recent opens, the scenes in scenes/ and the data root's datasets.
+void Frontend::refresh_open_choices() {
+  std::vector<std::string> choices = recent_.paths();
+  const std::string scenes = std::filesystem::is_directory("scenes") ? "scenes" : "";
+  for (const std::string& p : open_suggestions(resolve_data_root(session_options_.data_root), scenes))
+    if (std::find(choices.begin(), choices.end(), p) == choices.end()) choices.push_back(p);
+  workbench_.replay_ui().choices = std::move(choices);
+}
+
+void Frontend::open_path(const std::string& typed, bool from_session_field) {
+  const std::string root = resolve_data_root(session_options_.data_root);
+  OpenTarget t;
+  try {
+    t = classify_open_target(typed, root, std::filesystem::current_path().string());
+  } catch (...) {
+    if (from_session_field) workbench_.revert_session_path();   // a failed open adopts nothing
+    throw;
+  }
+  recent_.add(typed);
+  if (t.kind == OpenKind::Session) {
+    open_session_file(t.path);
+    return;
+  }
+  SessionOptions o = session_options_;
+  o.open.sample_id.clear();
+  o.open.param_set.clear();   // the set for the new sensor (a Mini set is meaningless on a TacTip)
+  o.open.indenter_mesh.clear();
+  if (t.kind == OpenKind::Dataset) {
+    o.open.dataset_dir = data_path(t.path, root);   // "data:twin/..." stays portable in the session file
+    o.open.scene_path.clear();
+  } else {
+    o.open.scene_path = t.path;
+    o.open.dataset_dir.clear();
+  }
+  if (from_session_field) workbench_.revert_session_path();   // a scene or dataset is not the session file
+  const std::string what = display_path(t.path, root);
+  reopen_then(o, Baseline::None, what);
 }
 
 void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
@@ -102,47 +209,51 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       save_params_file(session_.state->snapshot(), *req.save_params);
       workbench_.set_message("saved " + *req.save_params);
     }
-    if (req.open_sample) {
-      SessionOptions o = session_options_;
-      o.open.sample_id = session_.replay.samples.at(*req.open_sample);
-      o.open.dataset_dir = session_.replay.dataset_dir;
-      o.open.scene_path.clear();
-      reopen(o);
-    }
-    if (req.save_session) {
-      save_session_file(*req.save_session, session_file_for_saving());
-      work_.saved(work_fingerprint());
-      std::error_code ec;
-      // Saved: the autosave is stale, unless the user just saved over the autosave file itself.
-      if (!std::filesystem::equivalent(*req.save_session, autosave_path_, ec)) std::filesystem::remove(autosave_path_, ec);
-      workbench_.set_session_path(*req.save_session);
-      workbench_.set_message("saved session " + *req.save_session +
-                             (session_.state->pending_edits() > 0 ? " (before the physics took the last edit: it will be autosaved)" : ""));
-    }
-    if (req.open_session) open_session_file(*req.open_session);
+    if (req.save_session) save_session_to(*req.save_session);
     if (req.load_residual) load_residual(*req.load_residual);
     if (req.switch_model) switch_model(req.switch_model->first, req.switch_model->second);
     if (req.beside_hydroshear) set_beside_hydroshear(*req.beside_hydroshear);
     if (req.export_fields) start_export(*req.export_fields);
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
-    if (req.param_set) {
-      SessionOptions o = session_options_;
-      o.open.param_set = *req.param_set;
-      reopen(o);
-      workbench_.set_message("every model starts again from parameter set " + *req.param_set);
-    }
-    if (req.open_dataset) {
-      SessionOptions o = session_options_;
-      o.open.dataset_dir = *req.open_dataset;
-      o.open.sample_id.clear();
-      o.open.scene_path.clear();
-      o.open.param_set.clear();   // a dataset starts from the set for its sensor (a Mini set is meaningless on a TacTip)
-      reopen(o);
-      workbench_.set_message("opened " + *req.open_dataset + " (parameter set " + session_.param_set.name + ")");
-    }
+    handle_open_requests(req);
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());
   }
+}
+
+// Everything that replaces the session: on the worker (reopen_then), so the window stays live.
+void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
+  if (req.open_sample) {
+    SessionOptions o = session_options_;
+    o.open.sample_id = session_.replay.samples.at(*req.open_sample);
+    o.open.dataset_dir = session_.replay.dataset_dir;
+    o.open.scene_path.clear();
+    reopen_then(o, Baseline::None, o.open.dataset_dir + " / " + o.open.sample_id);
+  }
+  if (req.open_session) open_path(*req.open_session, true);
+  if (req.open_dataset) open_path(*req.open_dataset, false);
+  if (req.param_set) {
+    SessionOptions o = session_options_;
+    o.open.param_set = *req.param_set;
+    const std::string name = *req.param_set;
+    reopen_then(o, Baseline::None, "parameter set " + name, [this, name] {
+      workbench_.set_message("every model starts again from parameter set " + name);
+    });
+  }
+}
+
+// Save / Ctrl+S: the session file is adopted only once written (a refused path is not offered again).
+void Frontend::save_session_to(const std::string& path) {
+  save_session_file(path, session_file_for_saving());
+  work_.saved(work_fingerprint());
+  saved_once_ = true;
+  workbench_.set_saved_once(true);
+  std::error_code ec;
+  // Saved: the autosave is stale, unless the user just saved over the autosave file itself.
+  if (!std::filesystem::equivalent(path, autosave_path_, ec)) std::filesystem::remove(autosave_path_, ec);
+  workbench_.set_session_path(path);
+  workbench_.set_message("saved session " + path +
+                         (session_.state->pending_edits() > 0 ? " (before the physics took the last edit: it will be autosaved)" : ""));
 }
 
 bool Frontend::frame() {
@@ -151,6 +262,7 @@ bool Frontend::frame() {
   constexpr double kIdleWaitS = 0.5;
   window_.begin_frame(workbench_.animating() ? 0.0 : kIdleWaitS);
   const auto t_start = std::chrono::steady_clock::now();
+  poll_load();
   const ui::WorkbenchRequest req = workbench_.draw(frame_ms_);
   window_.render();
   handle(req, true);
@@ -159,6 +271,7 @@ bool Frontend::frame() {
   frame_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t_start).count();
   stats_.add(frame_ms_);
   if (options_.keep_work) keep_work_tick();
+  update_window_title();
   trim_memory_when_idle();
   if (!quit_ && !window_.should_close()) return true;
   return allow_close();
@@ -235,10 +348,9 @@ void Frontend::switch_model(int slot, const std::string& model_id) {
 void Frontend::set_beside_hydroshear(const std::string& model_id) {
   SessionFile f = session_file_for_saving();
   f.open.beside_hydroshear = model_id;
-  apply_session_file(f);
-  baseline_pending_ = Baseline::None;
-  workbench_.set_message(model_id.empty() ? std::string("removed the panel beside HydroShear")
-                                          : ui::display_name(model_id) + " beside HydroShear");
+  const std::string done = model_id.empty() ? std::string("removed the panel beside HydroShear")
+                                            : ui::display_name(model_id) + " beside HydroShear";
+  apply_session_file(f, Baseline::None, [this, done] { workbench_.set_message(done); });
 }
 
 void Frontend::load_residual(const std::string& path) {
@@ -269,6 +381,7 @@ SessionFile Frontend::current_session_file() const {
   f.auto_scale = wb.auto_scale_enabled();
   f.arrow_gain = wb.scale().arrow_gain;
   f.colour_max_px = wb.scale().colour_max_px;
+  f.camera = wb.camera_view();
   f.residual_file = absolute(wb.residual_file());
   f.residual_fields = wb.residual_fields_shown();
   f.residual_corrected = wb.corrected_shown();
@@ -292,15 +405,14 @@ SessionFile Frontend::session_file_for_saving() {
 std::string Frontend::work_fingerprint() const {
   nlohmann::ordered_json j = session_to_json(current_session_file());
   j.erase("step");
+  j["display"].erase("camera");   // orbiting the view is not work to ask about (it is saved with the rest)
   // With auto scale on, the arrow gain and colour range follow the fields: derived, not edited.
   if (j["display"]["auto_scale"].get<bool>()) j.erase("display");
   return j.dump();
 }
 
-void Frontend::apply_session_file(const SessionFile& f) {
-  SessionOptions o = session_options_;
-  o.open = f.open;
-  reopen(o);
+// A session file's document on top of the session it opens (at the sync point, after the swap).
+void Frontend::apply_session_edits(const SessionFile& f) {
   AppState& state = *session_.state;
   if (!f.path.empty()) state.request_path(f.path);
   const AppSnapshot snap = state.snapshot();
@@ -314,17 +426,41 @@ void Frontend::apply_session_file(const SessionFile& f) {
   workbench_.auto_scale_enabled() = f.auto_scale;
   if (f.arrow_gain > 0) workbench_.scale().arrow_gain = static_cast<float>(f.arrow_gain);
   if (f.colour_max_px > 0) workbench_.scale().colour_max_px = static_cast<float>(f.colour_max_px);
-  if (!f.residual_file.empty()) {
+  if (f.camera) workbench_.set_camera_view(*f.camera);
+  if (f.residual_file.empty()) {
+    workbench_.clear_residual();
+  } else {
     load_residual(f.residual_file);
     workbench_.set_residual_view(f.residual_fields, f.residual_corrected);
   }
 }
 
-void Frontend::open_session_file(const std::string& path) {
-  apply_session_file(load_session_file(path));
-  baseline_pending_ = Baseline::Clean;
-  workbench_.set_session_path(path);
-  workbench_.set_message("opened session " + path);
+void Frontend::apply_session_file(const SessionFile& f, Baseline baseline, std::function<void()> then) {
+  SessionOptions o = session_options_;
+  o.open = f.open;
+  const std::string what = !f.open.dataset_dir.empty() ? f.open.dataset_dir
+                           : !f.open.scene_path.empty() ? f.open.scene_path : std::string("the default scene");
+  reopen_then(o, baseline, what, [this, f, then = std::move(then)] {
+    apply_session_edits(f);
+    if (then) then();
+  });
+}
+
+void Frontend::open_session_file(const std::string& path, std::function<void()> then) {
+  SessionFile f;
+  try {
+    f = load_session_file(path);
+  } catch (...) {
+    workbench_.revert_session_path();   // a failed open adopts nothing (issue 34)
+    throw;
+  }
+  apply_session_file(f, Baseline::Clean, [this, path, then = std::move(then)] {
+    saved_once_ = true;
+    workbench_.set_saved_once(true);
+    workbench_.set_session_path(path);
+    workbench_.set_message("opened session " + path);
+    if (then) then();
+  });
 }
 
 void Frontend::offer_autosave() {
@@ -339,16 +475,15 @@ void Frontend::handle_answer(const std::string& id, int button) {
   std::error_code ec;
   if (id == "restore") {
     if (button == 0) {
-      apply_session_file(load_session_file(autosave_path_));
-      baseline_pending_ = Baseline::Restored;
-      workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)");
+      apply_session_file(load_session_file(autosave_path_), Baseline::Restored, [this] {
+        workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)");
+      });
     } else {
       std::filesystem::remove(autosave_path_, ec);
     }
   } else if (id == "close") {
-    if (button == 0) {   // Save, then close
-      save_session_file(workbench_.session_path(), session_file_for_saving());
-      work_.saved(work_fingerprint());
+    if (button == 0) {   // Save, then close (a refused path keeps the window open, with the reason)
+      save_session_to(workbench_.session_path());
       close_confirmed_ = true;
       quit_ = true;
     } else if (button == 1) {   // Discard
@@ -356,6 +491,16 @@ void Frontend::handle_answer(const std::string& id, int button) {
       quit_ = true;
     }
   }
+}
+
+void Frontend::update_window_title() {
+  std::string state = load_pending_ ? "opening " + loading_what_
+                      : work_.dirty() ? std::string("unsaved changes")
+                      : saved_once_ ? std::string("saved") : std::string("new session, not saved");
+  const std::string title = "shearbench - " + session_.title + " - " + state;
+  if (title == window_title_) return;
+  window_title_ = title;
+  glfwSetWindowTitle(window_.handle(), title.c_str());
 }
 
 void Frontend::keep_work_tick() {

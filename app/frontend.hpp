@@ -1,9 +1,13 @@
 #pragma once
 // The frame loop both `gui` and `render` use: one window, one workbench, one session.
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "app/session.hpp"
+#include "core/base/status_job.hpp"
+#include "core/workbench/open_target.hpp"
 #include "core/workbench/session_file.hpp"
 #include "core/workbench/unsaved_work.hpp"
 #include "widgets/frame_stats.hpp"
@@ -42,12 +46,27 @@ class Frontend {
   std::vector<double> profile_drag(int frames);
   Session& session() { return session_; }
   ui::Workbench& workbench() { return workbench_; }
-  void reopen(const SessionOptions& session);
+  // How the clean/unsaved baseline follows a new session: a session file opened is clean, an autosave
+  // restored is unsaved, anything else the user opened (dataset, scene, sample, parameter set) is a change.
+  enum class Baseline { None, Clean, Restored };
+  // Opens `session` now (headless renders, tests).
+  void reopen(const SessionOptions& session, Baseline baseline = Baseline::Clean);
+  // The interactive GUI opens on a worker (core/base/status_job.hpp) while the window stays live with a
+  // progress line; the new session is swapped in at the start of a frame (one sync point), then `then`
+  // runs. Headless (not interactive): at once, as reopen. `what` names it in the progress line.
+  void reopen_then(const SessionOptions& session, Baseline baseline, const std::string& what,
+                   std::function<void()> then = {});
+  bool loading() const { return load_pending_; }
+  // A path typed into the Open field (or chosen from its list): dataset, scene or session file
+  // (core/workbench/open_target.hpp); `from_session_field`: a failed open leaves the session path as it was.
+  void open_path(const std::string& typed, bool from_session_field);
   // Session files (core/workbench/session_file.hpp): what the user made, saved and reopened.
   SessionFile current_session_file() const;
   // current_session_file() once the physics has applied every queued edit (bounded wait): what saves write.
   SessionFile session_file_for_saving();
-  void open_session_file(const std::string& path);
+  // Opens a session file (on the worker in the GUI); `then` runs once it is in place. A file that cannot be
+  // read leaves the session path as it was (InputError).
+  void open_session_file(const std::string& path, std::function<void()> then = {});
   // Every model's field along the current path as <dir>/<model id>/ (tsd/1), on the workbench's export
   // worker (core/workbench/field_export). start_export returns at once; InputError when a target folder exists
   // and is not an earlier export (checked before the worker starts). export_fields (headless renders)
@@ -68,9 +87,19 @@ class Frontend {
 
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
+  void handle_open_requests(const ui::WorkbenchRequest& req);
+  void save_session_to(const std::string& path);
+  void install_session(Session next, const SessionOptions& options, Baseline baseline);
+  void poll_load();
+  void refresh_open_choices();
+  // "shearbench - <what is open> - unsaved changes | new session, not saved | saved | opening ...": the state
+  // a window manager (and tests/cli/gui_journeys.py, through xdotool) can read.
+  void update_window_title();
+  std::string window_title_;
   FieldExportRequest export_request(const std::string& dir) const;
   void handle_answer(const std::string& id, int button);
-  void apply_session_file(const SessionFile& file);
+  void apply_session_file(const SessionFile& file, Baseline baseline, std::function<void()> then = {});
+  void apply_session_edits(const SessionFile& file);
   std::string work_fingerprint() const;
   void keep_work_tick();
   bool allow_close();
@@ -88,7 +117,23 @@ class Frontend {
   // No lost work (keep_work).
   UnsavedWork work_;
   std::string autosave_path_;
-  enum class Baseline { None, Clean, Restored } baseline_pending_ = Baseline::Clean;
+  Baseline baseline_pending_ = Baseline::Clean;
+  bool saved_once_ = false;   // saved or opened from a session file at least once
+  // Opening on a worker (reopen_then).
+  struct LoadStatus {
+    enum class Phase { Idle, Running, Done, Failed } phase = Phase::Idle;
+    std::shared_ptr<Session> session;
+    std::string error;
+    bool running() const { return phase == Phase::Running; }
+  };
+  StatusJob<LoadStatus> load_job_;
+  bool load_pending_ = false;
+  SessionOptions loading_options_;
+  Baseline loading_baseline_ = Baseline::Clean;
+  std::function<void()> after_load_;
+  std::string loading_what_;
+  double load_started_s_ = 0;
+  RecentPaths recent_;
   bool close_confirmed_ = false;
   double last_work_check_s_ = -1e9;
   double last_trim_s_ = 0;   // steady-clock seconds of the last trim_memory_when_idle

@@ -22,6 +22,9 @@ int main(int argc, char** argv) {
   cli.add_flag_callback("--reproducible", [] { sb::set_timings_in_outputs(false); },
                         "leave wall-clock times out of every output file (bit-identical reruns)");
   cli.require_subcommand(0, 1);
+  // The global options are accepted after the subcommand too (`shearbench gui --data DIR`): a subcommand
+  // hands the options it does not know to its parent (CLI11 fallthrough, inherited by every subcommand).
+  cli.fallthrough();
   cli.footer("With no subcommand: opens the workbench (`gui`) on the default scene; "
              "without a display it renders the default scene headless.");
 

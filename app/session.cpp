@@ -100,6 +100,12 @@ void load_measured(Session& s, const std::string& data_root) {
   s.replay.sample_index = static_cast<int>(
       std::find(s.replay.samples.begin(), s.replay.samples.end(), info.id) - s.replay.samples.begin());
   s.title = ds.name + " / " + info.id + "  (" + info.motion + ", " + info.split + ", " + ds.kind + ")";
+  // How many markers the sample's last frame tracked: a sample with none is said in words, not drawn as 0.00 px.
+  s.replay.total_markers = static_cast<int>(s.scene.sensor->markers_rest_px.size());
+  s.replay.tracked_markers = 0;
+  if (!s.measured.disp_px.empty())
+    for (const Vec2& d : s.measured.disp_px.back()) s.replay.tracked_markers += d.allFinite();
+  if (s.replay.tracked_markers == 0) s.title += "  [no marker tracked]";
 }
 
 }  // namespace
@@ -113,7 +119,8 @@ Session open_session(const SessionOptions& o) {
   double indenter_bottom_shift = 0;
   if (!o.open.dataset_dir.empty()) {
     // A dataset replay is a scene with a "dataset" entry: the scene parser builds sensor, indenter, path.
-    const std::string dir = resolve_path(o.open.dataset_dir, root, fs::current_path().string());
+    // As typed: data:..., else the working folder, else the data root ("twin/twin_sphere35", issue 34).
+    const std::string dir = resolve_user_path(o.open.dataset_dir, root, fs::current_path().string());
     std::string sample = o.open.sample_id;
     if (sample.empty()) {
       const Dataset ds = read_dataset(dir);
@@ -124,7 +131,7 @@ Session open_session(const SessionOptions& o) {
                               {"dataset", {{"path", dir}, {"sample", sample}}}};
     s.scene = parse_scene(j, "--dataset " + o.open.dataset_dir, root, fs::current_path().string());
   } else if (!o.open.scene_path.empty()) {
-    s.scene = load_scene(o.open.scene_path, root);
+    s.scene = load_scene(resolve_user_path(o.open.scene_path, root, fs::current_path().string()), root);
   } else if (const std::string def = default_scene_path(); !def.empty()) {
     s.scene = load_scene(def, root);
   } else {

@@ -44,3 +44,23 @@ TEST_CASE("a relative data root is made absolute once, so a scene's folder canno
   CHECK(sb::resolve_path(mesh, root, (work / "scenes").string()) == (work / "rel" / "data" / "meshes" / "m.obj").string());
   fs::remove_all(work);
 }
+
+TEST_CASE("a typed relative path falls back to the data root when it is not in the working folder (issue 34)",
+          "[data_root]") {
+  const fs::path root = sbtest::temp_path("sb_test_user_path_root");
+  const fs::path work = sbtest::temp_path("sb_test_user_path_work");
+  fs::create_directories(root / "twin" / "twin_sphere35");
+  fs::create_directories(work / "here");
+  const std::string r = root.string(), w = work.string();
+  // "twin/twin_sphere35" is not in the working folder: the data root's.
+  CHECK(sb::resolve_user_path("twin/twin_sphere35", r, w) == (root / "twin/twin_sphere35").string());
+  // In the working folder: the working folder's, even when the data root has one too.
+  fs::create_directories(root / "here");
+  CHECK(sb::resolve_user_path("here", r, w) == (work / "here").string());
+  // data: and absolute paths as before; nowhere: the working folder's (the error names where the user is).
+  CHECK(sb::resolve_user_path("data:twin", r, w) == (root / "twin").string());
+  CHECK(sb::resolve_user_path((root / "twin").string(), r, w) == (root / "twin").string());
+  CHECK(sb::resolve_user_path("nowhere/x", r, w) == (work / "nowhere/x").string());
+  fs::remove_all(root);
+  fs::remove_all(work);
+}

@@ -45,6 +45,7 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   s.residual_file = "/analyses/twin_sphere8_tacsl.json";
   s.residual_fields = true;
   s.residual_corrected = false;
+  s.camera = sb::CameraView{sb::Vec3(10, -20, 30), sb::Vec3(1, 2, 0), sb::Vec3(0, 0, 1)};
   const std::string path = temp_file("rt.json", "");
   sb::save_session_file(path, s);
   const sb::SessionFile r = sb::load_session_file(path);
@@ -61,6 +62,10 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   CHECK(r.residual_file == s.residual_file);
   CHECK(r.residual_fields);
   CHECK_FALSE(r.residual_corrected);
+  // The 3D view's orbit comes back too (issue 34: the README says the view is saved).
+  REQUIRE(r.camera);
+  CHECK(r.camera->position == s.camera->position);
+  CHECK(r.camera->focal_point == s.camera->focal_point);
   // Without an analysis the section is left out, and reads back as none; so is an empty beside panel (the
   // key is absent, and files without the feature stay readable by older builds).
   s.residual_file.clear();
@@ -88,7 +93,7 @@ TEST_CASE("bad session files name the file and the JSON pointer", "[session]") {
   CHECK_THAT(message_of(head + R"(, "residual": {"file": "r.json"}})"),
              Catch::Contains("/residual") && Catch::Contains("version 1"));
   CHECK_THAT(message_of(R"({"format": "shearbench-session", "version": 0, "open": {}})"),
-             Catch::Contains("reads 1 to 2"));
+             Catch::Contains("reads 1 to 3"));
 }
 
 TEST_CASE("a session file that is not JSON is reported with its line", "[session]") {
@@ -101,4 +106,37 @@ TEST_CASE("a session file that is not JSON is reported with its line", "[session
     CHECK(e.line() == 3);
   }
   fs::remove(path);
+}
+
+TEST_CASE("a save never overwrites a file that is not a session file (issue 34)", "[session]") {
+  // A scene file the user pointed the Session field at (the quit dialog then offered to save over it).
+  const std::string scene_text = "{\n  \"description\": \"press the cow\",\n  \"indenter\": {\"shape\": \"sphere\"}\n}\n";
+  const std::string scene = temp_file("scene.json", scene_text);
+  sb::SessionFile s;
+  s.step = 0;
+  s.path = {sb::Pose::Identity()};
+  CHECK_FALSE(sb::is_session_file(scene));
+  try {
+    sb::save_session_file(scene, s);
+    FAIL("expected an InputError");
+  } catch (const sb::InputError& e) {
+    CHECK(e.file() == scene);
+    CHECK_THAT(e.what(), Catch::Contains("not a shearbench session file") && Catch::Contains("not overwritten"));
+  }
+  std::ifstream in(scene);
+  const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(after == scene_text);   // byte for byte
+  // Not JSON at all, and a folder: refused too.
+  const std::string text = temp_file("notes.txt", "my notes\n");
+  CHECK_THROWS_AS(sb::save_session_file(text, s), sb::InputError);
+  CHECK_THROWS_AS(sb::save_session_file(fs::temp_directory_path().string(), s), sb::InputError);
+  // A session file (even one this build cannot read) and a new file: written.
+  const std::string old_session = temp_file("old.json", R"({"format": "shearbench-session", "version": 99})");
+  CHECK(sb::is_session_file(old_session));
+  CHECK_NOTHROW(sb::save_session_file(old_session, s));
+  CHECK(sb::load_session_file(old_session).step == 0);
+  const std::string fresh = (fs::temp_directory_path() / ("sb_session_fresh_" + std::to_string(::getpid()) + ".json")).string();
+  fs::remove(fresh);
+  CHECK_NOTHROW(sb::save_session_file(fresh, s));
+  for (const auto& p : {scene, text, old_session, fresh}) fs::remove(p);
 }

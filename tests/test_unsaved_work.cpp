@@ -54,3 +54,14 @@ TEST_CASE("the autosave path follows SHEARBENCH_AUTOSAVE, then XDG_STATE_HOME", 
   if (old) ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
   else ::unsetenv("XDG_STATE_HOME");
 }
+
+TEST_CASE("the default session path is in the user's state folder, not the working folder (issue 34)", "[session]") {
+  const char* old = std::getenv("XDG_STATE_HOME");
+  const std::string saved = old ? old : "";
+  ::setenv("XDG_STATE_HOME", "/state", 1);
+  CHECK(sb::default_session_path() == "/state/shearbench/session.json");
+  ::unsetenv("XDG_STATE_HOME");
+  const char* home = std::getenv("HOME");
+  if (home && *home) CHECK(sb::default_session_path() == std::string(home) + "/.local/state/shearbench/session.json");
+  if (old) ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
+}

@@ -174,6 +174,29 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   return result;
 }
 
+// What each mark on a panel is, in one line under the scales.
+static void draw_marks_legend(ImVec2 at, ImU32 text) {
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const float cy = at.y + ImGui::GetTextLineHeight() / 2;
+  float x = at.x;
+  const auto label = [&](const char* t) {
+    dl->AddText(ImVec2(x, at.y), text, t);
+    x += ImGui::CalcTextSize(t).x + 18;
+  };
+  dl->AddCircleFilled(ImVec2(x + 4, cy), 3.0f, kRestColour);
+  dl->AddCircle(ImVec2(x + 4, cy), 3.5f, IM_COL32(200, 200, 200, 255));
+  x += 12;
+  label("marker");
+  dl->AddCircleFilled(ImVec2(x + 4, cy), 3.5f, kContactColour);
+  x += 12;
+  label("marker in the model's contact");
+  draw_arrow(dl, ImVec2(x, cy), ImVec2(x + 18, cy), text, 1.5f);
+  draw_arrow(dl, ImVec2(x, cy), ImVec2(x + 13, cy), text, 1.5f);
+  x += 24;
+  label("double head: longer than drawn (cut)");
+  label("RMSE / CS: against Measured at this frame");
+}
+
 float draw_field_legend(const FieldScale& scale, float image_zoom, float width) {
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImVec2 top = ImGui::GetCursorScreenPos();
@@ -207,9 +230,12 @@ float draw_field_legend(const FieldScale& scale, float image_zoom, float width) 
   dl->AddLine(ImVec2(x_bar + len, y - 5), ImVec2(x_bar + len, y + 5), text, 2.0f);
   std::snprintf(buf, sizeof buf, "arrow of %g px", disp);
   dl->AddText(ImVec2(x_bar + len + 6, y - ImGui::GetTextLineHeight() / 2), text, buf);
-  const float h = bar_h + 6 + ImGui::GetTextLineHeight();
+  draw_marks_legend(ImVec2(top.x, top.y + bar_h + 6 + ImGui::GetTextLineHeight() + 2), text);
+  const float h = field_legend_height();
   ImGui::Dummy(ImVec2(width, h));
   return h;
 }
+
+float field_legend_height() { return 12.0f + 6 + 2 * ImGui::GetTextLineHeight() + 4; }
 
 }  // namespace sb::ui

@@ -60,7 +60,9 @@ double nice_floor(double x);
 // Draws at the cursor into a box of `width` pixels (title row, then the image). `interactive`: hover and
 // the enlarge button answer the mouse.
 FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width, bool interactive = true);
-// The shared legend: colour bar 0..colour_max_px and the arrow scale bar. Returns the height used.
+// The shared legend: colour bar 0..colour_max_px, the arrow scale bar, and a line saying what every mark
+// is (a marker, a marker in the model's contact, a cut arrow, the hovered marker). Returns the height used.
 float draw_field_legend(const FieldScale& scale, float image_zoom, float width);
+float field_legend_height();
 
 }  // namespace sb::ui

@@ -113,12 +113,14 @@ std::vector<Action> pressed_actions() {
   std::vector<Action> actions;
   std::vector<KeyPress> presses;
   presses.swap(key_presses());
-  if (ImGui::GetIO().WantTextInput) return actions;
+  // While a text field has the keyboard, plain keys are typing; Ctrl chords (Ctrl+S) still act: a save must
+  // not depend on where the focus is (issue 34).
+  const bool typing = ImGui::GetIO().WantTextInput;
   for (const KeyPress& p : presses) {
     const bool shift = (p.mods & GLFW_MOD_SHIFT) != 0;
     const bool ctrl = (p.mods & GLFW_MOD_CONTROL) != 0;
     for (const KeyBinding& k : key_table())
-      if (k.key == p.key && (!p.repeat || !k.ctrl) && (!k.shift || shift) && k.ctrl == ctrl)
+      if (k.key == p.key && (!p.repeat || !k.ctrl) && (!k.shift || shift) && k.ctrl == ctrl && (!typing || k.ctrl))
         actions.push_back(k.action);
   }
   return actions;

@@ -99,12 +99,41 @@ bool pose_panel(Pose& X) {
   return changed;
 }
 
-ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
-  ReplayRequest req;
-  ImGui::SetNextItemWidth(-60);
-  ImGui::InputTextWithHint("##dataset", "tsd/1 dataset folder", ui.dataset_buf, sizeof ui.dataset_buf);
+// The Open row: a dataset folder, a scene or a session file, typed (data:..., or relative: the working folder,
+// then the data root) or chosen from the list; Enter in the field opens too.
+void open_row(ReplayUi& ui, ReplayRequest& req) {
+  ImGui::SetNextItemWidth(-90);
+  if (ImGui::InputTextWithHint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_buf,
+                               sizeof ui.dataset_buf, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
+    req.open_dataset = true;
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("a tsd/1 dataset folder, a scene (scenes/*.json) or a session file;\n"
+                      "data:twin/twin_sphere35 is under the data root, and so is twin/twin_sphere35\n"
+                      "when the working folder has no such path");
+  ImGui::SameLine(0, 2);
+  if (ImGui::BeginCombo("##openlist", "", ImGuiComboFlags_NoPreview | ImGuiComboFlags_HeightLarge)) {
+    for (const std::string& c : ui.choices)
+      if (ImGui::Selectable(c.c_str())) {
+        std::snprintf(ui.dataset_buf, sizeof ui.dataset_buf, "%s", c.c_str());
+        req.open_dataset = true;
+      }
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("recent, the scenes and the data root's datasets");
   ImGui::SameLine();
   if (ImGui::Button("Open", ImVec2(-1, 0))) req.open_dataset = true;
+}
+
+ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
+  ReplayRequest req;
+  open_row(ui, req);
+  if (ui.tracked_markers == 0) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.35f, 1.0f));
+    ImGui::TextWrapped("no marker tracked in this sample (0 of %d): nothing measured to compare with. A TacTip "
+                       "import with fewer than 66 calibration samples (--max-samples) has no pin prior and "
+                       "loses every deep press's pins.", ui.total_markers);
+    ImGui::PopStyleColor();
+  }
   if (!ui.samples.empty()) {
     ImGui::SetNextItemWidth(-60);
     const char* current = ui.samples[std::clamp(ui.sample_index, 0, int(ui.samples.size()) - 1)].c_str();
@@ -143,8 +172,8 @@ ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
   return req;
 }
 
-void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
-  std::string text;
+std::string status_text(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
+  std::string text = message.empty() ? std::string() : message + "  |  ";
   char buf[128];
   if (snap.step < 0) std::snprintf(buf, sizeof buf, "before the first step (of %d)", snap.num_steps - 1);
   else std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
@@ -157,8 +186,15 @@ void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, con
     std::snprintf(buf, sizeof buf, "  |  frame %.1f ms (%.0f fps)", frame_ms, frame_ms > 0 ? 1000.0 / frame_ms : 0.0);
     text += buf;
   }
-  if (!message.empty()) text += "  |  " + message;
-  ImGui::TextUnformatted(text.c_str());
+  return text;
+}
+
+void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
+  const bool error = message.rfind("error", 0) == 0 || message.rfind("autosave failed", 0) == 0;
+  if (error) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.55f, 0.45f, 1.0f));
+  ImGui::TextWrapped("%s", status_text(snap, frame_ms, show_timings, message).c_str());
+  if (error) ImGui::PopStyleColor();
+  if (!message.empty() && ImGui::IsItemHovered()) wrapped_tooltip(message);
 }
 
 void wrapped_tooltip(const std::string& text) {

@@ -35,10 +35,16 @@ struct ReplayUi {
   std::vector<std::string> samples;
   int sample_index = 0;
   char dataset_buf[512] = {};
+  std::vector<std::string> choices;   // the Open list: recent opens, scenes/*.json, the data root's datasets
+  int tracked_markers = -1;           // markers tracked in the sample's last frame (-1: not a dataset)
+  int total_markers = 0;
 };
 ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui);
 
 // "HydroShear 3.1 ms | FOTS 0.2 ms | ..." plus frame time; without timings (tests) only the step.
+// The message first (errors are read, timings glanced at), wrapped to the bar's width: nothing is cut at the
+// window's edge. status_text is what it draws; the workbench sizes the bar from it.
+std::string status_text(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message);
 void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message);
 
 // Pretty model names for the panels.

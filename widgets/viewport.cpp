@@ -639,6 +639,29 @@ void Viewport3D::set_camera(CameraPreset preset) {
   s.dirty = true;
 }
 
+std::optional<CameraView> Viewport3D::camera_view() const {
+  const Impl& s = *impl_;
+  if (!s.camera_set) return std::nullopt;
+  vtkCamera* cam = s.renderer->GetActiveCamera();
+  CameraView v;
+  cam->GetPosition(v.position.data());
+  cam->GetFocalPoint(v.focal_point.data());
+  cam->GetViewUp(v.view_up.data());
+  return v;
+}
+
+void Viewport3D::set_camera_view(const CameraView& view) {
+  Impl& s = *impl_;
+  if (!s.camera_set) set_camera(CameraPreset::Iso);   // the view angle and framing of the presets
+  vtkCamera* cam = s.renderer->GetActiveCamera();
+  cam->SetPosition(view.position.data());
+  cam->SetFocalPoint(view.focal_point.data());
+  cam->SetViewUp(view.view_up.data());
+  s.renderer->ResetCameraClippingRange();
+  s.camera_set = true;
+  s.dirty = true;
+}
+
 std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI_now, bool interactive) {
   Impl& s = *impl_;
   const int w = std::max(16, static_cast<int>(width));

@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "core/workbench/app_state.hpp"
+#include "core/workbench/session_file.hpp"
 
 namespace sb::ui {
 
@@ -30,6 +31,9 @@ class Viewport3D {
   // |d| up to `colour_max_px`, the field panels' scale) and tracked points from one model's output.
   void update(const AppSnapshot& snapshot, int model_index, float colour_max_px);
   void set_camera(CameraPreset preset);
+  // The camera as the user left it (none before the first view is framed), and back (a session reopened).
+  std::optional<CameraView> camera_view() const;
+  void set_camera_view(const CameraView& view);
   // Renders at `size` pixels and places the image in the current ImGui window. Returns the pose the user
   // drags the indenter to, when `interactive` and a drag is under way.
   std::optional<Pose> draw(float width, float height, const Pose& X_EI_now, bool interactive);

@@ -114,6 +114,12 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   marker_pitch_px_ = pitch < 1e9 && pitch > 0 ? pitch : 33.0;
   scale_.max_arrow_px = static_cast<float>(kMaxArrowPitches * marker_pitch_px_);
   last_drag_.reset();
+  // The held auto scale starts again with the new session, from the sample's largest measurement.
+  held_max_px_ = 0;
+  sample_max_px_ = 0;
+  for (const auto& frame : measured_.disp_px)
+    for (const Vec2& d : frame)
+      if (d.allFinite()) sample_max_px_ = std::max(sample_max_px_, d.norm());
 }
 
 const std::vector<Vec2>* Workbench::measured_at_step() const {
@@ -145,7 +151,14 @@ void Workbench::auto_scale() {
   // Without a field yet keep the previous scale rather than blowing up the gain.
   constexpr double kMinFieldPx = 0.05;
   if (max_px < kMinFieldPx) return;
+  // Arrows follow the frame (the legend's scale bar says how long a pixel is drawn) ...
   scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
+  // ... and colours, held, only grow (from a sample's largest measurement on), so a colour keeps its meaning
+  // through a drag or a replay (issue 34: the colour maximum went 2 -> 40 -> 10 px within one drag).
+  if (hold_scale_) {
+    held_max_px_ = std::max({held_max_px_, max_px, sample_max_px_});
+    max_px = held_max_px_;
+  }
   // The colour map tops out at a round number just above the reference's largest displacement.
   const double top = nice_floor(max_px);
   scale_.colour_max_px = static_cast<float>(top >= max_px ? top : (top * 2 >= max_px ? top * 2 : top * 5));
@@ -218,46 +231,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     }
     ImGui::TextDisabled("drag it in the 3D view; F1 for keys");
   }
-  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::Checkbox("auto scale", &auto_scale_);
-    ImGui::SetNextItemWidth(-110);
-    if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
-      auto_scale_ = false;
-    ImGui::SetNextItemWidth(-110);
-    if (ImGui::SliderFloat("colour max", &scale_.colour_max_px, 0.05f, 50.0f, "%.3g px", ImGuiSliderFlags_Logarithmic))
-      auto_scale_ = false;
-    if (!snap_.models.empty()) {
-      ImGui::SetNextItemWidth(-110);
-      marker_model_ = std::clamp(marker_model_, 0, int(snap_.models.size()) - 1);
-      if (ImGui::BeginCombo("3D markers", display_name(snap_.models[marker_model_].id).c_str())) {
-        for (int i = 0; i < int(snap_.models.size()); ++i)
-          if (ImGui::Selectable(display_name(snap_.models[i].id).c_str(), i == marker_model_)) marker_model_ = i;
-        ImGui::EndCombo();
-      }
-    }
-    if (ImGui::SmallButton("Top")) viewport_.set_camera(CameraPreset::Top);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Side")) viewport_.set_camera(CameraPreset::Side);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Iso")) viewport_.set_camera(CameraPreset::Iso);
-    // Screenshot of the window or of one panel (PNG under screenshots/).
-    ImGui::SetNextItemWidth(-110);
-    const char* shown = screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size())
-                            ? regions_[screenshot_region_ - 1].name.c_str() : "whole window";
-    if (ImGui::BeginCombo("##shotregion", shown)) {
-      if (ImGui::Selectable("whole window", screenshot_region_ == 0)) screenshot_region_ = 0;
-      for (int i = 0; i < int(regions_.size()); ++i)
-        if (ImGui::Selectable(regions_[i].name.c_str(), screenshot_region_ == i + 1)) screenshot_region_ = i + 1;
-      ImGui::EndCombo();
-    }
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Screenshot")) {
-      req.screenshot = true;
-      if (screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size()))
-        req.screenshot_region = regions_[screenshot_region_ - 1].name;
-    }
-    draw_export_row(req);
-  }
+  if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) draw_display_section(req);
   if (ImGui::CollapsingHeader("Parameters", ImGuiTreeNodeFlags_DefaultOpen)) {
     draw_variant_switches(req);
     ImGui::SetNextItemWidth(-110);
@@ -279,16 +253,81 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     }
   }
   if (ImGui::CollapsingHeader("Fit")) draw_fit_panel();
-  if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) {
-    ImGui::SetNextItemWidth(-110);
-    ImGui::InputText("##session", session_path_, sizeof session_path_);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Open##session")) req.open_session = std::string(session_path_);
-    ImGui::SameLine();
-    if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
-    if (unsaved_) ImGui::TextDisabled("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
-    else ImGui::TextDisabled("saved");
+  if (ImGui::CollapsingHeader("Session", ImGuiTreeNodeFlags_DefaultOpen)) draw_session_section(req);
+}
+
+// The session file's path (Save writes it, Open reads it; a scene or dataset typed here opens as in Replay
+// without becoming the session file) and whether the work is saved.
+void Workbench::draw_session_section(WorkbenchRequest& req) {
+  ImGui::SetNextItemWidth(-110);
+  // A click selects the whole path, so what is typed replaces it (a path typed into the middle of the old one
+  // named a file nobody meant).
+  ImGui::InputText("##session", session_path_, sizeof session_path_, ImGuiInputTextFlags_AutoSelectAll);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("session file (JSON): %s", session_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Open##session")) req.open_session = std::string(session_path_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Save##session")) req.save_session = std::string(session_path_);
+  if (unsaved_) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.3f, 1.0f));
+    ImGui::TextWrapped("unsaved changes (autosaved every 30 s; Ctrl+S saves)");
+    ImGui::PopStyleColor();
+  } else if (!saved_once_) {
+    ImGui::PushTextWrapPos(0.0f);
+    ImGui::TextDisabled("new session, not saved yet (Ctrl+S saves it)");
+    ImGui::PopTextWrapPos();
+  } else {
+    ImGui::TextDisabled("saved");
   }
+}
+
+// Display: the shared arrow gain and colour scale (auto, held at the largest, or fixed), the 3D view's
+// markers and camera, screenshots and the field export.
+void Workbench::draw_display_section(WorkbenchRequest& req) {
+  ImGui::Checkbox("auto scale", &auto_scale_);
+  ImGui::SameLine();
+  if (ImGui::Checkbox("hold colours", &hold_scale_)) held_max_px_ = 0;
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("on: the colour scale only grows (a dataset sample: from its largest measured |d|), so a\n"
+                      "colour means the same from frame to frame; the arrows still follow each frame.\n"
+                      "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
+  ImGui::SetNextItemWidth(-110);
+  if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
+    auto_scale_ = false;
+  ImGui::SetNextItemWidth(-110);
+  if (ImGui::SliderFloat("colour max", &scale_.colour_max_px, 0.05f, 50.0f, "%.3g px", ImGuiSliderFlags_Logarithmic))
+    auto_scale_ = false;
+  if (!snap_.models.empty()) {
+    ImGui::SetNextItemWidth(-110);
+    marker_model_ = std::clamp(marker_model_, 0, int(snap_.models.size()) - 1);
+    if (ImGui::BeginCombo("3D markers", display_name(snap_.models[marker_model_].id).c_str())) {
+      for (int i = 0; i < int(snap_.models.size()); ++i)
+        if (ImGui::Selectable(display_name(snap_.models[i].id).c_str(), i == marker_model_)) marker_model_ = i;
+      ImGui::EndCombo();
+    }
+  }
+  if (ImGui::SmallButton("Top")) viewport_.set_camera(CameraPreset::Top);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Side")) viewport_.set_camera(CameraPreset::Side);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Iso")) viewport_.set_camera(CameraPreset::Iso);
+  // Screenshot of the window or of one panel (PNG under screenshots/).
+  ImGui::SetNextItemWidth(-110);
+  const char* shown = screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size())
+                          ? regions_[screenshot_region_ - 1].name.c_str() : "whole window";
+  if (ImGui::BeginCombo("##shotregion", shown)) {
+    if (ImGui::Selectable("whole window", screenshot_region_ == 0)) screenshot_region_ = 0;
+    for (int i = 0; i < int(regions_.size()); ++i)
+      if (ImGui::Selectable(regions_[i].name.c_str(), screenshot_region_ == i + 1)) screenshot_region_ = i + 1;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Screenshot")) {
+    req.screenshot = true;
+    if (screenshot_region_ > 0 && screenshot_region_ <= int(regions_.size()))
+      req.screenshot_region = regions_[screenshot_region_ - 1].name;
+  }
+  draw_export_row(req);
 }
 
 // HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both | the contact variant (both,
@@ -510,12 +549,11 @@ void Workbench::draw_fit_panel() {
     req.joint = fit_joint_;
     req.max_iterations = fit_iterations_;
     fit_model_id_ = req.model_id;
+    fit_start_params_ = req.start;   // the table's "start" column: what the fit started from, not the live sliders
     fit_result_handled_ = false;
     fit_job_.start(std::move(req));
   }
-  if (!st.losses.empty())
-    ImGui::PlotLines("##fitloss", st.losses.data(), static_cast<int>(st.losses.size()), 0, "loss (Ceres cost)", 0.0f,
-                     FLT_MAX, ImVec2(ImGui::GetContentRegionAvail().x, 40));
+  if (!st.losses.empty()) draw_loss_plot(st.losses);
   if (st.phase == FitJobStatus::Phase::Failed) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
     ImGui::TextWrapped("%s", st.error.c_str());
@@ -530,8 +568,12 @@ void Workbench::draw_fit_panel() {
   for (std::size_t m = 0; m < snap_.models.size(); ++m)
     if (snap_.models[m].id == fit_model_id_) model = m;
   if (model == snap_.models.size()) return;
-  const ParamSet& before = snap_.models[model].params;
+  const ParamSet& before = fit_start_params_;
   if (ImGui::BeginTable("##fitresult", 3, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingStretchProp)) {
+    ImGui::TableSetupColumn("parameter");
+    ImGui::TableSetupColumn("start");
+    ImGui::TableSetupColumn("fitted");
+    ImGui::TableHeadersRow();
     for (std::size_t i = 0; i < after.size() && i < before.size(); ++i) {
       if (after[i] == before[i]) continue;
       ImGui::TableNextRow();
@@ -540,7 +582,7 @@ void Workbench::draw_fit_panel() {
       ImGui::TableNextColumn();
       ImGui::Text("%.4g", before[i]);
       ImGui::TableNextColumn();
-      ImGui::Text("-> %.4g", after[i]);
+      ImGui::Text("%.4g", after[i]);
     }
     ImGui::EndTable();
   }
@@ -552,6 +594,37 @@ void Workbench::draw_fit_panel() {
   if (ImGui::Button("Discard##fit")) fit_result_handled_ = true;
 }
 
+// The fit's loss per iteration with its axes: cost (Ceres, log of the largest and smallest) against iteration.
+void Workbench::draw_loss_plot(const std::vector<float>& losses) {
+  const auto [lo, hi] = std::minmax_element(losses.begin(), losses.end());
+  char top[32], bottom[32];
+  std::snprintf(top, sizeof top, "%.3g", double(*hi));
+  std::snprintf(bottom, sizeof bottom, "%.3g", double(*lo));
+  const float axis_w = std::max(ImGui::CalcTextSize(top).x, ImGui::CalcTextSize(bottom).x) + 6;
+  const float h = 60.0f;
+  ImGui::TextDisabled("Ceres cost per iteration (all stages)");
+  const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImU32 text = ImGui::GetColorU32(ImGuiCol_TextDisabled);
+  dl->AddText(ImVec2(p0.x, p0.y), text, top);
+  dl->AddText(ImVec2(p0.x, p0.y + h - ImGui::GetTextLineHeight()), text, bottom);
+  ImGui::SetCursorScreenPos(ImVec2(p0.x + axis_w, p0.y));
+  ImGui::PlotLines("##fitloss", losses.data(), static_cast<int>(losses.size()), 0, nullptr, *lo, *hi,
+                   ImVec2(ImGui::GetContentRegionAvail().x, h));
+  char right[32];
+  std::snprintf(right, sizeof right, "%zu", losses.size() - 1);
+  const float x1 = ImGui::GetItemRectMax().x;
+  ImGui::SetCursorScreenPos(ImVec2(p0.x + axis_w, p0.y + h + 2));
+  ImGui::TextDisabled("0");
+  ImGui::SameLine(0, 0);
+  const float label_w = ImGui::CalcTextSize("iteration").x;
+  ImGui::SetCursorScreenPos(ImVec2((p0.x + axis_w + x1 - label_w) / 2, p0.y + h + 2));
+  ImGui::TextDisabled("iteration");
+  ImGui::SameLine(0, 0);
+  ImGui::SetCursorScreenPos(ImVec2(x1 - ImGui::CalcTextSize(right).x, p0.y + h + 2));
+  ImGui::TextDisabled("%s", right);
+}
+
 void Workbench::ask(std::string id, std::string text, std::vector<std::string> buttons) {
   question_id_ = std::move(id);
   question_text_ = std::move(text);
@@ -559,7 +632,41 @@ void Workbench::ask(std::string id, std::string text, std::vector<std::string> b
 }
 
 void Workbench::set_session_path(const std::string& path) {
+  session_file_ = path;
   std::snprintf(session_path_, sizeof session_path_, "%s", path.c_str());
+}
+
+void Workbench::set_loading(std::string what) {
+  if (loading_what_.empty() && !what.empty()) loading_since_ = std::chrono::steady_clock::now();
+  loading_what_ = std::move(what);
+}
+
+void Workbench::clear_residual() {
+  residual_.reset();
+  show_residual_fields_ = false;
+  corrected_job_.clear();
+  corrected_started_ = false;
+}
+
+// While a session opens on its worker: a modal line with the elapsed time and a moving bar; the window keeps
+// drawing (the old session plays on behind it) and takes no input until the new one is swapped in.
+void Workbench::draw_loading() {
+  if (loading_what_.empty()) return;
+  ImGui::OpenPopup("##loading");
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x / 2, vp->Pos.y + vp->Size.y / 2), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSize(ImVec2(std::min(560.0f, vp->Size.x - 40), 0));
+  if (ImGui::BeginPopupModal("##loading", nullptr, ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize)) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - loading_since_).count();
+    ImGui::TextWrapped("opening %s ...", loading_what_.c_str());
+    char label[32];
+    std::snprintf(label, sizeof label, "%.1f s", s);
+    // No fraction is known: a bar that sweeps back and forth says the work is alive.
+    ImGui::ProgressBar(static_cast<float>(0.5 + 0.5 * std::sin(s * 2.5)), ImVec2(-1, 0), label);
+    ImGui::TextDisabled("the window stays live; the new session replaces this one when it is read");
+    ImGui::EndPopup();
+  }
 }
 
 void Workbench::draw_question(WorkbenchRequest& req) {
@@ -641,7 +748,67 @@ void Workbench::draw_marker_tooltip(int marker, ImVec2 at) {
   ImGui::EndTooltip();
 }
 
-// The four field panels side by side, or the enlarged one alone in the whole area (`height` high).
+// The field panels and the 3D view in one grid that fills the right column (at 1280 x 800 three columns of
+// ~310 px: a panel is read without enlarging it), or the enlarged panel alone in the whole area.
+FieldGrid Workbench::field_grid(float width, float height) const {
+  const auto* sensor = state_->sensor().get();
+  const float aspect = float(sensor->camera.height_px) / float(sensor->camera.width_px);
+  const float line = ImGui::GetTextLineHeightWithSpacing();
+  const int cells = static_cast<int>(snap_.models.size()) + 2;   // the 3D view, the models, Measured
+  FieldGrid g;
+  g.cols = cells <= 4 ? 2 : 3;
+  g.rows = (cells + g.cols - 1) / g.cols;
+  const float avail_h = height - field_legend_height() - kPad;
+  const float by_width = (width - kPad * (g.cols - 1)) / g.cols;
+  const float by_height = ((avail_h - kPad * (g.rows - 1)) / g.rows - line - 4) / aspect;
+  g.cell_w = std::max(80.0f, std::min(by_width, by_height));
+  g.cell_h = line + g.cell_w * aspect + 4;
+  g.left = (width - (g.cell_w * g.cols + kPad * (g.cols - 1))) / 2;
+  return g;
+}
+
+// One model's (or the measurement's) panel input for this frame; `residual` holds measured - model when shown.
+FieldPanelInput Workbench::panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual) {
+  const auto* sensor = state_->sensor().get();
+  FieldPanelInput in;
+  in.rest_px = &sensor->markers_rest_px;
+  in.image_width_px = sensor->camera.width_px;
+  in.image_height_px = sensor->camera.height_px;
+  if (i < static_cast<int>(snap_.models.size())) {
+    const ModelView& m = snap_.models[i];
+    in.title = display_name(m.id);
+    const std::vector<Vec2>* field = &m.out.disp_px;
+    if (i == corrected_slot() && show_corrected_) {
+      if (const auto* c = corrected_at_step()) {
+        field = c;
+        in.title = residual_->after_model;   // the loop's answer: the form and its effects
+      } else {
+        in.title += corrected_job_.running() ? " (correcting ...)" : "";
+      }
+    }
+    in.disp_px = field;
+    in.in_contact = &m.out.marker_in_contact;
+    if (measured != nullptr && metrics_ && !field->empty()) in.metrics = metrics_(*field, *measured);
+    if (show_residual_fields_ && measured != nullptr && !field->empty()) {
+      residual = residual_field(*measured, *field);
+      in.disp_px = &residual;
+      in.title += " residual";
+    }
+    in.note = snap_.step < 0 ? "before the first step" : "";
+    return in;
+  }
+  in.title = measured_.label;
+  in.disp_px = measured;
+  in.note = measured_.disp_px.empty() ? "no measurement (scene)"
+            : snap_.step >= snap_.measured_steps ? "path edited: no measurement"
+                                                 : "no measurement at this step";
+  if (replay_.tracked_markers == 0) {   // an empty sample is said in words, not drawn as 0.00 px
+    in.disp_px = nullptr;
+    in.note = "0 of " + std::to_string(replay_.total_markers) + " markers tracked in this sample";
+  }
+  return in;
+}
+
 void Workbench::draw_fields(float width, float height) {
   const auto* sensor = state_->sensor().get();
   const int iw = sensor->camera.width_px, ih = sensor->camera.height_px;
@@ -657,58 +824,30 @@ void Workbench::draw_fields(float width, float height) {
   if (enlarged == n) enlarged_.clear();
   const bool one = !enlarged_.empty();
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  const float legend_h = 12 + 6 + ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
+  const FieldGrid grid = field_grid(width, height);
   // Enlarged: as wide as fits the area at the image's aspect, centred.
-  const float pw = one ? std::min(width, (height - line - 4 - legend_h) * float(iw) / float(ih))
-                       : (width - kPad * (n - 1)) / n;
-  if (one) ImGui::SetCursorPosX(ImGui::GetCursorPosX() + (width - pw) / 2);
+  const float pw = one ? std::min(width, (height - line - 4 - field_legend_height()) * float(iw) / float(ih)) : grid.cell_w;
+  const ImVec2 origin = ImGui::GetCursorScreenPos();
+  if (!one) draw_view_cell(origin.x + grid.left, origin.y, grid.cell_w, grid.cell_h - 4);
   std::vector<std::vector<Vec2>> residuals(n);   // measured - model, when the residual view is on
   shown_fields_.clear();
   int hovered = -1;
   ImVec2 hovered_at;
   bool first_shown = true;
   for (int i = 0; i < n; ++i) {
-    FieldPanelInput in;
-    in.rest_px = &sensor->markers_rest_px;
+    FieldPanelInput in = panel_input(i, measured, residuals[i]);
     in.background = background;
-    in.image_width_px = iw;
-    in.image_height_px = ih;
-    if (i < n - 1) {
-      const ModelView& m = snap_.models[i];
-      in.title = display_name(m.id);
-      const std::vector<Vec2>* field = &m.out.disp_px;
-      if (i == corrected_slot() && show_corrected_) {
-        if (const auto* c = corrected_at_step()) {
-          field = c;
-          in.title = residual_->after_model;   // the loop's answer: the form and its effects
-        } else {
-          in.title += corrected_job_.running() ? " (correcting ...)" : "";
-        }
-      }
-      in.disp_px = field;
-      in.in_contact = &m.out.marker_in_contact;
-      if (measured != nullptr && metrics_ && !field->empty()) in.metrics = metrics_(*field, *measured);
-      if (show_residual_fields_ && measured != nullptr && !field->empty()) {
-        residuals[i] = residual_field(*measured, *field);
-        in.disp_px = &residuals[i];
-        in.title += " residual";
-      }
-      in.note = snap_.step < 0 ? "before the first step" : "";
-    } else {
-      in.title = measured_.label;
-      in.disp_px = measured;
-      in.note = measured_.disp_px.empty() ? "no measurement (scene)"
-                : snap_.step >= snap_.measured_steps ? "path edited: no measurement"
-                                                     : "no measurement at this step";
-    }
     if (i < n - 1 || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
     if (one && i != enlarged) continue;
-    if (!first_shown) ImGui::SameLine(0, kPad);
+    const int cell = i + 1;
+    const ImVec2 panel_top = one ? ImVec2(origin.x + (width - pw) / 2, origin.y)
+                                 : ImVec2(origin.x + grid.left + (cell % grid.cols) * (grid.cell_w + kPad),
+                                          origin.y + (cell / grid.cols) * (grid.cell_h + kPad));
+    ImGui::SetCursorScreenPos(panel_top);
     ImGui::BeginGroup();
     in.highlight_marker = forced_hover_ >= 0 ? forced_hover_ : hovered_marker_;
     in.enlarged = one;
     ImGui::PushID(i);
-    const ImVec2 panel_top = ImGui::GetCursorScreenPos();
     const FieldPanelResult r = draw_field_panel(in, scale_, pw, options_.interactive);
     if (r.toggle_enlarge) enlarged_ = one ? std::string() : names[i];
     // The model panel last clicked (or enlarged) is the one the 3D view colours its markers by.
@@ -725,14 +864,60 @@ void Workbench::draw_fields(float width, float height) {
     first_shown = false;
   }
   hovered_marker_ = hovered;
-  if (one) ImGui::SetCursorPosX(ImGui::GetCursorPosX() + (width - pw) / 2);
-  draw_field_legend(scale_, pw / float(iw), one ? pw : width);
+  const float legend_y = one ? origin.y + line + 4 + pw * float(ih) / float(iw) : origin.y + grid.rows * (grid.cell_h + kPad);
+  ImGui::SetCursorScreenPos(ImVec2(origin.x + (one ? (width - pw) / 2 : grid.left), legend_y));
+  draw_field_legend(scale_, pw / float(iw), one ? pw : width - 2 * grid.left);
   if (hovered >= 0) draw_marker_tooltip(hovered, hovered_at);
+}
+
+// The 3D view in the grid's first cell, with its legend over it (what the markers' colours, the tracked
+// points' colours and their lines mean).
+void Workbench::draw_view_cell(float x, float y, float w, float h) {
+  ImGui::SetCursorScreenPos(ImVec2(x, y));
+  viewport_.update(snap_, marker_model_, scale_.colour_max_px);
+  regions_.push_back({"3D view", x, y, w, h});
+  if (auto target = viewport_.draw(w, h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
+                                   options_.interactive)) {
+    if (!last_drag_ || !target->isApprox(*last_drag_, 1e-12)) {
+      state_->request_drag(*target);
+      last_drag_ = target;
+    }
+  }
+  draw_view_legend(ImVec2(x, y), w);
+}
+
+void Workbench::draw_view_legend(ImVec2 at, float width) {
+  const std::string model = snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id);
+  struct Item { ImU32 colour; std::string text; bool line; ImVec2 pos; };
+  std::vector<Item> items = {
+      {IM_COL32(230, 230, 120, 255), "markers: |d| of " + model + " (panel colours)", false, {}},
+      {IM_COL32(60, 200, 90, 255), "stick", false, {}}, {IM_COL32(240, 150, 40, 255), "slip", false, {}},
+      {IM_COL32(150, 150, 150, 255), "free (tracked points)", false, {}},
+      {IM_COL32(220, 220, 220, 255), "line: a tracked point to its anchor", true, {}}};
+  const float lh = ImGui::GetTextLineHeight();
+  float x = 0, y = 0, right = 0;
+  for (std::size_t k = 0; k < items.size(); ++k) {   // rows: the markers, the point states, the lines
+    const float w = ImGui::CalcTextSize(items[k].text.c_str()).x + 14;
+    if (k == 1 || k == 4 || (k > 0 && x + w > width - 12)) x = 0, y += lh + 2;
+    items[k].pos = ImVec2(at.x + 6 + x, at.y + 4 + y);
+    x += w + 10;
+    right = std::max(right, x);
+  }
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  dl->PushClipRect(at, ImVec2(at.x + width, at.y + y + lh + 12), true);
+  dl->AddRectFilled(ImVec2(at.x + 2, at.y + 2), ImVec2(at.x + 6 + right, at.y + 6 + y + lh), IM_COL32(20, 20, 25, 170), 3.0f);
+  for (const Item& it : items) {
+    const float cy = it.pos.y + lh / 2;
+    if (it.line) dl->AddLine(ImVec2(it.pos.x + 1, cy), ImVec2(it.pos.x + 10, cy), it.colour, 1.5f);
+    else dl->AddCircleFilled(ImVec2(it.pos.x + 5, cy), 4.0f, it.colour);
+    dl->AddText(ImVec2(it.pos.x + 14, it.pos.y), IM_COL32(240, 240, 240, 255), it.text.c_str());
+  }
+  dl->PopClipRect();
 }
 
 bool Workbench::animating() const {
   // An enlarged panel hides the 3D view: its pending re-render waits for the view to come back.
-  return state_ != nullptr && (snap_.playing || (enlarged_.empty() && viewport_.busy()) || state_->version() != snap_.version ||
+  return state_ != nullptr && (snap_.playing || !loading_what_.empty() || (enlarged_.empty() && viewport_.busy()) || state_->version() != snap_.version ||
                                state_->pending_edits() > 0 || export_job_.status().running() || !export_reported_);
 }
 
@@ -749,21 +934,17 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   update_rmse_series();
   update_corrected_series();
   report_export();
-  if (options_.interactive && question_id_.empty()) apply_actions(req);
+  if (options_.interactive && question_id_.empty() && loading_what_.empty()) apply_actions(req);
 
   const ImGuiViewport* vp = ImGui::GetMainViewport();
   const float W = vp->Size.x, H = vp->Size.y;
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  const float status_h = line + 8;
+  // As tall as the status text wrapped to the window's width (an error is read whole), at most four lines.
+  const float status_text_h = ImGui::CalcTextSize(status_text(snap_, frame_ms, options_.show_timings, message_).c_str(),
+                                                  nullptr, false, W - 2 * ImGui::GetStyle().WindowPadding.x).y;
+  const float status_h = std::min(status_text_h, 4 * ImGui::GetTextLineHeight()) + line + 8 - ImGui::GetTextLineHeight();
   const float left_w = std::clamp(0.25f * W, 300.0f, 400.0f);
   const float right_w = W - left_w;
-  const int n_panels = static_cast<int>(snap_.models.size()) + 1;
-  const float inner_w = right_w - 2 * ImGui::GetStyle().WindowPadding.x;
-  const float panel_w = (inner_w - kPad * (n_panels - 1)) / n_panels;
-  const float panel_h = line + panel_w * float(state_->sensor()->camera.height_px) / float(state_->sensor()->camera.width_px) + 4;
-  const float legend_h = 12 + 6 + ImGui::GetTextLineHeight() + ImGui::GetStyle().ItemSpacing.y;
-  const float fields_h = panel_h + legend_h + 2 * ImGui::GetStyle().WindowPadding.y + ImGui::GetStyle().ItemSpacing.y;
-  const float view_h = H - status_h - fields_h;
 
   ImGui::SetNextWindowPos(vp->Pos);
   ImGui::SetNextWindowSize(ImVec2(left_w, H - status_h));
@@ -771,43 +952,13 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   draw_controls(req);
   ImGui::End();
 
+  // The right column: the 3D view and every field panel in one grid (an enlarged panel alone).
   regions_.clear();
-  // An enlarged field panel takes the 3D view's place too: the whole right column.
-  const bool one_panel = !enlarged_.empty();
-  if (!one_panel) {
-  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
   ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y));
-  ImGui::SetNextWindowSize(ImVec2(right_w, view_h));
-  ImGui::Begin("3D", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
-  viewport_.update(snap_, marker_model_, scale_.colour_max_px);
-  const ImVec2 view_origin = ImGui::GetCursorScreenPos();
-  regions_.push_back({"3D view", view_origin.x, view_origin.y, right_w, view_h});
-  if (auto target = viewport_.draw(right_w, view_h, last_drag_ && viewport_.dragging() ? *last_drag_ : snap_.X_EI,
-                                   options_.interactive)) {
-    if (!last_drag_ || !target->isApprox(*last_drag_, 1e-12)) {
-      state_->request_drag(*target);
-      last_drag_ = target;
-    }
-  }
-  {
-    const std::string label = "markers: |d| of " + (snap_.models.empty() ? std::string("-") : display_name(snap_.models[marker_model_].id)) +
-                              " (panel colours)   tracked points: stick green, slip orange, free grey";
-    ImDrawList* dl = ImGui::GetWindowDrawList();
-    const ImVec2 ts = ImGui::CalcTextSize(label.c_str());
-    dl->AddRectFilled(ImVec2(view_origin.x + 4, view_origin.y + 4), ImVec2(view_origin.x + 12 + ts.x, view_origin.y + 8 + ts.y),
-                      IM_COL32(20, 20, 25, 170), 3.0f);
-    dl->AddText(ImVec2(view_origin.x + 8, view_origin.y + 6), IM_COL32(240, 240, 240, 255), label.c_str());
-  }
-  ImGui::End();
-  ImGui::PopStyleVar();
-  }
-
-  const float fields_top = one_panel ? 0.0f : view_h;
-  const float fields_area_h = one_panel ? H - status_h : fields_h;
-  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + left_w, vp->Pos.y + fields_top));
-  ImGui::SetNextWindowSize(ImVec2(right_w, fields_area_h));
-  ImGui::Begin("Fields", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar);
-  draw_fields(inner_w, fields_area_h - 2 * ImGui::GetStyle().WindowPadding.y);
+  ImGui::SetNextWindowSize(ImVec2(right_w, H - status_h));
+  ImGui::Begin("Fields", nullptr, kFixed | ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoScrollWithMouse);
+  const ImVec2 inner = ImGui::GetContentRegionAvail();
+  draw_fields(inner.x, inner.y);
   ImGui::End();
 
   ImGui::SetNextWindowPos(ImVec2(vp->Pos.x, vp->Pos.y + H - status_h));
@@ -818,6 +969,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
 
   draw_help_overlay(&show_help_);
   draw_question(req);
+  draw_loading();
   return req;
 }
 

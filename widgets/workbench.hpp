@@ -3,6 +3,7 @@
 // (replay, indenter pose, display scale, per-model parameters), the 3D view top right, the four field
 // panels (HydroShear | FOTS | TacSL | Measured) below it, and a status bar. `shearbench gui` and
 // `shearbench render` both call draw(), so a headless render shows exactly what the GUI shows.
+#include <chrono>
 #include <functional>
 #include <map>
 #include <memory>
@@ -65,6 +66,13 @@ struct WorkbenchRequest {
   std::optional<std::pair<std::string, int>> answer;
 };
 
+// Where the right column's grid puts its cells (the 3D view first, then the field panels).
+struct FieldGrid {
+  int cols = 3, rows = 2;
+  float cell_w = 0, cell_h = 0;   // a cell's width and height (title row, image, gap)
+  float left = 0;                 // the grid's left margin (centred in the column)
+};
+
 class Workbench {
  public:
   explicit Workbench(WorkbenchOptions options);
@@ -100,9 +108,21 @@ class Workbench {
   void start_export(FieldExportRequest request);
   FieldExportStatus export_status() const { return export_job_.status(); }
   void wait_for_export() const { export_job_.wait(); }
-  // Shown in the Session section ("unsaved changes").
+  // Shown in the Session section ("unsaved changes"; a session never saved does not say "saved").
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
+  void set_saved_once(bool saved) { saved_once_ = saved; }
+  // The session file: what the quit dialog saves to. Adopted only once a save or an open succeeded; the
+  // field shows it again after a failed open (revert_session_path).
   void set_session_path(const std::string& path);
+  void revert_session_path() { set_session_path(session_file_); }
+  // A session opening on a worker ("" when done): a progress line over the window, input held meanwhile.
+  void set_loading(std::string what);
+  bool loading() const { return !loading_what_.empty(); }
+  // The 3D view's camera, for the session file.
+  std::optional<CameraView> camera_view() const { return viewport_.camera_view(); }
+  void set_camera_view(const CameraView& view) { viewport_.set_camera_view(view); }
+  // Drops the residual analysis (its dataset was replaced): its panels, switches and Apply go with it.
+  void clear_residual();
   void set_data_root(std::string root) { data_root_ = std::move(root); }
   // The parameter set the models started from: named in the Parameters section (provenance as tooltip),
   // the value R resets a slider to.
@@ -112,7 +132,7 @@ class Workbench {
     param_set_mismatch_ = sensor_mismatch(set, sensor_model);
     param_set_ = std::move(set);
   }
-  std::string session_path() const { return session_path_; }
+  std::string session_path() const { return session_file_; }
   ReplayUi& replay_ui() { return replay_; }
   // Where the 3D view and each field panel were drawn in the last frame.
   const std::vector<ScreenRegion>& regions() const { return regions_; }
@@ -133,11 +153,16 @@ class Workbench {
   void apply_actions(WorkbenchRequest& req);
   void draw_controls(WorkbenchRequest& req);
   void draw_fields(float width, float height);
+  FieldGrid field_grid(float width, float height) const;
+  FieldPanelInput panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual);
+  void draw_view_cell(float x, float y, float w, float h);
+  void draw_view_legend(ImVec2 at, float width);
   void draw_marker_tooltip(int marker, ImVec2 at);
   std::vector<std::string> panel_names() const;
   void draw_question(WorkbenchRequest& req);
   void update_rmse_series();
   void draw_fit_panel();
+  void draw_loss_plot(const std::vector<float>& losses);
   void draw_param_set_row(WorkbenchRequest& req);
   std::string param_set_label(const std::string& name);
   void draw_residual_panel(WorkbenchRequest& req);
@@ -164,6 +189,9 @@ class Workbench {
   AppSnapshot snap_;
   FieldScale scale_;
   bool auto_scale_ = true;
+  bool hold_scale_ = true;        // the auto scale only grows (colours keep their meaning)
+  double held_max_px_ = 0;        // the largest reference |d| seen since the session opened
+  double sample_max_px_ = 0;      // the replayed sample's largest measured |d| (0: a scene)
   double marker_pitch_px_ = 33.0;
   int marker_model_ = 0;
   std::string enlarged_;           // the enlarged field panel's name, "" for none
@@ -175,8 +203,15 @@ class Workbench {
   std::vector<ParamSet> edit_params_;
   std::optional<Pose> last_drag_;
   char params_path_[512] = "params.json";
-  char session_path_[512] = "session.json";
+  char session_path_[512] = "";   // the Session field (what Save writes to)
+  std::string session_file_;       // the adopted session file (set_session_path)
   bool unsaved_ = false;
+  bool saved_once_ = false;
+  std::string loading_what_;
+  std::chrono::steady_clock::time_point loading_since_;
+  void draw_loading();
+  void draw_session_section(WorkbenchRequest& req);
+  void draw_display_section(WorkbenchRequest& req);
   RmseSeriesJob rmse_job_;
   FitJob fit_job_;
   std::string data_root_;
@@ -189,6 +224,7 @@ class Workbench {
   bool fit_joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
   int fit_iterations_ = 30;
   std::string fit_model_id_;          // the model the shown result belongs to
+  ParamSet fit_start_params_;         // what that fit started from
   bool fit_result_handled_ = false;   // applied or discarded
   std::vector<std::vector<double>> rmse_params_;   // the parameter values the running/last job used
   std::vector<ScreenRegion> regions_;

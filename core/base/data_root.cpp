@@ -40,6 +40,17 @@ std::string resolve_path(const std::string& path, const std::string& data_root, 
   return (fs::path(base_dir) / p).string();
 }
 
+std::string resolve_user_path(const std::string& path, const std::string& data_root, const std::string& working_dir) {
+  if (path.empty() || path.rfind("data:", 0) == 0 || fs::path(path).is_absolute())
+    return resolve_path(path, data_root, working_dir);
+  std::error_code ec;
+  const fs::path here = working_dir.empty() ? fs::path(path) : fs::path(working_dir) / path;
+  if (fs::exists(here, ec)) return here.string();
+  const fs::path in_root = fs::path(data_root) / path;
+  if (!data_root.empty() && fs::exists(in_root, ec)) return in_root.string();
+  return here.string();
+}
+
 std::string data_path(const std::string& path, const std::string& data_root) {
   if (path.empty() || data_root.empty() || path.rfind("data:", 0) == 0) return path;
   std::error_code ec;
@@ -53,7 +64,8 @@ std::string data_path(const std::string& path, const std::string& data_root) {
 
 void require_exists(const std::string& path, const std::string& what) {
   if (!fs::exists(path))
-    throw InputError(path, what + " not found (data root: set --data or SHEARBENCH_DATA; default ../shared/data)");
+    throw InputError(path, what + " not found (a path under the data root is written data:twin/twin_sphere35; "
+                                  "data root: --data or SHEARBENCH_DATA, default ../shared/data)");
 }
 
 }  // namespace sb

@@ -581,6 +581,14 @@ Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
   return Eigen::Map<const Eigen::VectorXd>(f.data(), Eigen::Index(f.size()));
 }
 
+}  // namespace
+
+int tactip_prior_min_calibration_samples() {
+  return 2 * static_cast<int>(tactip_covariates(TactipTarget{}).size());
+}
+
+namespace {
+
 struct TactipSplit {
   std::string name;
   std::vector<TactipTarget> targets;
@@ -840,7 +848,7 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   }
   for (const auto& sp : splits) {
     std::vector<double> kept;
-    int worst_number = -1, slipped_samples = 0;
+    int worst_number = -1, slipped_samples = 0, empty_samples = 0;
     double worst = 2.0;
     for (std::size_t k = 0; k < sp.targets.size(); ++k) {
       const TactipTarget& t = sp.targets[k];
@@ -848,6 +856,7 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       const std::vector<Vec2>& disp = pins.disp;
       slipped_samples += !pins.check.clean();
       const int found = pins.kept();
+      empty_samples += found == 0;
       const double frac = double(found) / double(disp.size());
       kept.push_back(frac);
       if (frac < worst) {
@@ -871,6 +880,15 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
                            format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " +
                            std::to_string(below) + "; images not clean under the lattice check: " +
                            std::to_string(slipped_samples));
+    if (empty_samples > 0)
+      report.lines.push_back("WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " +
+                             std::to_string(kept.size()) + " samples have no pin tracked (0 of " +
+                             std::to_string(ref.rest_px.size()) + ")" +
+                             (prior.empty() && options.use_prior
+                                  ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
+                                        " calibration samples (--max-samples " +
+                                        std::to_string(tactip_prior_min_calibration_samples()) + " or more, or 0 for all)"
+                                  : std::string()));
   }
   ds.provenance =
       "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "

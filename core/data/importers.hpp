@@ -62,6 +62,10 @@ struct TactipImportOptions {
 };
 ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
                                  const TactipImportOptions& options = {});
+// The calibration samples the pin prior needs (2 per covariate of its per-pin regression: 66). With fewer,
+// no prior is fitted and every deep press loses all its pins (issue 34: --max-samples 40 wrote 32 of 80
+// samples with 0 of 327 pins tracked).
+int tactip_prior_min_calibration_samples();
 
 // The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units): depth d, tilt (rx, ry) and twist w in
 // radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.

@@ -1,6 +1,8 @@
 #include "core/workbench/session_file.hpp"
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
@@ -24,6 +26,24 @@ Pose pose_from_json(const json& j, const std::string& file, const std::string& p
   for (std::size_t i = 0; i < 7; ++i) v[i] = jsonin::finite_number(j[i], file, jsonin::child(ptr, i));
   const Quat q = normalized_quaternion(v[3], v[4], v[5], v[6], file + ": " + ptr, nullptr);
   return make_pose(Vec3(v[0], v[1], v[2]), q);
+}
+
+Vec3 vec3_from_json(const json& j, const std::string& file, const std::string& ptr) {
+  if (!j.is_array() || j.size() != 3) jsonin::fail(file, ptr, "expected [x, y, z]");
+  Vec3 v;
+  for (std::size_t i = 0; i < 3; ++i) v[Eigen::Index(i)] = jsonin::finite_number(j[i], file, jsonin::child(ptr, i));
+  return v;
+}
+
+CameraView camera_from_json(const json& j, const std::string& file, const std::string& ptr) {
+  jsonin::reject_unknown_keys(j, {"position_mm", "focal_point_mm", "view_up"}, file, ptr);
+  CameraView c;
+  c.position = vec3_from_json(jsonin::member(j, "position_mm", file, ptr), file, jsonin::child(ptr, "position_mm"));
+  c.focal_point = vec3_from_json(jsonin::member(j, "focal_point_mm", file, ptr), file, jsonin::child(ptr, "focal_point_mm"));
+  c.view_up = vec3_from_json(jsonin::member(j, "view_up", file, ptr), file, jsonin::child(ptr, "view_up"));
+  if ((c.position - c.focal_point).norm() <= 0 || c.view_up.norm() <= 0)
+    jsonin::fail(file, ptr, "the camera must sit away from its focal point and have a view-up direction");
+  return c;
 }
 
 std::string optional_string(const json& j, const char* key, const std::string& file, const std::string& ptr,
@@ -50,6 +70,11 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
   j["path_X_EI"] = path;
   j["step"] = s.step;
   j["display"] = {{"auto_scale", s.auto_scale}, {"arrow_gain", s.arrow_gain}, {"colour_max_px", s.colour_max_px}};
+  if (s.camera) {
+    const auto vec = [](const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); };
+    j["display"]["camera"] = {{"position_mm", vec(s.camera->position)}, {"focal_point_mm", vec(s.camera->focal_point)},
+                              {"view_up", vec(s.camera->view_up)}};
+  }
   if (!s.residual_file.empty())
     j["residual"] = {{"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
   return j;
@@ -102,7 +127,8 @@ SessionFile session_from_json(const json& j, const std::string& file) {
                                       std::to_string(s.path.size()) + " poses)");
   }
   if (const json* d = jsonin::find(j, "display")) {
-    jsonin::reject_unknown_keys(*d, {"auto_scale", "arrow_gain", "colour_max_px"}, file, "/display");
+    jsonin::reject_unknown_keys(*d, {"auto_scale", "arrow_gain", "colour_max_px", "camera"}, file, "/display");
+    if (const json* c = jsonin::find(*d, "camera")) s.camera = camera_from_json(*c, file, "/display/camera");
     if (const json* v = jsonin::find(*d, "auto_scale")) s.auto_scale = jsonin::boolean(*v, file, "/display/auto_scale");
     if (const json* v = jsonin::find(*d, "arrow_gain")) {
       s.arrow_gain = jsonin::finite_number(*v, file, "/display/arrow_gain");
@@ -124,7 +150,28 @@ SessionFile session_from_json(const json& j, const std::string& file) {
 
 SessionFile load_session_file(const std::string& path) { return session_from_json(jsonin::load_file(path), path); }
 
+bool is_session_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) return false;
+  const json j = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (!j.is_object()) return false;
+  const auto it = j.find("format");
+  return it != j.end() && it->is_string() && it->get<std::string>() == "shearbench-session";
+}
+
+void require_overwritable_session(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path, "is a folder, not a session file: choose a file name such as session.json");
+  if (std::filesystem::file_size(path, ec) == 0 && !ec) return;   // an empty file holds nothing to lose
+  if (!is_session_file(path))
+    throw InputError(path, "exists and is not a shearbench session file (no \"format\": \"shearbench-session\"); "
+                           "not overwritten: choose another session path");
+}
+
 void save_session_file(const std::string& path, const SessionFile& s) {
+  require_overwritable_session(path);
   write_file_atomic(path, session_to_json(s).dump(1) + "\n");
 }
 

@@ -4,6 +4,7 @@
 // "file: /json/pointer: what". Parameter tables are kept as JSON here and validated by the models'
 // ParamSet when applied (the session reader does not depend on the model registry).
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,9 +36,17 @@ struct SessionSource {
   std::string param_set;   // the parameter set the models start from (empty: the default for the sensor)
 };
 
+// The 3D view's camera (millimetres in E, as the view draws): where it is, what it looks at, which way is up.
+struct CameraView {
+  Vec3 position = Vec3::Zero();
+  Vec3 focal_point = Vec3::Zero();
+  Vec3 view_up = Vec3::UnitZ();
+};
+
 struct SessionFile {
-  // Version 2 added the optional "residual" section; version 1 files (without it) are still read.
-  static constexpr int kFormatVersion = 2;
+  // Version 2 added the optional "residual" section, version 3 the optional camera under "display";
+  // older files are still read.
+  static constexpr int kFormatVersion = 3;
   static constexpr int kOldestReadableVersion = 1;
   SessionSource open;
   // What the user did: every model's parameters (model id -> table), the pose path X_EI(0..n-1)
@@ -49,6 +58,7 @@ struct SessionFile {
   bool auto_scale = true;
   double arrow_gain = 0.0;       // 0: the workbench's default
   double colour_max_px = 0.0;
+  std::optional<CameraView> camera;   // none: the default (iso) view
   // A residual analysis shown in the Residual section (empty: none) and its two switches.
   std::string residual_file;
   bool residual_fields = false;
@@ -59,6 +69,12 @@ nlohmann::ordered_json session_to_json(const SessionFile& s);
 // `file` names the source in errors.
 SessionFile session_from_json(const nlohmann::json& j, const std::string& file);
 SessionFile load_session_file(const std::string& path);
+// Writes `s` atomically. Never overwrites a file that is not a shearbench session file (a scene, a
+// dataset.json, anything else the user pointed the Session field at): throws InputError naming it.
 void save_session_file(const std::string& path, const SessionFile& s);
+// True when `path` holds a JSON object whose "format" is "shearbench-session" (readable or not by this build).
+bool is_session_file(const std::string& path);
+// Throws InputError when `path` exists and is not a session file (what save_session_file checks first).
+void require_overwritable_session(const std::string& path);
 
 }  // namespace sb

@@ -34,14 +34,23 @@ bool UnsavedWork::autosave_due(double now_s) const {
   return dirty() && current_ != autosaved_ && dirty_since_s_ && now_s - *dirty_since_s_ >= interval_s_;
 }
 
-std::string default_autosave_path() {
+namespace {
+// $XDG_STATE_HOME/shearbench, else ~/.local/state/shearbench (current folder when HOME is unset).
+std::filesystem::path state_folder() {
   namespace fs = std::filesystem;
-  if (const char* p = std::getenv("SHEARBENCH_AUTOSAVE"); p && *p) return p;
   fs::path base;
   if (const char* x = std::getenv("XDG_STATE_HOME"); x && *x) base = x;
   else if (const char* h = std::getenv("HOME"); h && *h) base = fs::path(h) / ".local" / "state";
   else base = fs::current_path();
-  return (base / "shearbench" / "autosave.json").string();
+  return base / "shearbench";
 }
+}  // namespace
+
+std::string default_autosave_path() {
+  if (const char* p = std::getenv("SHEARBENCH_AUTOSAVE"); p && *p) return p;
+  return (state_folder() / "autosave.json").string();
+}
+
+std::string default_session_path() { return (state_folder() / "session.json").string(); }
 
 }  // namespace sb

@@ -35,5 +35,8 @@ class UnsavedWork {
 // Where the workbench autosaves: $SHEARBENCH_AUTOSAVE, else $XDG_STATE_HOME/shearbench/autosave.json,
 // else ~/.local/state/shearbench/autosave.json (current folder when HOME is unset).
 std::string default_autosave_path();
+// Where Ctrl+S saves a session that was never saved or opened: $XDG_STATE_HOME/shearbench/session.json,
+// else ~/.local/state/shearbench/session.json (never the working folder, which is often a repository).
+std::string default_session_path();
 
 }  // namespace sb

@@ -51,7 +51,7 @@ POS_TACSL_COMBO = (95, 529)
 COMBO_ITEM_DY = (24, 45)          # the popup's two entries below the combo
 POS_EXPORT = (240, 429)
 POS_HS_MU = (115, 723)            # HydroShear mu slider (Ctrl+click: type a value)
-POS_INDENTER = (800, 210)         # the indenter in the iso view at the scene's start
+POS_INDENTER = (483, 115)         # the indenter in the iso view at the scene's start (the grid's first cell, issue 34)
 # The Fit section, reached by collapsing Parameters (its header at y 454; Fit's header then at 479).
 POS_PARAMETERS_HEADER = (60, 454)
 POS_FIT_HEADER = (60, 479)
@@ -138,7 +138,9 @@ class Soak:
         self.work = os.path.abspath(a.work)
         self.src = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
         self.data = os.environ.get("SHEARBENCH_DATA", os.path.join(self.src, "..", "shared", "data"))
-        self.session = os.path.join(self.work, "session.json")
+        # Ctrl+S saves to the default session path, in the XDG state folder (issue 34), here the test's own.
+        self.state = os.path.join(self.work, "state")
+        self.session = os.path.join(self.state, "shearbench", "session.json")
         self.autosave = os.path.join(self.work, "autosave.json")
         self.stats = os.path.join(self.work, "stats.jsonl")
         os.makedirs(self.work, exist_ok=True)
@@ -165,6 +167,7 @@ class Soak:
         self.pending_stats = []
         self.env = dict(os.environ)
         self.env["SHEARBENCH_AUTOSAVE"] = self.autosave
+        self.env["XDG_STATE_HOME"] = self.state
         self.env["ASAN_OPTIONS"] = (self.env.get("ASAN_OPTIONS", "") + ":detect_leaks=0").lstrip(":")
         scenes = sorted(f for f in os.listdir(os.path.join(self.src, "scenes")) if f.endswith(".json"))
         self.scenes = [os.path.join(self.src, "scenes", f) for f in scenes if not f.startswith("replay")]
@@ -216,6 +219,7 @@ class Soak:
 
     def start(self, args, why):
         self.record_model()
+        os.makedirs(os.path.dirname(self.session), exist_ok=True)
         cmd = [self.a.exe, "gui", "--size", "1280x800", "--stats", self.stats, "--stats-interval",
                str(self.a.stats_interval), "--autosave-interval", str(self.a.autosave_interval), *args]
         self.say(f"start ({why}): {' '.join(cmd[1:])}")
@@ -233,7 +237,15 @@ class Soak:
         else:
             raise RuntimeError(f"waited {self.a.window_wait} s for a window named 'shearbench' of pid {self.proc.pid}, none appeared")
         time.sleep(3)   # first frames, models built
+        self.wait_opened()
         self.fresh = True
+
+    def wait_opened(self, timeout=120):
+        """A session opens on a worker (issue 34) and input waits meanwhile: until the title stops saying
+        'opening', keys would be dropped."""
+        t = time.monotonic()
+        while time.monotonic() - t < timeout and " - opening " in self.xdo("getwindowname", self.wid):
+            time.sleep(0.2)
 
     def stop_clean(self):
         """Shift+Esc after a save: an unchanged session closes at once."""
@@ -562,6 +574,8 @@ class Soak:
             if self.counts["kills"] % 2 == 1:   # as a user would: start plainly, answer Restore (Enter)
                 self.start([], "restart after SIGKILL: the Restore dialog, answered with Enter")
                 self.key("Return")
+                time.sleep(0.5)
+                self.wait_opened()
                 time.sleep(1.5)
                 self.counts["restores_from_dialog"] += 1
             else:

@@ -10,6 +10,6 @@ raw="${SHEARBENCH_DATA:?SHEARBENCH_DATA must name the data root}/raw/tactip_shea
 [ -d "$raw" ] || { echo "render test: missing $raw" >&2; exit 1; }
 work="$out/tactip"
 rm -rf "$work"; mkdir -p "$work"
-"$exe" -q import --source tactip_shear --max-samples 1 --frames --in "$raw" --out "$work/imported" >/dev/null
+"$exe" -q import --source tactip_shear --max-samples 1 --no-pin-prior --frames --in "$raw" --out "$work/imported" >/dev/null
 exec "$(dirname "$0")/run_render_test.sh" "$exe" "$compare" tactip "$out" "$baselines" "$min_ssim" \
   --dataset "$work/imported" --sample val_0014
