@@ -42,8 +42,8 @@ grep -q '^only_installed$' params.txt || fail "params does not read $share/asset
 echo "ok: params lists $(grep -c '^parameter set' params.txt) sets from $share/assets/params"
 
 "$exe" -q simulate --scene "$share/scenes/shear_sphere.json" --model hydroshear --out sim >sim.log
-[[ -s sim/markers.csv ]] || fail "simulate wrote no sim/markers.csv"
-echo "ok: simulate --scene $share/scenes/shear_sphere.json ($(wc -l <sim/markers.csv) lines of markers.csv)"
+[[ -s sim/dataset.json && -s sim/shear_sphere/markers.csv ]] || fail "simulate wrote no sim/dataset.json, sim/shear_sphere/markers.csv"
+echo "ok: simulate --scene $share/scenes/shear_sphere.json ($(wc -l <sim/shear_sphere/markers.csv) lines of markers.csv)"
 
 # No --scene: the installed default scene.
 "${xvfb[@]}" "$exe" render --size 800x500 --no-timings --out default.png >render.log 2>&1 ||
@@ -52,7 +52,7 @@ echo "ok: simulate --scene $share/scenes/shear_sphere.json ($(wc -l <sim/markers
 echo "ok: render of the default scene: $work/default.png ($(stat -c %s default.png) bytes)"
 
 # What is missing is named, with the ways to set it: the data root ...
-expect_error nodata.err "$exe" evaluate --dataset data:twin/twin_sphere8 --model fots
+expect_error nodata.err "$exe" evaluate --dataset data:twin/twin_sphere8 --model fots --json nodata.json
 grep -q -- '--data' nodata.err && grep -q SHEARBENCH_DATA nodata.err || fail "no data root: $(cat nodata.err)"
 echo "ok: without a data root: $(cat nodata.err)"
 # ... and the home, for a copy of the executable with nothing beside it; --home gives it back.
@@ -66,8 +66,8 @@ rm lone
 echo "ok: --home and SHEARBENCH_HOME override"
 
 if [[ -n $data ]]; then
-  "$exe" -q --data "$data" evaluate --dataset data:twin/twin_sphere8 --model all --json eval.json >eval.txt
+  "$exe" --data "$data" evaluate --dataset data:twin/twin_sphere8 --model all --json eval.json >eval.txt
   [[ -s eval.json ]] || fail "evaluate wrote no eval.json"
-  echo "ok: --data $data evaluate on data:twin/twin_sphere8:"; cat eval.txt
+  echo "ok: --data $data evaluate --dataset data:twin/twin_sphere8 --model all:"; grep '^| [a-z]' eval.txt
 fi
 echo "installed shearbench in $prefix: all checks passed"
