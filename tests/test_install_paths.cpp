@@ -11,6 +11,7 @@
 #include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/base/install_paths.hpp"
+#include "core/data/scene.hpp"
 
 namespace fs = std::filesystem;
 
@@ -106,4 +107,19 @@ TEST_CASE("a data: path with no data root names --data and SHEARBENCH_DATA", "[i
   }
   // Paths that are not data: need no root.
   CHECK(sb::resolve_path("/abs/set", "", "") == "/abs/set");
+}
+
+TEST_CASE("a scene naming data: with no data root says which file and entry asked for it", "[install_paths][scene]") {
+  const nlohmann::json j = nlohmann::json::parse(R"({
+    "sensor": {"gel": "flat", "markers": "7x9"},
+    "indenter": {"shape": "mesh", "mesh": "data:meshes/cow.obj", "scale": 0.002},
+    "trajectory": {"dt_s": 0.1, "keyframes": [{"t_s": 0, "xyz_m": [0, 0, 0.005]}, {"t_s": 0.2, "xyz_m": [0, 0, 0.004]}]}})");
+  try {
+    sb::parse_scene(j, "scenes/press_cow.json", "", "");
+    FAIL("parse_scene accepted a data: mesh without a data root");
+  } catch (const sb::InputError& e) {
+    CHECK(e.file() == "scenes/press_cow.json");
+    CHECK_THAT(e.what(), Catch::Contains("/indenter/mesh") && Catch::Contains("data:meshes/cow.obj") &&
+                             Catch::Contains("--data") && Catch::Contains("SHEARBENCH_DATA"));
+  }
 }
