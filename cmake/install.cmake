@@ -33,7 +33,8 @@ set(CPACK_GENERATOR DEB)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SECTION science)
 # Depends: the runtime libraries the executable links, as dpkg-shlibdeps reads them from its ELF NEEDED
-# entries (libvtk9.1, libopencv-*406, libopenvdb10.0, libceres3, libtbb12, libglfw3, ...; never -dev).
+# entries (libvtk9.1, libopencv-*406, libopenvdb10.0, libtbb12, libglfw3, ...; never -dev). Ceres is linked
+# from libceres-dev's libceres.a, so glog, CHOLMOD, CXSparse and LAPACK appear rather than libceres3.
 # Besides those: what the binary opens at run time without linking it (the GUI's font, Mesa's GL drivers
 # for llvmpipe); Xvfb only to render without a display.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
