@@ -9,6 +9,7 @@
 #include "app/command.hpp"
 #include "app/frontend.hpp"
 #include "core/base/free_memory.hpp"
+#include "core/base/install_paths.hpp"
 
 namespace sb::app {
 namespace {
@@ -17,7 +18,7 @@ struct GuiArgs {
   SessionSource open;
   std::string size = "1280x800";
   int profile = 0;
-  std::string headless_out;   // empty: shearbench_headless.png beside the executable (build/), not in the repository
+  std::string headless_out;   // empty: default_headless_out (build/, not the repository; installed: the working folder)
   std::string session;
   double autosave_interval_s = 30.0;
   std::string residual;
@@ -40,6 +41,14 @@ bool on_path(const std::string& program) {
   return false;
 }
 
+// Beside the executable in a build folder (build/, not the repository); an installed one's bin/ is not
+// the user's to write in, so the working folder there.
+std::string default_headless_out(const std::string& self) {
+  const std::filesystem::path dir = std::filesystem::path(self).parent_path();
+  if (std::filesystem::exists(dir / kBuildHomeFile)) return (dir / "shearbench_headless.png").string();
+  return std::filesystem::absolute("shearbench_headless.png").string();
+}
+
 // No display: re-run ourselves as `render` under a virtual X server (Mesa llvmpipe).
 int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   if (!on_path("xvfb-run")) {
@@ -50,9 +59,8 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
   std::vector<std::string> args = {"xvfb-run", "-a", "-s", "-screen 0 1600x900x24", self};
   if (!g.data_root_flag.empty()) args.insert(args.end(), {"--data", g.data_root_flag});
-  const std::string out = a.headless_out.empty()
-                              ? (std::filesystem::path(self).parent_path() / "shearbench_headless.png").string()
-                              : a.headless_out;
+  if (!g.home_flag.empty()) args.insert(args.end(), {"--home", g.home_flag});
+  const std::string out = a.headless_out.empty() ? default_headless_out(self) : a.headless_out;
   args.insert(args.end(), {"render", "--size", "1600x900", "--out", out, "--report"});
   const std::vector<std::string> source = source_arguments(a.open);
   args.insert(args.end(), source.begin(), source.end());
@@ -110,7 +118,8 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
   sub.add_option("--stats", a.stats, "append a JSON line of frame-time percentiles, resident memory and live GL objects "
                                      "every --stats-interval seconds to this file (tests/cli/soak.py reads it)");
   sub.add_option("--stats-interval", a.stats_interval_s, "seconds per --stats line")->capture_default_str()->check(CLI::PositiveNumber);
-  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display (default: shearbench_headless.png beside the executable, i.e. build/)");
+  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display (default: shearbench_headless.png beside the executable in a build "
+                                             "folder, i.e. build/; in the working folder for an installed one)");
 }
 
 const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display", 5, add_flags, run_gui};

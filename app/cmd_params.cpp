@@ -157,7 +157,7 @@ int run_params(const ParamsArgs& a, const GlobalOptions& g) {
 void add_flags(CLI::App& sub, ParamsArgs& a) {
   sub.add_flag("--rebuild", a.rebuild, "refit the fitted sets from the published values and write them");
   sub.add_option("--set", a.sets, "only these sets (with --rebuild)")->delimiter(',');
-  sub.add_option("--out-dir", a.out_dir, "where --rebuild writes (default: assets/params)");
+  sub.add_option("--out-dir", a.out_dir, "where --rebuild writes (default: assets/params in shearbench's home, see --home)");
 }
 
 const Subcommand<ParamsArgs> kSubcommand{

@@ -4,19 +4,26 @@
 #include <iostream>
 #include <map>
 
+#include "app/build_info.hpp"
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
 #include "core/base/reproducible.hpp"
 #include "core/base/progress.hpp"
 #include "core/base/error.hpp"
+#include "core/base/install_paths.hpp"
 
 int main(int argc, char** argv) {
   using namespace sb::app;
   CLI::App cli{"shearbench: a workbench for tactile shear models (HydroShear, FOTS, TacSL) against GelSight data"};
-  cli.set_version_flag("--version", std::string("shearbench ") + SHEARBENCH_VERSION);
+  cli.set_version_flag("--version", std::string("shearbench ") + SHEARBENCH_VERSION + " (commit " +
+                                        sb::app::build_commit() + ")");
   GlobalOptions global;
   cli.add_option("--data", global.data_root_flag,
-                 "data root (default: $SHEARBENCH_DATA, else ../shared/data)");
+                 "data root (default: $SHEARBENCH_DATA, else ../shared/data beside the working folder or the "
+                 "source checkout)");
+  cli.add_option("--home", global.home_flag,
+                 "folder with shearbench's scenes/ and assets/params (default: $SHEARBENCH_HOME, else "
+                 "../share/shearbench beside the executable)");
   cli.add_option("--threads", global.threads, "worker threads (0: all cores)");
   cli.add_flag("-q,--quiet", global.quiet, "print less");
   cli.add_flag_callback("--reproducible", [] { sb::set_timings_in_outputs(false); },
@@ -41,6 +48,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return cli.exit(e);
   }
+  sb::set_home_flag(global.home_flag);
 
   try {
     for (auto& [sub, run] : runners)

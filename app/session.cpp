@@ -13,6 +13,7 @@
 
 #include "core/base/data_root.hpp"
 #include "core/base/display_path.hpp"
+#include "core/base/install_paths.hpp"
 #include "core/base/error.hpp"
 #include "core/data/json_read.hpp"
 #include "core/calibration/metrics.hpp"
@@ -25,9 +26,8 @@ namespace sb::app {
 namespace fs = std::filesystem;
 
 std::string default_scene_path() {
-  for (const fs::path& p : {fs::path("scenes/default.json"), fs::path(SHEARBENCH_SOURCE_DIR) / "scenes/default.json"})
-    if (fs::exists(p)) return p.string();
-  return {};
+  const fs::path p = fs::path(home_dir()) / "scenes" / "default.json";
+  return fs::exists(p) ? p.string() : std::string();
 }
 
 Scene builtin_default_scene() {

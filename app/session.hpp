@@ -35,7 +35,7 @@ struct Session {
 };
 
 Session open_session(const SessionOptions& options);
-// The path of scenes/default.json (working directory first, then the source tree); empty when absent.
+// The path of scenes/default.json in shearbench's home (base/install_paths.hpp); empty when absent.
 std::string default_scene_path();
 // The built-in default: a 4 mm sphere pressed 1 mm into the flat pad, then slid 3 mm along +x.
 Scene builtin_default_scene();

@@ -4,12 +4,17 @@
 #include <filesystem>
 
 #include "core/base/error.hpp"
+#include "core/base/install_paths.hpp"
 
 namespace fs = std::filesystem;
 
 namespace sb {
 
 namespace {
+
+constexpr const char* kNoDataRoot =
+    "no data root: give --data DIR or set SHEARBENCH_DATA=DIR (a tsd/1 data root such as ../shared/data; "
+    "there is none beside the working folder or the source checkout)";
 
 // The root as an absolute, normalised path: a relative root would be resolved again against whatever
 // folder a path inside it is later joined to (a scene's folder turned ../shared/data/meshes/cow.obj into
@@ -26,15 +31,25 @@ std::string resolve_data_root(const std::string& cli_value) {
   if (!cli_value.empty()) return absolute_root(cli_value);
   if (const char* env = std::getenv("SHEARBENCH_DATA"); env && *env) return absolute_root(env);
   if (fs::exists("../shared/data")) return absolute_root("../shared/data");
-  // Running from build/ or elsewhere: the layout puts shared/ beside the repository.
-  const fs::path beside_source = fs::path(SHEARBENCH_SOURCE_DIR) / ".." / "shared" / "data";
-  if (fs::exists(beside_source)) return absolute_root(beside_source);
-  return absolute_root("../shared/data");
+  // Running from build/ or elsewhere: the layout puts shared/ beside the source checkout the binary's files
+  // come from. An installed binary's home is share/shearbench, not a checkout: no default there.
+  std::string home;
+  try {
+    home = home_dir();
+  } catch (const InputError&) {
+    return "";
+  }
+  const fs::path beside_checkout = fs::path(home) / ".." / "shared" / "data";
+  if (is_source_checkout(home) && fs::exists(beside_checkout)) return absolute_root(beside_checkout);
+  return "";
 }
 
 std::string resolve_path(const std::string& path, const std::string& data_root, const std::string& base_dir) {
   constexpr std::string_view kDataPrefix = "data:";
-  if (path.rfind(kDataPrefix, 0) == 0) return (fs::path(data_root) / path.substr(kDataPrefix.size())).string();
+  if (path.rfind(kDataPrefix, 0) == 0) {
+    if (data_root.empty()) throw InputError(path, kNoDataRoot);
+    return (fs::path(data_root) / path.substr(kDataPrefix.size())).string();
+  }
   const fs::path p(path);
   if (p.is_absolute() || base_dir.empty()) return path;
   return (fs::path(base_dir) / p).string();
@@ -65,7 +80,8 @@ std::string data_path(const std::string& path, const std::string& data_root) {
 void require_exists(const std::string& path, const std::string& what) {
   if (!fs::exists(path))
     throw InputError(path, what + " not found (a path under the data root is written data:twin/twin_sphere35; "
-                                  "data root: --data or SHEARBENCH_DATA, default ../shared/data)");
+                                  "data root: set --data or SHEARBENCH_DATA; default ../shared/data beside the "
+                                  "working folder or the source checkout)");
 }
 
 }  // namespace sb

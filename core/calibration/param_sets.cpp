@@ -10,6 +10,7 @@
 #include "core/data/importers.hpp"
 #include "core/data/json_read.hpp"
 #include "core/base/data_root.hpp"
+#include "core/base/install_paths.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/models/model.hpp"
 
@@ -51,10 +52,7 @@ std::string NamedParamSet::sensor_model() const {
   return provenance.is_object() ? provenance.value("sensor_model", std::string(kDefaultSensorModel)) : kDefaultSensorModel;
 }
 
-std::string param_sets_dir() {
-  if (fs::is_directory("assets/params")) return fs::absolute("assets/params").lexically_normal().string();
-  return (fs::path(SHEARBENCH_SOURCE_DIR) / "assets" / "params").string();
-}
+std::string param_sets_dir() { return (fs::path(home_dir()) / "assets" / "params").string(); }
 
 std::vector<std::string> param_set_names() {
   std::vector<std::string> names{kPublishedParamSet};

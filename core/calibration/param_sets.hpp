@@ -32,7 +32,8 @@ struct NamedParamSet {
   std::string sensor_model() const;
 };
 
-// The folder of the shipped sets: ./assets/params when run from the repository root, else the source tree's.
+// The folder of the shipped sets: assets/params in shearbench's home (base/install_paths.hpp: the installed
+// share/shearbench, or the source tree of a build folder's binary). Throws InputError when there is no home.
 std::string param_sets_dir();
 std::vector<std::string> param_set_names();
 // `name_or_file`: a set's name (assets/params/<name>.json) or a path to a set file. "published" needs no

@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "core/base/data_root.hpp"
+#include "core/base/error.hpp"
 #include "core/data/json_read.hpp"
 #include "core/data/sensor_json.hpp"
 #include "core/data/tsd.hpp"
@@ -13,6 +14,21 @@ namespace fs = std::filesystem;
 namespace sb {
 
 using jsonin::child;
+
+namespace {
+
+// resolve_path at a scene's JSON pointer: a data: path with no data root is reported at the scene's
+// file and entry (which file asked for data), not only at the data: path.
+std::string resolve_at(const std::string& given, const std::string& data_root, const std::string& base_dir,
+                       const std::string& where, const std::string& pointer) {
+  try {
+    return resolve_path(given, data_root, base_dir);
+  } catch (const InputError& e) {
+    jsonin::fail(where, pointer, "'" + given + "': " + e.detail());
+  }
+}
+
+}  // namespace
 
 Pose rpy_pose(const Vec3& xyz_m, const Vec3& rpy_deg) {
   const Vec3 a = rpy_deg * (M_PI / 180.0);
@@ -93,7 +109,7 @@ IndenterSpec parse_indenter_spec(const nlohmann::json& j, const std::string& whe
     jsonin::fail(where, child(ptr, "minor_radius_m"), "must be smaller than radius_m (the major radius)");
   if (s.shape == "mesh") {
     const std::string given = jsonin::string(jsonin::member(j, "mesh", where, ptr), where, child(ptr, "mesh"));
-    s.mesh_path = resolve_path(given, data_root, base_dir);
+    s.mesh_path = resolve_at(given, data_root, base_dir, where, child(ptr, "mesh"));
     if (!fs::exists(s.mesh_path))
       jsonin::fail(where, child(ptr, "mesh"), "mesh file '" + s.mesh_path + "' not found (data root: " + data_root + ")");
   }
@@ -153,7 +169,7 @@ std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::s
     if (camera.pinhole() && text != "flat")
       jsonin::fail(where, child(ptr, "gel"), "a pinhole camera needs a flat or spherical_cap gel, not a mesh file");
     if (text != "flat") {
-      const std::string path = resolve_path(text, data_root, base_dir);
+      const std::string path = resolve_at(text, data_root, base_dir, where, child(ptr, "gel"));
       if (!fs::exists(path))
         jsonin::fail(where, child(ptr, "gel"), "gel mesh '" + path + "' not found (data root: " + data_root + ")");
       gel.surface = path;
@@ -190,7 +206,7 @@ void parse_dataset_replay(const nlohmann::json& d, const std::string& where, con
   const std::string ptr = "/dataset";
   jsonin::reject_unknown_keys(d, {"path", "sample"}, where, ptr);
   const std::string given = jsonin::string(jsonin::member(d, "path", where, ptr), where, child(ptr, "path"));
-  const std::string dir = resolve_path(given, data_root, base_dir);
+  const std::string dir = resolve_at(given, data_root, base_dir, where, child(ptr, "path"));
   if (!fs::is_directory(dir))
     jsonin::fail(where, child(ptr, "path"), "dataset folder '" + dir + "' not found (data root: " + data_root + ")");
   const std::string id = jsonin::string(jsonin::member(d, "sample", where, ptr), where, child(ptr, "sample"));
