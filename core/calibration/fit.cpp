@@ -14,6 +14,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "core/base/elapsed.hpp"
 #include "core/data/tsd.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
@@ -33,10 +34,6 @@ constexpr int kScanPoints1d = 9;
 constexpr int kScanPoints2d = 5;
 // Below this <pred, pred> a rescale stage keeps s = 1 (the model predicts nothing to scale).
 constexpr double kRescaleMinNorm2 = 1e-12;
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The stage's parameters in optimiser coordinates x (log(value) for log_scale specs) with bounds.
 struct ParamMap {

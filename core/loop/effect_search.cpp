@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/base/elapsed.hpp"
 #include "core/base/format.hpp"
 #include "core/data/tsd.hpp"
 #include "core/effects/effects.hpp"
@@ -55,10 +56,6 @@ std::string outside_band(const ParamSet& fitted, const std::string& candidate, c
            format_number(b.low, "%.4g") + ", " + format_number(b.high, "%.4g") + "]";
   }
   return out;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
@@ -163,7 +160,7 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
   const auto replay_cal = replay(ids, warm_key, rec.cal), replay_val = replay(ids, warm_key, rec.val);
   CalibrationResult r{form_ + "+" + key, start.params, {}, false, 0};
   if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, replay_cal, stages, in_.calibration, start.params, fo_);
-  if (r.cancelled || o_.progress.cancelled()) throw Cancelled("residual analysis");
+  throw_if_cancelled(r, o_.progress);
   std::size_t free_count = 0;
   for (const auto& st : stages) free_count += st.params.size();
   return score_fit(in_, ids, r.params, free_count + fits_.at(warm_key).fit.free_params, replay_cal, replay_val);
@@ -193,7 +190,7 @@ EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const s
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
   const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_spec_model(model, in_.sensor, ind); };
   const CalibrationResult r = run_fit_stages(model, make, stage, in_.calibration, from, fo_);
-  if (r.cancelled || o_.progress.cancelled()) throw Cancelled("residual analysis");
+  throw_if_cancelled(r, o_.progress);
   const SampleModelFactory full = spec_model_factory(model, in_.sensor);
   return score_fit(in_, ids, r.params, joint.size(), full, full);
 }

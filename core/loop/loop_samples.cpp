@@ -176,6 +176,10 @@ std::vector<FingerprintSample> with_model_field(std::vector<FingerprintSample> f
   return fs;
 }
 
+void throw_if_cancelled(const CalibrationResult& r, const Progress& progress) {
+  if (r.cancelled || progress.cancelled()) throw Cancelled("residual analysis");
+}
+
 void copy_shared(const ParamSet& from, ParamSet* to) {
   for (std::size_t i = 0; i < to->size(); ++i) {
     const int j = from.index_of(to->specs()[i].name);

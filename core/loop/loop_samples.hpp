@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/base/progress.hpp"
 #include "core/calibration/fit.hpp"
 #include "core/calibration/metrics.hpp"
 #include "core/loop/fingerprints.hpp"
@@ -56,6 +57,10 @@ std::vector<FingerprintSample> fingerprint_samples(const Sensor& sensor, const s
 // `fs` with pred_px set to the field of `make`'s models at `params`.
 std::vector<FingerprintSample> with_model_field(std::vector<FingerprintSample> fs, const SampleModelFactory& make,
                                                 const ParamSet& params, const std::vector<FitSample>& samples);
+
+// A cancelled fit returns its last completed stage; the loop must not score that as a result: throws
+// sb::Cancelled when `r` was cancelled or `progress` asks to.
+void throw_if_cancelled(const CalibrationResult& r, const Progress& progress);
 
 // Copies the values of the names both tables share.
 void copy_shared(const ParamSet& from, ParamSet* to);

@@ -4,24 +4,12 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/base/elapsed.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/loop/effect_search.hpp"
 
 namespace sb {
-
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-void throw_if_cancelled(const CalibrationResult& r, const Progress& progress) {
-  // A cancelled fit returns its last completed stage; the loop must not score that as a result.
-  if (r.cancelled || progress.cancelled()) throw Cancelled("residual analysis");
-}
-
-}  // namespace
 
 std::vector<std::string> model_form_variants(const std::string& model_id) {
   if (model_id == "hydroshear") return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"};
