@@ -21,10 +21,13 @@ struct EvaluateArgs {
   std::string split = "all";
   std::string json_out;
   std::string markdown_out;
+  std::string predictions_out;
 };
 
 int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   if (a.model != "all") require_model(a.model);
+  if (!a.predictions_out.empty() && a.model == "all")
+    throw InputError("--predictions", "needs one --model (the fields of one model), not 'all'");
   const std::string root = resolve_data_root(g.data_root_flag);
   const Dataset ds = read_dataset(resolve_path(a.dataset, root, ""));
   split_selected(a.split, "calibration", "--split");  // rejects an unknown split before any work
@@ -43,7 +46,7 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
     nlohmann::json table = set.params(id).to_json();
     table.update(params_for_model(params_file, id, ids.size() == 1, a.params));
     const ModelFactory factory = dataset_model_factory(ds, id, table, root, a.params, &warnings);
-    results.push_back(evaluate_dataset(ds, factory, a.split, id, &warnings));
+    results.push_back(evaluate_dataset(ds, factory, a.split, id, &warnings, !a.predictions_out.empty()));
     if (!g.quiet) {
       const MetricsResult o = results.back().metrics.overall.result();
       std::printf("%-17s RMSE %.3f px  CS %.3f  n %lld  (%.2f s)\n", id.c_str(), o.rmse_px, o.cs, o.n,
@@ -54,6 +57,7 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   if (!g.quiet) std::printf("\n%s", evaluation_to_markdown(results, title).c_str());
   if (!a.json_out.empty()) write_file_atomic(a.json_out, evaluation_to_json(results, ds, a.split).dump(2) + "\n");
   if (!a.markdown_out.empty()) write_file_atomic(a.markdown_out, evaluation_to_markdown(results, title));
+  if (!a.predictions_out.empty()) write_file_atomic(a.predictions_out, scored_fields_csv(results.front()));
   if (!g.quiet)
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
   return 0;
@@ -67,6 +71,8 @@ void add_flags(CLI::App& sub, EvaluateArgs& a) {
   sub.add_option("--split", a.split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));
   sub.add_option("--json", a.json_out, "write the results as JSON")->required();
   sub.add_option("--markdown", a.markdown_out, "write the table as Markdown");
+  sub.add_option("--predictions", a.predictions_out,
+                 "write every scored marker's measured and predicted displacement as CSV (one model)");
 }
 
 const Subcommand<EvaluateArgs> kSubcommand{"evaluate", "score shear models against a tsd/1 dataset (RMSE and CS per motion type)", 35, add_flags, run_evaluate};

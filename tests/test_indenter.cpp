@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "core/base/data_root.hpp"
 #include "core/geometry/indenter.hpp"
@@ -130,6 +131,49 @@ TEST_CASE("box: 12 outward triangles, exact area and volume", "[indenter]") {
   check_closed_outward(m, 2);
   CHECK(m.area() == Approx(2 * (s.x() * s.y() + s.y() * s.z() + s.z() * s.x())).epsilon(kExactTol));
   CHECK(m.signed_volume() == Approx(s.x() * s.y() * s.z()).epsilon(kExactTol));
+}
+
+TEST_CASE("box_mesh_sdf: the exact field of a box mesh, null for anything else", "[indenter]") {
+  // The TacTip import's flat surface: 80 x 80 x 10 mm, face at z_I = 0, body above (centre z = 5 mm).
+  Pose X_IB = Pose::Identity();
+  X_IB.translation() = Vec3(0, 0, 5e-3);
+  const TriMesh m = make_box_mesh(Vec3(80e-3, 80e-3, 10e-3)).transformed(X_IB);
+  const SdfPtr phi = box_mesh_sdf(m);
+  REQUIRE(phi != nullptr);
+  // Below the face by 2 mm: +2 mm; 1 mm inside above the face (nearest face z = 0): -1 mm; 5 mm beyond the
+  // x = 40 mm side at mid-height: +5 mm; 1 mm from the corner edge (x = 40, z = 0) along both axes: sqrt 2 mm.
+  CHECK(phi->value(Vec3(0, 0, -2e-3)) == Approx(2e-3).epsilon(kExactTol));
+  CHECK(phi->value(Vec3(3e-3, -7e-3, 1e-3)) == Approx(-1e-3).epsilon(kExactTol));
+  CHECK(phi->value(Vec3(45e-3, 0, 5e-3)) == Approx(5e-3).epsilon(kExactTol));
+  CHECK(phi->value(Vec3(41e-3, 0, -1e-3)) == Approx(std::sqrt(2.0) * 1e-3).epsilon(kExactTol));
+
+  SECTION("not a box: a sphere, four of the corners, a corner moved") {
+    CHECK(box_mesh_sdf(make_sphere_mesh(5e-3, 2)) == nullptr);
+    TriMesh tet;  // four corners of the unit box: all at corners, but a sixth of its volume
+    tet.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+    tet.faces = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    CHECK(box_mesh_sdf(tet) == nullptr);
+    TriMesh moved = m;
+    moved.vertices[0] *= 0.9;
+    CHECK(box_mesh_sdf(moved) == nullptr);
+  }
+  SECTION("a scene's box mesh gets it through build_indenter unless analytic_sdf is off") {
+    const fs::path dir = fs::temp_directory_path() / "sb_box_mesh_sdf";
+    fs::create_directories(dir);
+    {
+      std::ofstream f(dir / "flat.obj");
+      for (const Vec3& v : m.vertices) f << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
+      for (const auto& t : m.faces) f << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    }
+    IndenterSpec spec;
+    spec.shape = "mesh";
+    spec.mesh_path = (dir / "flat.obj").string();
+    spec.sample_spacing_m = 5e-3;
+    CHECK(build_indenter(spec, "", dir.string()).sdf->describe().starts_with("analytic box"));
+    spec.analytic_sdf = false;
+    CHECK_FALSE(build_indenter(spec, "", dir.string()).sdf->describe().starts_with("analytic box"));
+    fs::remove_all(dir);
+  }
 }
 
 TEST_CASE("Poisson-disk samples on a sphere: spacing, areas, outward unit normals", "[indenter]") {

@@ -7,6 +7,7 @@ using namespace sb;
 
 namespace {
 constexpr double kExact = 1e-12;  // metres: closed-form distances
+constexpr double kTol = 1e-12;    // metres: the cap's distances, closed-form too (a square root and a hypot)
 }
 
 TEST_CASE("sphere SDF is |p - c| - r with a radial gradient", "[sdf]") {
@@ -69,4 +70,43 @@ TEST_CASE("a transformed SDF evaluates the inner field in its own frame", "[sdf]
   // p_A = (0, 0, 7 mm) is 2 mm from B's origin: phi = 1 mm; the gradient in A is +z.
   CHECK(std::abs(s->value_and_gradient(Vec3(0, 0, 0.007), &g) - 0.001) < kExact);
   CHECK((g - Vec3::UnitZ()).norm() < kExact);
+}
+
+TEST_CASE("spherical cap SDF: dome, rim, wall and bottom; against the cap's mesh", "[sdf]") {
+  // R = 20 mm, footprint 12 mm: rim at z = -(R - sqrt(R^2 - F^2)) = -(20 - 16) = -4 mm; thickness 10 mm.
+  const double R = 20e-3, F = 12e-3, T = 10e-3;
+  const auto cap = make_spherical_cap_sdf(R, F, T);
+  Vec3 g;
+  // On the axis 1 mm above the apex: +1 mm, gradient +z; 1 mm below it: -1 mm (the dome is nearest).
+  CHECK(cap->value_and_gradient(Vec3(0, 0, 1e-3), &g) == Approx(1e-3).margin(kTol));
+  CHECK((g - Vec3::UnitZ()).norm() < kTol);
+  CHECK(cap->value(Vec3(0, 0, -1e-3)) == Approx(-1e-3).margin(kTol));
+  // Along the dome's normal at polar angle 30 deg, 2 mm out: p = c + (R + 2 mm) (sin 30, 0, cos 30), +2 mm.
+  const Vec3 c(0, 0, -R), n(0.5, 0, std::sqrt(3.0) / 2);
+  CHECK(cap->value_and_gradient(c + (R + 2e-3) * n, &g) == Approx(2e-3).margin(kTol));
+  CHECK((g - n).norm() < 1e-9);
+  // 3 mm outside the wall at mid-height (z = -7 mm): +3 mm, gradient +x; 1 mm under the bottom: +1 mm.
+  CHECK(cap->value_and_gradient(Vec3(F + 3e-3, 0, -7e-3), &g) == Approx(3e-3).margin(kTol));
+  CHECK((g - Vec3::UnitX()).norm() < kTol);
+  CHECK(cap->value(Vec3(0, 2e-3, -T - 1e-3)) == Approx(1e-3).margin(kTol));
+  // Inside, 1 mm above the bottom on the axis: the bottom is nearest (the dome is 19 mm away): -1 mm.
+  CHECK(cap->value(Vec3(0, 0, -T + 1e-3)) == Approx(-1e-3).margin(kTol));
+  // (1, 1) mm off the rim corner (F, -4 mm) in (r, z): the polar angle atan(13 / 17) = 37.4 deg is past the
+  // rim's atan(12 / 16) = 36.9 deg, and the wall's nearest point is the corner too: sqrt 2 mm.
+  CHECK(cap->value(Vec3(0, F + 1e-3, -4e-3 + 1e-3)) == Approx(std::sqrt(2.0) * 1e-3).margin(kTol));
+  SECTION("the distance alone (the fast path) is the distance with its gradient, everywhere") {
+    // A 41^3 lattice over the cap's box grown by 5 mm: inside, outside, on the axis, beside the rim and wall.
+    for (int i = 0; i <= 40; ++i)
+      for (int j = 0; j <= 40; ++j)
+        for (int k = 0; k <= 40; ++k) {
+          const Vec3 p(-17e-3 + 34e-3 * i / 40, -17e-3 + 34e-3 * j / 40, -15e-3 + 20e-3 * k / 40);
+          Vec3 g2;
+          const double with_gradient = cap->value_and_gradient(p, &g2);
+          REQUIRE(std::abs(cap->value(p) - with_gradient) < 1e-15);
+        }
+  }
+  SECTION("impossible shapes are refused") {
+    CHECK_THROWS_AS(make_spherical_cap_sdf(R, 25e-3, T), std::invalid_argument);   // footprint > radius
+    CHECK_THROWS_AS(make_spherical_cap_sdf(R, F, 3e-3), std::invalid_argument);    // ends above the rim
+  }
 }

@@ -16,6 +16,10 @@ struct ParamSpec {
   double max;
   std::string help;
   bool log_scale = false; // sliders and fits work on log(value)
+  // The value changes only the field a model computes from its state, never the state a step carries to
+  // the next (a kernel's width or gain, not friction): a fit's finite differences over it replay only the
+  // scored frames from the state before them (core/calibration/fit.cpp).
+  bool field_only = false;
 };
 
 class ParamSet {

@@ -3,6 +3,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -20,17 +21,25 @@ bool split_selected(const std::string& split_filter, const std::string& sample_s
   return split_filter == sample_split;
 }
 
-void run_sample(ShearModel& model, const SampleData& data, double dt_s, MetricsAccumulator* acc) {
+void run_sample(ShearModel& model, const SampleData& data, double dt_s, MetricsAccumulator* acc,
+                std::vector<ScoredFrame>* fields) {
   model.reset();
   FieldOutput out;
   for (std::size_t k = 0; k < data.frames(); ++k) {
+    const auto& meas = data.markers_px[k];
+    if (std::none_of(meas.begin(), meas.end(), [](const Vec2& d) { return d.allFinite(); })) {
+      model.step(data.X_EI(k), dt_s, nullptr);  // nothing tracked in this frame: no field to score
+      continue;
+    }
     model.step(data.X_EI(k), dt_s, &out);
-    acc->add_frame(out.disp_px, data.markers_px[k]);
+    const long long before = acc->frames_counted();
+    acc->add_frame(out.disp_px, meas);
+    if (fields && acc->frames_counted() > before) fields->push_back({static_cast<int>(k), out.disp_px, meas});
   }
 }
 
 EvaluationResult evaluate_dataset(const Dataset& ds, const ModelFactory& factory, const std::string& split_filter,
-                                  const std::string& model_id, Warnings* warnings) {
+                                  const std::string& model_id, Warnings* warnings, bool keep_fields) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<const TsdSampleInfo*> selected;
   for (const auto& s : ds.samples)
@@ -44,7 +53,7 @@ EvaluationResult evaluate_dataset(const Dataset& ds, const ModelFactory& factory
     std::unique_ptr<ShearModel> model = factory(info);
     per_sample[i].sample_id = info.id;
     per_sample[i].motion = info.motion;
-    run_sample(*model, data, info.dt_s, &per_sample[i].metrics);
+    run_sample(*model, data, info.dt_s, &per_sample[i].metrics, keep_fields ? &per_sample[i].fields : nullptr);
   });
 
   EvaluationResult result;
@@ -153,6 +162,24 @@ std::string evaluation_to_markdown(const std::vector<EvaluationResult>& results,
     s += " " + format_number(o.rmse_px, "%.3f", "–") + " | " + format_number(o.cs, "%.3f", "–") + " | " + std::to_string(o.n) + " |\n";
   }
   return s;
+}
+
+}  // namespace sb
+
+namespace sb {
+
+std::string scored_fields_csv(const EvaluationResult& result) {
+  std::string out = "sample,motion,frame,marker,meas_du_px,meas_dv_px,pred_du_px,pred_dv_px\n";
+  for (const SampleEvaluation& s : result.samples)
+    for (const ScoredFrame& f : s.fields)
+      for (std::size_t j = 0; j < f.meas_px.size(); ++j) {
+        const Vec2& m = f.meas_px[j];
+        const Vec2& p = f.pred_px[j];
+        out += s.sample_id + "," + s.motion + "," + std::to_string(f.frame) + "," + std::to_string(j) + "," +
+               format_number(m.x(), "%.4f", "nan") + "," + format_number(m.y(), "%.4f", "nan") + "," +
+               format_number(p.x(), "%.4f", "nan") + "," + format_number(p.y(), "%.4f", "nan") + "\n";
+      }
+  return out;
 }
 
 }  // namespace sb

@@ -23,10 +23,17 @@ namespace sb {
 // Must be safe to call from several threads at once.
 using ModelFactory = std::function<std::unique_ptr<ShearModel>(const TsdSampleInfo&)>;
 
+// One scored frame's field (kept when asked: `evaluate --predictions`).
+struct ScoredFrame {
+  int frame = 0;
+  std::vector<Vec2> pred_px, meas_px;   // per marker; NaN where the tracker lost a marker
+};
+
 struct SampleEvaluation {
   std::string sample_id;
   std::string motion;
   MetricsAccumulator metrics;
+  std::vector<ScoredFrame> fields;      // empty unless keep_fields
 };
 
 struct EvaluationResult {
@@ -41,12 +48,19 @@ bool split_selected(const std::string& split_filter, const std::string& sample_s
 
 // Resets `model`, steps it through every frame of `data` with dt_s, and adds each frame's predicted
 // field against the measured markers to `acc`.
-void run_sample(ShearModel& model, const SampleData& data, double dt_s, MetricsAccumulator* acc);
+// Frames with nothing tracked (every marker NaN) are stepped without a field. fields (optional): every frame
+// the metrics score, predicted and measured.
+void run_sample(ShearModel& model, const SampleData& data, double dt_s, MetricsAccumulator* acc,
+                std::vector<ScoredFrame>* fields = nullptr);
 
 // Loads each selected sample lazily, evaluates it with a model from `factory` (in parallel over
 // samples; results are merged in dataset order so they do not depend on the thread count).
 EvaluationResult evaluate_dataset(const Dataset& ds, const ModelFactory& factory, const std::string& split_filter,
-                                  const std::string& model_id, Warnings* warnings = nullptr);
+                                  const std::string& model_id, Warnings* warnings = nullptr, bool keep_fields = false);
+
+// The kept fields as CSV rows sample,motion,frame,marker,meas_du_px,meas_dv_px,pred_du_px,pred_dv_px (a header
+// line first): what a residual analysis outside shearbench reads.
+std::string scored_fields_csv(const EvaluationResult& result);
 
 // The parameter table for `model_id` from a params file (format above); an empty object when the file
 // has none for it. `flat_allowed` is false when several models run (a flat table would be ambiguous).

@@ -57,11 +57,15 @@ ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_i
     if (!used) continue;
     (*indenters)[name] = cached_dataset_indenter(ds, name, data_root, warnings);
   }
-  return [=](const TsdSampleInfo& info) {
-    auto model = make_spec_model(model_id, sensor, indenters->at(info.indenter));
+  // One prototype per indenter, cloned per sample: building a model indexes the indenter's points (for the
+  // TacTip's flat surface, 15k of them, once per sample before).
+  auto prototypes = std::make_shared<std::map<std::string, std::shared_ptr<const ShearModel>>>();
+  for (const auto& [name, indenter] : *indenters) {
+    auto model = make_spec_model(model_id, sensor, indenter);
     model->set_params(param_set);
-    return model;
-  };
+    (*prototypes)[name] = std::move(model);
+  }
+  return [prototypes](const TsdSampleInfo& info) { return prototypes->at(info.indenter)->clone(); };
 }
 
 }  // namespace sb

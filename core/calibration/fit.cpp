@@ -39,6 +39,7 @@ constexpr double kRescaleMinNorm2 = 1e-12;
 struct ParamMap {
   std::vector<int> index;
   std::vector<bool> log;
+  std::vector<bool> field_only;   // the model's own table says so (its finite differences replay less)
   std::vector<double> lo, hi;
 
   ParamMap(const ParamSet& p, const std::vector<std::string>& names, const std::string& model_id) {
@@ -49,11 +50,19 @@ struct ParamMap {
       const bool lg = s.log_scale && s.min > 0;
       index.push_back(i);
       log.push_back(lg);
+      field_only.push_back(false);
       lo.push_back(lg ? std::log(s.min) : s.min);
       hi.push_back(lg ? std::log(s.max) : s.max);
     }
   }
   int size() const { return static_cast<int>(index.size()); }
+  // Marks the parameters the model (as built: an effect with state clears them all) calls field-only.
+  void mark_field_only(const ParamSet& model_table, const ParamSet& p) {
+    for (int k = 0; k < size(); ++k) {
+      const int j = model_table.index_of(p.specs()[index[k]].name);
+      field_only[k] = j >= 0 && model_table.specs()[j].field_only;
+    }
+  }
   double to_x(int k, double value) const { return log[k] ? std::log(value) : value; }
   std::vector<double> to_x(const ParamSet& p) const {
     std::vector<double> x(index.size());
@@ -115,12 +124,18 @@ class StageEvaluator {
   int evaluations() const { return evaluations_; }
   bool cancelled() const { return cancel_ && cancel_->load(); }
 
+  // How a run starts: from reset, keeping a copy of each model just before its first scored frame (Central),
+  // or not (Full); or from that copy (FromScored: only a field-only parameter differs from the Central run).
+  enum class Run { Central, Full, FromScored };
+
   // Residuals (2 per scored marker-frame) at x; false when cancelled. sse: raw sum |s pred - meas|^2.
-  bool residuals(const double* x, double* r, double* scale_out = nullptr, double* sse_out = nullptr) {
+  bool residuals(const double* x, double* r, double* scale_out = nullptr, double* sse_out = nullptr,
+                 Run run = Run::Full) {
     if (cancelled()) return false;
     ParamSet p = base_;
     map_.apply(x, &p);
     in_double(&p);
+    if (run == Run::Central) scored_start_.resize(slots_.size());
     std::atomic<bool> stop{false};
     tbb::parallel_for(0, static_cast<int>(slots_.size()), [&](int i) {
       if (cancelled()) {
@@ -128,9 +143,21 @@ class StageEvaluator {
         return;
       }
       const SampleSlot& s = slots_[i];
-      s.model->set_params(p);
-      const auto pred = simulate_sample(*s.model, *s.sample);
       const int m = static_cast<int>(s.sample->meas_px.front().size());
+      const std::size_t first_scored = static_cast<std::size_t>(s.active->front() / m);
+      std::vector<std::vector<Vec2>> pred(s.sample->X_EI.size());
+      if (run == Run::FromScored) {
+        auto model = scored_start_[i]->clone();
+        model->set_params(p);
+        simulate_frames(*model, *s.sample, first_scored, &pred);
+      } else {
+        s.model->set_params(p);
+        s.model->reset();
+        const auto keep = [&](std::size_t k) {
+          if (run == Run::Central && k == first_scored) scored_start_[i] = s.model->clone();
+        };
+        simulate_frames(*s.model, *s.sample, 0, &pred, keep);
+      }
       for (std::size_t a = 0; a < s.active->size(); ++a) {
         const int f = (*s.active)[a];
         pred_[s.offset + a] = pred[f / m][f % m];
@@ -182,6 +209,7 @@ class StageEvaluator {
   int n_ = 0;
   int evaluations_ = 0;
   std::vector<Vec2> pred_, meas_;
+  std::vector<std::unique_ptr<ShearModel>> scored_start_;   // per slot, the last Central run's state
 };
 
 // Central differences, one-sided at a bound.
@@ -202,18 +230,21 @@ class StageCost final : public ceres::CostFunction {
       if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * P, 0.0);
       return true;
     };
-    if (!ev_->residuals(x, residuals)) return cancelled();
-    if (!jacobians || !jacobians[0]) return true;
+    const bool columns = jacobians && jacobians[0];
+    if (!ev_->residuals(x, residuals, nullptr, nullptr, columns ? StageEvaluator::Run::Central : StageEvaluator::Run::Full))
+      return cancelled();
+    if (!columns) return true;
     std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
     for (int k = 0; k < P; ++k) {
       const double h = map_->log[k] ? kDiffStepLog
                                     : kDiffStepLinear * std::max(std::abs(x[k]), 0.01 * (map_->hi[k] - map_->lo[k]));
       xp[k] = std::min(x[k] + h, map_->hi[k]);
       xm[k] = std::max(x[k] - h, map_->lo[k]);
-      if (!ev_->residuals(xp.data(), rp.data())) return cancelled();
+      const auto run = map_->field_only[k] ? StageEvaluator::Run::FromScored : StageEvaluator::Run::Full;
+      if (!ev_->residuals(xp.data(), rp.data(), nullptr, nullptr, run)) return cancelled();
       if (xm[k] == x[k]) {
         std::copy(residuals, residuals + n, rm.begin());
-      } else if (!ev_->residuals(xm.data(), rm.data())) {
+      } else if (!ev_->residuals(xm.data(), rm.data(), nullptr, nullptr, run)) {
         return cancelled();
       }
       const double dx = xp[k] - xm[k];
@@ -422,15 +453,33 @@ void require_calibration_split(const std::vector<FitSample>& samples) {
                                   "' split; a fit may only read the calibration split");
 }
 
+bool frame_unmeasured(const FitSample& sample, std::size_t k) {
+  if (k >= sample.meas_px.size() || sample.meas_px[k].empty()) return false;
+  return std::none_of(sample.meas_px[k].begin(), sample.meas_px[k].end(), [](const Vec2& d) { return d.allFinite(); });
+}
+
 std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSample& sample) {
   model.reset();
   std::vector<std::vector<Vec2>> out(sample.X_EI.size());
-  FieldOutput field;
-  for (std::size_t k = 0; k < sample.X_EI.size(); ++k) {
-    model.step(sample.X_EI[k], k == 0 ? 0.0 : sample.dt_s, &field);
-    out[k] = field.disp_px;
-  }
+  simulate_frames(model, sample, 0, &out);
   return out;
+}
+
+void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first,
+                     std::vector<std::vector<Vec2>>* out, const std::function<void(std::size_t)>& before_frame) {
+  FieldOutput field;
+  for (std::size_t k = first; k < sample.X_EI.size(); ++k) {
+    if (before_frame) before_frame(k);
+    std::vector<std::vector<Vec2>>& pred = *out;
+    const double dt = k == 0 ? 0.0 : sample.dt_s;
+    if (frame_unmeasured(sample, k)) {  // nothing to compare: the state only (the TacTip's slide frames)
+      model.step(sample.X_EI[k], dt, nullptr);
+      pred[k].assign(sample.meas_px[k].size(), Vec2::Constant(std::numeric_limits<double>::quiet_NaN()));
+      continue;
+    }
+    model.step(sample.X_EI[k], dt, &field);
+    pred[k] = field.disp_px;
+  }
 }
 
 nlohmann::json CalibrationResult::report_json() const {
@@ -517,7 +566,8 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
       continue;
     }
 
-    const ParamMap map(result.params, stage.params, model_id);
+    ParamMap map(result.params, stage.params, model_id);
+    map.mark_field_only(slots.front().model->params(), result.params);
     StageEvaluator ev(std::move(slots), result.params, map, stage.rescale, o.robust, o.robust_scale_px, o.cancel);
     std::vector<double> x = map.to_x(result.params);
     double sse = 0;

@@ -147,8 +147,15 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
 CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
                     const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
 
-// The model's prediction for every frame of a sample (the model is reset first).
+// The model's prediction for every frame of a sample (the model is reset first). A frame whose measured
+// markers are all NaN (recorded, nothing tracked: the TacTip's slide frames before its one image) is stepped
+// without a field (ShearModel::step with nullptr) and predicted as NaN.
+bool frame_unmeasured(const FitSample& sample, std::size_t k);
 std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSample& sample);
+// Steps `model` (not reset) through frames first.. of `sample` into (*out)[k] (sized to the sample's frames), as
+// simulate_sample does; before_frame(k), when given, is called before each step.
+void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first,
+                     std::vector<std::vector<Vec2>>* out, const std::function<void(std::size_t)>& before_frame = {});
 
 // RMSE (px) of `params` over the scored marker-frames of `samples` (no robust loss, no rescale).
 double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> sensor,

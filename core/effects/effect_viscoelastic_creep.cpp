@@ -19,6 +19,7 @@ class ViscoelasticCreep final : public Effect {
            "toward the relaxed value (1 + c) d with time constant tau; after release the residual decays "
            "with the same tau. Per marker x' = (c d - x) / tau, output d + x (exact exp(-dt/tau) step).";
   }
+  bool stateful() const override { return true; }
   void reset() override {
     creep_.clear();
     previous_input_.clear();

@@ -112,6 +112,10 @@ ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effe
       values.push_back(e->params()[i]);
     }
   }
+  // A stateful effect carries the field from step to step (creep integrates it), so no parameter of the
+  // whole is field-only any more.
+  if (std::any_of(effects.begin(), effects.end(), [](const Effect* e) { return e->stateful(); }))
+    for (ParamSpec& s : specs) s.field_only = false;
   ParamSet table(std::move(specs));
   for (std::size_t i = 0; i < values.size(); ++i) table.set(i, values[i]);
   return table;
@@ -182,6 +186,8 @@ void EffectModel::reset() {
 void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   if (!std::isfinite(dt) || dt < 0.0)
     throw std::invalid_argument("EffectModel::step: dt = " + std::to_string(dt) + " must be finite and >= 0");
+  const bool field_needed = std::any_of(effects_.begin(), effects_.end(), [](const auto& e) { return e->stateful(); });
+  if (out == nullptr && field_needed) out = &scratch_field_;
   base_->step(X_EI, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
   // The penetration depends on the pose alone and costs more than the base model for a finely sampled
@@ -195,6 +201,10 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
     penetration_cache_[step_index_] = {X_EI, last_penetration_};
   }
   ++step_index_;
+  if (out == nullptr) {  // no field wanted, none of the effects carries state: only the loading state advances
+    previous_depth_m_ = last_penetration_.depth_m;
+    return;
+  }
 
   EffectContext ctx;
   ctx.sensor = sensor_.get();

@@ -57,6 +57,9 @@ class Effect {
   void set_params(const ParamSet& params);
   // Clears any state carried between steps (filters); stateless effects do nothing.
   virtual void reset() {}
+  // True for an effect that carries state between steps (it overrides reset()): it must see every step's
+  // field, so a model wearing it computes the field even where the caller wants none.
+  virtual bool stateful() const { return false; }
   // Modifies the field in place. disp_px has one entry per sensor marker (std::invalid_argument
   // otherwise, for effects that use marker positions).
   virtual void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) = 0;
@@ -85,6 +88,7 @@ class EffectModel final : public ShearModel {
   void set_params(const ParamSet& params) override;
   void reset() override;
   // Base step, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
+  // out == nullptr: the base steps without a field unless an effect is stateful (then into a scratch field).
   void step(const Pose& X_EI, double dt, FieldOutput* out) override;
   std::unique_ptr<ShearModel> clone() const override;
 
@@ -108,6 +112,7 @@ class EffectModel final : public ShearModel {
   Penetration last_penetration_;
   std::size_t step_index_ = 0;                                     // steps since reset()
   std::vector<std::pair<Pose, Penetration>> penetration_cache_;   // per step index: pose and its penetration
+  FieldOutput scratch_field_;                                      // a stateful effect's field when none is wanted
 };
 
 // The registered effect ids, in display order.

@@ -57,6 +57,10 @@ struct IndenterSpec {
 TriMesh make_indenter_mesh(const IndenterSpec& spec, const std::string& data_root, const std::string& base_dir,
                            Warnings* warnings = nullptr);
 SdfPtr make_analytic_indenter_sdf(const IndenterSpec& spec);
+// The exact field of a mesh that is an axis-aligned box (every vertex at a corner of its bounds, enclosing
+// the bounds' volume: e.g. the TacTip import's flat surface), else null. A sampled field of a box costs a
+// tree lookup per point and rounds its edges; the exact one is a few operations.
+SdfPtr box_mesh_sdf(const TriMesh& mesh);
 
 // Mesh, surface samples (spec.sample_spacing_m, seed 1) and field: the analytic one when
 // spec.analytic_sdf and the shape has one, else make_mesh_sdf.

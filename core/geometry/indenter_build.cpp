@@ -22,6 +22,7 @@ Indenter build_indenter(const IndenterSpec& spec, const std::string& data_root, 
   ind.mesh = make_indenter_mesh(spec, data_root, base_dir, warnings);
   ind.samples = poisson_disk_samples(ind.mesh, spec.sample_spacing_m);
   if (spec.analytic_sdf) ind.sdf = make_analytic_indenter_sdf(spec);
+  if (spec.analytic_sdf && !ind.sdf) ind.sdf = box_mesh_sdf(ind.mesh);
   if (!ind.sdf) {
     MeshSdfOptions options;
     options.allow_open = spec.allow_open;

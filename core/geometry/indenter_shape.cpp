@@ -1,5 +1,6 @@
 // Indenter shapes from scene descriptions: the mesh (procedural or loaded) and, where one exists, the
 // exact field. Separate from indenter_build.cpp, which also needs the mesh SDF (OpenVDB).
+#include <cmath>
 #include <filesystem>
 #include <stdexcept>
 
@@ -9,6 +10,8 @@
 namespace sb {
 
 namespace {
+
+constexpr double kBoxMeshTolerance = 1e-9;  // relative to the box's diagonal (vertices) or volume
 
 bool is_mesh_file(const IndenterSpec& spec) { return spec.shape == "mesh" || (spec.shape.empty() && !spec.mesh_path.empty()); }
 
@@ -38,6 +41,21 @@ TriMesh make_indenter_mesh(const IndenterSpec& spec, const std::string& data_roo
   } catch (const std::invalid_argument& e) {  // impossible dimensions
     throw InputError("indenter '" + spec.shape + "'", e.what());
   }
+}
+
+SdfPtr box_mesh_sdf(const TriMesh& mesh) {
+  if (mesh.empty()) return nullptr;
+  const Eigen::AlignedBox3d B = mesh.bounds();
+  const Vec3 size = B.sizes();
+  const double tol = kBoxMeshTolerance * size.norm();
+  if (!(size.minCoeff() > tol)) return nullptr;
+  for (const Vec3& v : mesh.vertices)
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(v[a] - B.min()[a]) > tol && std::abs(v[a] - B.max()[a]) > tol) return nullptr;
+  // Corners alone do not make a box (a tetrahedron on four of them): the mesh must enclose the whole volume.
+  const double volume = size.prod();
+  if (std::abs(mesh.signed_volume() - volume) > kBoxMeshTolerance * volume) return nullptr;
+  return make_box_sdf(size, B.center());
 }
 
 SdfPtr make_analytic_indenter_sdf(const IndenterSpec& spec) {

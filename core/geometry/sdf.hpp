@@ -32,8 +32,11 @@ using SdfPtr = std::shared_ptr<const Sdf>;
 SdfPtr make_sphere_sdf(double radius, const Vec3& centre = Vec3::Zero());
 // Torus about the z axis through the origin: major radius R (centre of tube), minor radius r.
 SdfPtr make_torus_sdf(double major_radius, double minor_radius);
-// Axis-aligned box centred at the origin with the given full side lengths.
-SdfPtr make_box_sdf(const Vec3& size);
+// A dome gel: the ball of radius R about (0, 0, -R) above the rim where its radius is the footprint radius,
+// on a cylinder of that radius down to z = -thickness (what a spherical_cap gel's mesh describes, exactly).
+SdfPtr make_spherical_cap_sdf(double radius, double footprint_radius, double thickness);
+// Axis-aligned box with the given full side lengths, centred at `centre` (default: the origin).
+SdfPtr make_box_sdf(const Vec3& size, const Vec3& centre = Vec3::Zero());
 // Flat gel pad of tsd/1: x in [-sx/2, sx/2], y in [-sy/2, sy/2], z in [-thickness, 0].
 SdfPtr make_pad_sdf(const Vec2& size, double thickness);
 // Flat-ended (capped) cylinder along z, centred at the origin: radius r, full length L.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "core/geometry/sdf.hpp"
 
@@ -47,6 +48,79 @@ class SphereSdf final : public Sdf {
  private:
   double r_;
   Vec3 c_;
+};
+
+// The gel of a dome sensor (sensor.cpp's spherical_cap_mesh, exactly): the part of the ball of radius R about
+// (0, 0, -R) above its rim z_rim = -R (1 - cos theta_max), F = R sin theta_max the footprint radius, on a
+// cylinder r <= F from z_rim down to -T. Worked in the (r, z) half-plane of a solid of revolution: the
+// distance is the one to the nearest of the profile's arc, wall and bottom; inside is the union of the two.
+class SphericalCapSdf final : public Sdf {
+ public:
+  SphericalCapSdf(double R, double F, double T)
+      : R_(R), F_(F), T_(T), z_rim_(-(R - std::sqrt(std::max(R * R - F * F, 0.0)))), sin_rim_(F / R),
+        cos_rim_((z_rim_ + R) / R) {}
+  // The distance alone (HydroShear asks it of every point near the gel at every step): squared distances to the
+  // arc's circle or its rim end, the wall and the bottom, one square root each.
+  double value(const Vec3& p) const override {
+    const double r = std::sqrt(p.x() * p.x() + p.y() * p.y()), z = p.z(), zc = z + R_;
+    double d2;
+    if (r * cos_rim_ - zc * sin_rim_ > 0) {
+      d2 = (r - F_) * (r - F_) + (z - z_rim_) * (z - z_rim_);
+    } else {
+      const double arc = std::sqrt(r * r + zc * zc) - R_;
+      d2 = arc * arc;
+    }
+    const double zw = z - std::clamp(z, -T_, z_rim_);
+    d2 = std::min(d2, (r - F_) * (r - F_) + zw * zw);
+    const double rb = r - std::min(r, F_);
+    d2 = std::min(d2, rb * rb + (z + T_) * (z + T_));
+    const bool inside = z >= -T_ && ((z <= z_rim_ && r <= F_) || (z > z_rim_ && r * r + zc * zc <= R_ * R_));
+    return inside ? -std::sqrt(d2) : std::sqrt(d2);
+  }
+  double value_and_gradient(const Vec3& p, Vec3* g) const override {
+    const double r = std::sqrt(p.x() * p.x() + p.y() * p.y()), z = p.z();
+    const Vec2 q(r, z);
+    Vec2 nearest = nearest_on_arc(q);
+    for (const Vec2& c : {nearest_on_segment(q, Vec2(F_, z_rim_), Vec2(F_, -T_)),
+                          nearest_on_segment(q, Vec2(F_, -T_), Vec2(0, -T_))})
+      if ((q - c).squaredNorm() < (q - nearest).squaredNorm()) nearest = c;
+    const bool inside = z >= -T_ && ((z <= z_rim_ && r <= F_) || (z > z_rim_ && r * r + (z + R_) * (z + R_) <= R_ * R_));
+    const Vec2 d = q - nearest;
+    const double dist = d.norm();
+    const Vec2 radial = r > 0 ? Vec2(p.x() / r, p.y() / r) : Vec2(1, 0);
+    const Vec2 n2 = dist > 0 ? Vec2(d / dist * (inside ? -1.0 : 1.0)) : Vec2(0, 1);
+    *g = Vec3(n2.x() * radial.x(), n2.x() * radial.y(), n2.y());
+    return inside ? -dist : dist;
+  }
+  void values(std::span<const Vec3> p, std::span<double> phi) const override {
+    for (std::size_t i = 0; i < p.size(); ++i) phi[i] = SphericalCapSdf::value(p[i]);
+  }
+  Eigen::AlignedBox3d bounds() const override {
+    const double e = 2 * std::max(F_, T_);
+    return {Vec3(-e, -e, -2 * T_), Vec3(e, e, T_)};
+  }
+  std::string describe() const override {
+    std::ostringstream s;
+    s << "analytic spherical cap R=" << R_ << " footprint " << F_ << " thickness " << T_ << " m";
+    return s.str();
+  }
+
+ private:
+  // Nearest point of the arc from the apex (0, 0) to the rim (F, z_rim), centre (0, -R). v = q - centre at
+  // polar angle t (from +z, t >= 0 since r >= 0): v x u(t_rim) = |v| sin(t - t_rim) <= 0 iff t <= t_rim.
+  Vec2 nearest_on_arc(const Vec2& q) const {
+    const Vec2 v = q - Vec2(0, -R_);
+    if (v.x() * cos_rim_ - v.y() * sin_rim_ > 0) return Vec2(F_, z_rim_);
+    const double n = v.norm();
+    if (n == 0 || (v.x() <= 0 && v.y() < 0)) return Vec2(0, 0);   // the centre, or straight below it
+    return Vec2(0, -R_) + (R_ / n) * v;
+  }
+  static Vec2 nearest_on_segment(const Vec2& q, const Vec2& a, const Vec2& b) {
+    const Vec2 ab = b - a;
+    const double t = std::clamp((q - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+    return a + t * ab;
+  }
+  double R_, F_, T_, z_rim_, sin_rim_, cos_rim_;
 };
 
 class TorusSdf final : public Sdf {
@@ -209,7 +283,14 @@ class TransformedSdf final : public Sdf {
 
 SdfPtr make_sphere_sdf(double radius, const Vec3& centre) { return std::make_shared<SphereSdf>(radius, centre); }
 SdfPtr make_torus_sdf(double R, double r) { return std::make_shared<TorusSdf>(R, r); }
-SdfPtr make_box_sdf(const Vec3& size) { return std::make_shared<BoxSdf>(Vec3::Zero(), size / 2); }
+SdfPtr make_spherical_cap_sdf(double radius, double footprint_radius, double thickness) {
+  if (!(radius > 0 && footprint_radius > 0 && footprint_radius <= radius && thickness > 0))
+    throw std::invalid_argument("make_spherical_cap_sdf: needs 0 < footprint radius <= radius and thickness > 0");
+  if (thickness < radius - std::sqrt(radius * radius - footprint_radius * footprint_radius))
+    throw std::invalid_argument("make_spherical_cap_sdf: the thickness ends above the cap's rim");
+  return std::make_shared<SphericalCapSdf>(radius, footprint_radius, thickness);
+}
+SdfPtr make_box_sdf(const Vec3& size, const Vec3& centre) { return std::make_shared<BoxSdf>(centre, size / 2); }
 SdfPtr make_pad_sdf(const Vec2& size, double thickness) {
   const Vec3 half(size.x() / 2, size.y() / 2, thickness / 2);
   return std::make_shared<BoxSdf>(Vec3(0, 0, -thickness / 2), half);

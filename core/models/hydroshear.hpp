@@ -100,6 +100,9 @@ class HydroShearBatch {
   void reset();
   void reset_slot(int slot);
   // X_EI[slot]; disp_px[slot * markers() + j]; diagnostics empty or one per slot. Slots run in parallel.
+  // disp_px empty: the state advances and no field is computed (the shear sum and the dilation, most of a
+  // step's cost when the markers are not a grid, are skipped); diagnostics must then be empty too.
+  static constexpr bool kFieldOptional = true;
   void step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics);
   // The committed tracked points of one slot (for tests and the GUI), in the batch's point order
   // (clusters), not sorted by index.
@@ -176,6 +179,7 @@ class HydroShearBatch {
   // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
   // .y), rows padded with zeros to kernels::dilation_stride(nm).
   std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)
+  double dil_lambda_ = 0;                                       // the lambda_d they were made with
   double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
   // The indenter's points in the batch's order, built once and shared by copies: the workbench clones each
   // model every 16 steps (a checkpoint for seeks), and copying these made a clone O(indenter) instead of
@@ -193,6 +197,10 @@ class HydroShearBatch {
   std::shared_ptr<const PointTable> table_;
   double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
   bool cull_ = false;
+  // Any other gel: its mesh's box grown by a margin (kGelBoxMargin); a cluster wholly outside it is not in the
+  // gel (the TacTip's dome under an 80 mm flat surface: three quarters of the surface's points).
+  Eigen::AlignedBox3d gel_box_;
+  bool box_cull_ = false;
   std::vector<Slot> slots_;
   struct ScratchPool;
   std::unique_ptr<ScratchPool> pool_;

@@ -29,6 +29,8 @@ class SingleSlotModel final : public ShearModel {
     if (out) {
       batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, std::span<FieldOutput>(out, 1));
       if (!sensor_->output_stage.identity()) sensor_->output_stage.apply(out->disp_px);
+    } else if constexpr (requires { requires Batch::kFieldOptional; }) {
+      batch_->step(std::span<const Pose>(&X_EI, 1), dt, {}, {});  // the state only
     } else {
       batch_->step(std::span<const Pose>(&X_EI, 1), dt, disp_, {});
     }

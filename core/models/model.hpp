@@ -34,7 +34,8 @@ class ShearModel {
   virtual void set_params(const ParamSet& params) = 0;
   virtual void reset() = 0;
   // One step to the pose X_EI (indenter in elastomer) after dt seconds. Throws std::invalid_argument
-  // on a non-finite pose.
+  // on a non-finite pose. out == nullptr: no field is wanted at this step (nothing measured there); the
+  // state still advances exactly as with a field, and a model may skip computing the field.
   virtual void step(const Pose& X_EI, double dt, FieldOutput* out) = 0;
   virtual std::unique_ptr<ShearModel> clone() const = 0;
 };

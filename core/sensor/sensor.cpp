@@ -199,6 +199,10 @@ Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<V
     s.p_EM = markers_on_plane(camera, markers_rest_px, gel.markers_depth_m);
   } else if (gel.surface == "spherical_cap" && gel_mesh_E == nullptr) {
     s.gel_mesh = spherical_cap_mesh(gel);
+    s.gel.size_m = s.gel_mesh.bounds().sizes().head<2>();
+    // The exact field, not the mesh's sampled one: the same solid without facets, and a few operations per
+    // point against a tree lookup (the TacTip's fits spent a third of their time there).
+    s.gel_sdf = make_spherical_cap_sdf(gel.radius_m, gel.footprint_radius_m, gel.thickness_m);
     s.p_EM = markers_on_cap(gel, camera, markers_rest_px);
     pin_surface_centre_z = -gel.radius_m;
   } else {

@@ -1,0 +1,79 @@
+// The real TacTip path (issue 32's goals: each model fitted on the whole calibration split within 5 min on 2
+// cores): one sample's steps (the press, the slide, the one scored frame), a whole-split evaluation, and the
+// fit of every model as `params --rebuild --set tactip_shear` runs it (its stages, then the joint refinement,
+// at most 10 iterations per stage). Needs the data root ($SHEARBENCH_DATA or ../shared/data); the import
+// (about 45 s) is kept in $TMPDIR/shearbench_bench_tactip and reused.
+// Run: ./build/shearbench_bench --benchmark_filter=Tactip
+//      ./build/shearbench_bench --benchmark_filter='Tactip(Fit|Evaluate)' --benchmark_min_time=1x   (minutes)
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <memory>
+#include <mutex>
+
+#include "core/base/data_root.hpp"
+#include "core/calibration/fit.hpp"
+#include "core/calibration/fit_data.hpp"
+#include "core/data/importers.hpp"
+#include "core/data/tsd.hpp"
+#include "core/effects/model_spec.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+// The import of raw/tactip_shear and its calibration split, loaded once per process.
+const sb::FitData& tactip_calibration() {
+  static std::once_flag once;
+  static std::unique_ptr<sb::FitData> data;
+  std::call_once(once, [] {
+    const std::string root = sb::resolve_data_root();
+    const fs::path dir = fs::temp_directory_path() / "shearbench_bench_tactip";
+    if (!fs::exists(dir / "dataset.json")) {
+      fs::remove_all(dir);
+      sb::import_tactip_shear((fs::path(root) / "raw" / "tactip_shear").string(), dir.string());
+    }
+    data = std::make_unique<sb::FitData>(sb::load_calibration_data(sb::read_dataset(dir.string()), root));
+  });
+  return *data;
+}
+
+// One sample's whole path (frames 0..11: above, pressed, the slide; only the last is scored) under HydroShear.
+void BM_TactipSamplePath(benchmark::State& state) {
+  const sb::FitData& d = tactip_calibration();
+  const sb::FitSample& s = d.samples.at(static_cast<std::size_t>(state.range(0)));
+  auto model = sb::make_spec_model("hydroshear", d.sensor, s.indenter);
+  for (auto _ : state) benchmark::DoNotOptimize(sb::simulate_sample(*model, s));
+  state.SetLabel(s.id + " " + s.motion);
+}
+BENCHMARK(BM_TactipSamplePath)->Arg(0)->Arg(500)->Unit(benchmark::kMillisecond);
+
+// The whole calibration split (1000 samples) at the start parameters: one fit evaluation.
+void BM_TactipEvaluateSplit(benchmark::State& state, const std::string& id) {
+  const sb::FitData& d = tactip_calibration();
+  for (auto _ : state) benchmark::DoNotOptimize(sb::fit_rmse_px(id, d.sensor, d.samples, sb::model_spec_params(id)));
+  state.counters["samples"] = static_cast<double>(d.samples.size());
+}
+BENCHMARK_CAPTURE(BM_TactipEvaluateSplit, hydroshear, std::string("hydroshear"))
+    ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+// Each model's fit on the whole calibration split, as the shipped set's rebuild runs it. Goal: 300 s each.
+void BM_TactipFit(benchmark::State& state, const std::string& id) {
+  const sb::FitData& d = tactip_calibration();
+  sb::FitOptions o;
+  o.joint = true;
+  o.max_iterations = 10;
+  for (auto _ : state) {
+    const sb::CalibrationResult r = sb::fit_model(id, d.sensor, d.samples, sb::model_spec_params(id), o);
+    int runs = 0;
+    for (const auto& st : r.stages) runs += st.evaluations;
+    state.counters["model_runs"] = runs;
+  }
+  state.counters["samples"] = static_cast<double>(d.samples.size());
+}
+BENCHMARK_CAPTURE(BM_TactipFit, hydroshear, std::string("hydroshear"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_TactipFit, tacsl, std::string("tacsl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+
+}  // namespace
