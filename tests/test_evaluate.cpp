@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <unistd.h>
 
 #include "core/calibration/evaluate.hpp"
@@ -137,4 +138,19 @@ TEST_CASE("evaluate: params files keyed by model id or flat", "[metrics]") {
   CHECK(params_for_model(flat, "hydroshear", true, "p.json") == flat);
   CHECK_THROWS_WITH(params_for_model(flat, "hydroshear", false, "p.json"), Catch::Matchers::Contains("p.json"));
   CHECK_THROWS_AS(params_for_model(nlohmann::json::parse(R"({"mu": "x"})"), "hydroshear", true, "p.json"), InputError);
+}
+
+TEST_CASE("scored_fields_csv: one row per scored marker, NaN where the tracker lost it", "[evaluate]") {
+  sb::EvaluationResult r;
+  r.model_id = "hydroshear";
+  sb::SampleEvaluation s;
+  s.sample_id = "val_0001";
+  s.motion = "shear";
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  s.fields.push_back({11, {sb::Vec2(1.25, -2), sb::Vec2(0.5, 0.5)}, {sb::Vec2(1, -2.5), sb::Vec2(nan, nan)}});
+  r.samples.push_back(s);
+  CHECK(sb::scored_fields_csv(r) ==
+        "sample,motion,frame,marker,meas_du_px,meas_dv_px,pred_du_px,pred_dv_px\n"
+        "val_0001,shear,11,0,1.0000,-2.5000,1.2500,-2.0000\n"
+        "val_0001,shear,11,1,nan,nan,0.5000,0.5000\n");
 }
