@@ -1,4 +1,5 @@
 #include <catch2/catch.hpp>
+#include <limits>
 #include <cmath>
 
 #include "core/calibration/metrics.hpp"
@@ -74,4 +75,11 @@ TEST_CASE("metrics: merged accumulators equal one accumulator over all frames", 
 TEST_CASE("metrics: mismatched field sizes are rejected", "[metrics]") {
   MetricsAccumulator acc;
   CHECK_THROWS_AS(acc.add_frame({Vec2(0, 0)}, {Vec2(1, 0), Vec2(0, 1)}), std::invalid_argument);
+}
+
+TEST_CASE("nothing_tracked: every marker lost, and only that", "[metrics]") {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(nan, nan)}));
+  CHECK_FALSE(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(0, 0)}));   // one marker kept, at rest
+  CHECK_FALSE(sb::nothing_tracked({}));                                     // no row at all: not this case
 }

@@ -3,7 +3,6 @@
 
 #include <tbb/parallel_for.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +26,7 @@ void run_sample(ShearModel& model, const SampleData& data, double dt_s, MetricsA
   FieldOutput out;
   for (std::size_t k = 0; k < data.frames(); ++k) {
     const auto& meas = data.markers_px[k];
-    if (std::none_of(meas.begin(), meas.end(), [](const Vec2& d) { return d.allFinite(); })) {
+    if (nothing_tracked(meas)) {
       model.step(data.X_EI(k), dt_s, nullptr);  // nothing tracked in this frame: no field to score
       continue;
     }
@@ -163,10 +162,6 @@ std::string evaluation_to_markdown(const std::vector<EvaluationResult>& results,
   }
   return s;
 }
-
-}  // namespace sb
-
-namespace sb {
 
 std::string scored_fields_csv(const EvaluationResult& result) {
   std::string out = "sample,motion,frame,marker,meas_du_px,meas_dv_px,pred_du_px,pred_dv_px\n";

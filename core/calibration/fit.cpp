@@ -454,8 +454,7 @@ void require_calibration_split(const std::vector<FitSample>& samples) {
 }
 
 bool frame_unmeasured(const FitSample& sample, std::size_t k) {
-  if (k >= sample.meas_px.size() || sample.meas_px[k].empty()) return false;
-  return std::none_of(sample.meas_px[k].begin(), sample.meas_px[k].end(), [](const Vec2& d) { return d.allFinite(); });
+  return k < sample.meas_px.size() && nothing_tracked(sample.meas_px[k]);
 }
 
 std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSample& sample) {
@@ -656,8 +655,12 @@ double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> se
   long n = 0;
   std::vector<double> sse_i(samples.size(), 0.0);
   std::vector<long> n_i(samples.size(), 0);
+  // One model per indenter, cloned per sample (building one indexes the indenter's points).
+  std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
+  for (const auto& s : samples)
+    if (!prototypes.count(s.indenter.get())) prototypes[s.indenter.get()] = make_spec_model(model_id, sensor, s.indenter);
   tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
-    auto model = make_spec_model(model_id, sensor, samples[i].indenter);
+    auto model = prototypes.at(samples[i].indenter.get())->clone();
     model->set_params(params);
     const auto pred = simulate_sample(*model, samples[i]);
     const std::size_t m = samples[i].meas_px.front().size();

@@ -1,9 +1,15 @@
 #include "core/calibration/metrics.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <stdexcept>
 
 namespace sb {
+
+bool nothing_tracked(const std::vector<Vec2>& meas) {
+  return !meas.empty() && std::none_of(meas.begin(), meas.end(), [](const Vec2& d) { return d.allFinite(); });
+}
 
 void MetricsAccumulator::add_frame(const std::vector<Vec2>& pred, const std::vector<Vec2>& meas) {
   if (pred.size() != meas.size())

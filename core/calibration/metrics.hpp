@@ -49,6 +49,10 @@ class MetricsAccumulator {
   long long invalid_ = 0;
 };
 
+// True for a frame the tracker recorded with every marker lost (NaN): nothing there to score, so a model may
+// step through it without a field. An empty row is not such a frame (a size mismatch is an error elsewhere).
+bool nothing_tracked(const std::vector<Vec2>& meas);
+
 // Metrics of a single frame (the GUI's per-frame readout).
 MetricsResult frame_metrics(const std::vector<Vec2>& pred, const std::vector<Vec2>& meas);
 
