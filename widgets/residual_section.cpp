@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "core/base/display_path.hpp"
+#include "core/base/strings.hpp"
 #include "core/effects/effects.hpp"
 #include "widgets/panels.hpp"
 #include "widgets/text_field.hpp"
@@ -16,11 +17,6 @@ namespace sb::ui {
 
 namespace {
 const ImVec4 kSelectedColour(0.45f, 0.85f, 0.45f, 1.0f);
-std::string joined(const std::vector<std::string>& ids, const char* sep) {
-  std::string s;
-  for (const auto& id : ids) s += (s.empty() ? "" : sep) + id;
-  return s;
-}
 }  // namespace
 
 void ResidualSection::set(ResidualSummary summary, const std::string& data_root) {
@@ -147,10 +143,10 @@ void ResidualSection::draw_summary(const ResidualSummary& r) const {
   if (ImGui::IsItemHovered())
     wrapped_tooltip("The model the analysis found: the selected model form (" +
                     (r.model_form.empty() ? std::string("none, so the base") : r.model_form) + ") with the selected effects (" +
-                    (r.selected.empty() ? std::string("none") : joined(r.selected, " + ")) +
+                    (r.selected.empty() ? std::string("none") : join(r.selected, " + ")) +
                     "), fitted jointly. Load it anywhere as --model " + r.after_model +
                     " with the report's _params.json file.");
-  ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : joined(r.selected, " + ").c_str());
+  ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : join(r.selected, " + ").c_str());
 }
 
 // The ranked candidates: gain, its confidence interval and the verdict (the selected ones in green).
