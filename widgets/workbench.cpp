@@ -50,7 +50,10 @@ cv::Mat neutral_gel_image(int w, int h) {
   return img;
 }
 
-ImTextureID as_texture_id(GLuint t) { return reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(t)); }
+// ImGui names a texture by a pointer-sized id; OpenGL's are integers.
+ImTextureID as_texture_id(GLuint t) {
+  return reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(t));  // NOLINT(performance-no-int-to-ptr)
+}
 }  // namespace
 
 struct Workbench::Textures {
@@ -318,7 +321,7 @@ void Workbench::draw_fields(float width, float height) {
     const int cell = i + 1;
     const ImVec2 panel_top = one ? ImVec2(origin.x + (width - pw) / 2, origin.y)
                                  : ImVec2(origin.x + grid.left + (cell % grid.cols) * (grid.cell_w + kPad),
-                                          origin.y + (cell / grid.cols) * (grid.cell_h + kPad));
+                                          origin.y + static_cast<float>(cell / grid.cols) * (grid.cell_h + kPad));
     ImGui::SetCursorScreenPos(panel_top);
     ImGui::BeginGroup();
     in.highlight_marker = forced_hover_ >= 0 ? forced_hover_ : hovered_marker_;
