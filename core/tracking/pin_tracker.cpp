@@ -17,7 +17,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNeighbourRadius = 1.6;  // pitches: the first ring of a hexagonal lattice
-constexpr double kFieldRadius = 2.5;      // pitches: pins whose displacement predicts a lost or unmatched one
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
