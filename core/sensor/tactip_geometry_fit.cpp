@@ -48,7 +48,7 @@ void project_site(const T* const* x, double R, double rp, int ring, int slot, T*
 }
 
 struct PinResidual {
-  PinResidual(Vec2 uv, double R, double rp, TactipPinSite site) : uv_(uv), R_(R), rp_(rp), site_(site) {}
+  PinResidual(const Vec2& uv, double R, double rp, TactipPinSite site) : uv_(uv), R_(R), rp_(rp), site_(site) {}
   template <typename T>
   bool operator()(const T* const* x, T* r) const {
     T uv[2];
@@ -195,6 +195,7 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
                                 theta0, c0.focal_px, c0.distance_m, c0.k1};
   ceres::Problem problem;
   std::vector<double*> blocks;
+  blocks.reserve(x.size());
   for (double& v : x) blocks.push_back(&v);
   for (std::size_t j = 0; j < pins_px.size(); ++j) {
     const TactipPinSite& site = fit.rings.sites[j];

@@ -242,6 +242,7 @@ std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetec
   for (auto& p : prior)
     if (!p.allFinite()) p = Vec2::Zero();
   std::vector<Vec2> det;
+  det.reserve(detections.size());
   for (const auto& d : detections) det.push_back(d.uv);
   const double gate = o.gate_fraction * ref.pitch_px;
   const Vec2 lost(kNaN, kNaN);
