@@ -68,6 +68,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   if (!a.residual.empty()) args.insert(args.end(), {"--residual", a.residual});
   std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& s : args) argv.push_back(s.data());
   argv.push_back(nullptr);
   execvp("xvfb-run", argv.data());
