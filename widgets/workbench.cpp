@@ -318,10 +318,11 @@ void Workbench::draw_fields(float width, float height) {
     in.background = background;
     if (i < n - 1 || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
     if (one && i != enlarged) continue;
-    const int cell = i + 1;
+    const int cell = i + 1;   // the grid's cell: the 3D view is cell 0
+    const int row = cell / grid.cols, col = cell % grid.cols;
     const ImVec2 panel_top = one ? ImVec2(origin.x + (width - pw) / 2, origin.y)
-                                 : ImVec2(origin.x + grid.left + (cell % grid.cols) * (grid.cell_w + kPad),
-                                          origin.y + static_cast<float>(cell / grid.cols) * (grid.cell_h + kPad));
+                                 : ImVec2(origin.x + grid.left + static_cast<float>(col) * (grid.cell_w + kPad),
+                                          origin.y + static_cast<float>(row) * (grid.cell_h + kPad));
     ImGui::SetCursorScreenPos(panel_top);
     ImGui::BeginGroup();
     in.highlight_marker = forced_hover_ >= 0 ? forced_hover_ : hovered_marker_;
