@@ -103,7 +103,7 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   if (a.repeat < 1) throw std::invalid_argument("bench: --repeat must be >= 1");
   const auto load_before = load_average();
   std::printf("BENCH_WORKLOAD: peg grasp, 2 pads per env, steps 0..%d, timed k = %d..%d (median/min/max of %d), "
-              "threads %d, load average %.2f %.2f %.2f\n",
+              "threads %zu, load average %.2f %.2f %.2f\n",
               a.steps - 1, kBenchWarmupSteps, a.steps - 1, a.steps - kBenchWarmupSteps,
               tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), load_before[0],
               load_before[1], load_before[2]);

@@ -68,6 +68,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   if (!a.residual.empty()) args.insert(args.end(), {"--residual", a.residual});
   std::cout << "no display: rendering headless with xvfb-run (Mesa llvmpipe) ...\n" << std::flush;
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& s : args) argv.push_back(s.data());
   argv.push_back(nullptr);
   execvp("xvfb-run", argv.data());
@@ -92,7 +93,7 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   if (!a.stats.empty()) front.enable_stats(a.stats, a.stats_interval_s);
   front.session().state->start_thread();
   // A session opens on the worker: the window shows the default scene with a progress line meanwhile
-  // (it was black for ~3 s, issue 34); a residual asked for goes on top of it once it is in place.
+  // (it was black for ~3 s); a residual asked for goes on top of it once it is in place.
   const std::string residual = a.residual;
   const auto load_residual = [&front, residual] {
     if (!residual.empty()) front.load_residual(residual);

@@ -17,7 +17,7 @@ struct ImportArgs {
 };
 
 // Fewer calibration samples than the pin prior needs: no prior is fitted and every deep press loses all
-// its pins, so the import would write samples with nothing tracked (issue 34). Refused before any work.
+// its pins, so the import would write samples with nothing tracked. Refused before any work.
 void require_enough_for_pin_prior(const ImportArgs& a) {
   const int need = tactip_prior_min_calibration_samples();
   if (a.no_pin_prior || a.max_samples == 0 || a.max_samples >= need) return;

@@ -71,7 +71,7 @@ void Frontend::reopen(const SessionOptions& session, Baseline baseline) {
 // The one place a new session replaces the running one (the sync point of a reopen).
 void Frontend::install_session(Session next, const SessionOptions& options, Baseline baseline) {
   // A residual analysis belongs to its dataset: another dataset (or a scene) drops it, and with it
-  // "Apply the fitted base parameters" (issue 34).
+  // "Apply the fitted base parameters".
   if (next.scene.dataset_dir != session_.scene.dataset_dir) workbench_.clear_residual();
   session_.state->stop_thread();
   session_ = std::move(next);
@@ -390,7 +390,7 @@ SessionFile Frontend::current_session_file() const {
 
 // A save holds every edit made before it: the physics takes queued edits at its next sync point, so a
 // Ctrl+S in the frame of a nudge (or while the physics was busy stepping) wrote the path without that nudge,
-// and every later save stayed one nudge behind (found by the soak, tests/cli/soak.py, issue 19). Waits for
+// and every later save stayed one nudge behind (found by the soak, tests/cli/soak.py). Waits for
 // the queue to drain, bounded: a save must not hang the window when the physics thread is not running.
 SessionFile Frontend::session_file_for_saving() {
   constexpr auto kMaxWait = std::chrono::seconds(5);
@@ -451,7 +451,7 @@ void Frontend::open_session_file(const std::string& path, std::function<void()> 
   try {
     f = load_session_file(path);
   } catch (...) {
-    workbench_.revert_session_path();   // a failed open adopts nothing (issue 34)
+    workbench_.revert_session_path();   // a failed open adopts nothing
     throw;
   }
   apply_session_file(f, Baseline::Clean, [this, path, then = std::move(then)] {

@@ -119,7 +119,7 @@ Session open_session(const SessionOptions& o) {
   double indenter_bottom_shift = 0;
   if (!o.open.dataset_dir.empty()) {
     // A dataset replay is a scene with a "dataset" entry: the scene parser builds sensor, indenter, path.
-    // As typed: data:..., else the working folder, else the data root ("twin/twin_sphere35", issue 34).
+    // As typed: data:..., else the working folder, else the data root ("twin/twin_sphere35" typed in the workbench).
     const std::string dir = resolve_user_path(o.open.dataset_dir, root, fs::current_path().string());
     std::string sample = o.open.sample_id;
     if (sample.empty()) {

@@ -10,6 +10,7 @@
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
 #include "core/sensor/sensor.hpp"
+#include "test_poses.hpp"
 
 namespace sbtest {
 
@@ -72,13 +73,6 @@ inline Pose box_pose(double a, double x, double y, double z_bottom, double yaw =
   Pose X = Pose::Identity();
   X.linear() = Rz(yaw);
   X.translation() = Vec3(x, y, z_bottom + a / 2);
-  return X;
-}
-
-inline Pose sphere_pose(double r, double x, double y, double depth, const Mat3& R = Mat3::Identity()) {
-  Pose X = Pose::Identity();
-  X.linear() = R;
-  X.translation() = Vec3(x, y, r - depth);
   return X;
 }
 

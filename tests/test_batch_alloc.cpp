@@ -1,4 +1,4 @@
-// The batched models allocate nothing on the heap per step once warm (issue 3: "no heap allocation per
+// The batched models allocate nothing on the heap per step once warm ("no heap allocation per
 // step"): every operator new of the process is counted while the batch steps along the benchmark
 // trajectory a second time after a reset.
 #include <catch2/catch.hpp>

@@ -45,7 +45,7 @@ TEST_CASE("a relative data root is made absolute once, so a scene's folder canno
   fs::remove_all(work);
 }
 
-TEST_CASE("a typed relative path falls back to the data root when it is not in the working folder (issue 34)",
+TEST_CASE("a typed relative path falls back to the data root when it is not in the working folder",
           "[data_root]") {
   const fs::path root = sbtest::temp_path("sb_test_user_path_root");
   const fs::path work = sbtest::temp_path("sb_test_user_path_work");

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 
@@ -7,6 +9,8 @@
 #include "core/tracking/degrade.hpp"
 #include "core/tracking/degrade_study.hpp"
 #include "marker_render.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 
@@ -194,13 +198,13 @@ TEST_CASE("a study on a synthetic clip: dropped frames score exactly, an occlude
   }
   const DegradeStudy study = run_degrade_study(
       frames, {parse_degradation("drop:0.5", "t"), parse_degradation("occlusion:0.1", "t")}, TrackerOptions{});
-  REQUIRE(study.clean.markers() == 63);
+  REQUIRE(study.clean.markers() == kMiniMarkers);
   CHECK(study.clean.lost_fraction() == 0.0);
   REQUIRE(study.scores.size() == 2);
   const DegradeScore& drop = study.scores[0];
   CHECK(drop.label == "drop:0.5");
   CHECK(drop.frames_seen == 11);
-  CHECK(drop.marker_frames == 63 * 11);
+  CHECK(drop.marker_frames == kMiniMarkers * 11);
   CHECK(drop.lost == 0);
   CHECK(drop.jumps == 0);
   CHECK(drop.max_px == 0.0);

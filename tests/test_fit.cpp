@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include "temp_path.hpp"
+#include "test_poses.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -18,6 +19,7 @@ namespace {
 using sb::FitSample;
 using sb::ParamSet;
 using sb::Pose;
+using sbtest::sphere4mm_pose;
 using sb::Vec2;
 using sb::Vec3;
 
@@ -275,20 +277,13 @@ const RealSetup& real_setup() {
   return s;
 }
 
-Pose sphere_pose(double x, double y, double depth, double yaw_deg = 0) {
-  Pose X = Pose::Identity();
-  X.linear() = sb::Rz(yaw_deg * M_PI / 180);
-  X.translation() = Vec3(x, y, 0.004 - depth);
-  return X;
-}
-
 FitSample real_sample(const std::string& id, const std::string& motion, double depth, double slide, double yaw_deg) {
   FitSample s;
   s.id = id;
   s.motion = motion;
   s.indenter = real_setup().sphere;
-  for (int k = 0; k <= 10; ++k) s.X_EI.push_back(sphere_pose(-1e-3, 0, depth * (k - 1) / 9.0));
-  for (int k = 1; k <= 10; ++k) s.X_EI.push_back(sphere_pose(-1e-3 + slide * k / 10.0, 0, depth, yaw_deg * k / 10.0));
+  for (int k = 0; k <= 10; ++k) s.X_EI.push_back(sphere4mm_pose(-1e-3, 0, depth * (k - 1) / 9.0));
+  for (int k = 1; k <= 10; ++k) s.X_EI.push_back(sphere4mm_pose(-1e-3 + slide * k / 10.0, 0, depth, yaw_deg * k / 10.0));
   return s;
 }
 
@@ -302,7 +297,7 @@ std::vector<FitSample> real_samples(const std::string& id, const ParamSet& truth
 }
 
 // The parameters the model's stages fit, each moved off its default by a factor (kept in range).
-// HydroShear's default gains give fields of ~0.1 px on a 4 mm sphere (BASELINES.md 3.4: kappa m m),
+// HydroShear's default gains give fields of ~0.1 px on a 4 mm sphere (docs/models.md, HydroShear: kappa m m),
 // below the 0.5 px the metric scores; its base gains are the order the twin sets fit (x10 to x60).
 ParamSet perturbed_truth(const std::string& id, double factor) {
   ParamSet p = sb::default_params(id);

@@ -2,8 +2,12 @@
 // formulas in core/models/fots.hpp.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include "core/models/fots.hpp"
 #include "model_fixtures.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sbtest;
 
@@ -101,7 +105,7 @@ TEST_CASE("FOTS: counter-clockwise twist moves markers counter-clockwise; origin
   }
   const auto d70 = run(*a, box_pose(1e-3, 0, 0, -0.3e-3, 70 * std::numbers::pi / 180));
   const auto d50 = run(*b, box_pose(1e-3, 0, 0, -0.3e-3, 50 * std::numbers::pi / 180));
-  for (int j = 0; j < 63; ++j) CHECK((d70[j] - d50[j]).norm() < kPxTol);
+  for (int j = 0; j < kMiniMarkers; ++j) CHECK((d70[j] - d50[j]).norm() < kPxTol);
   CHECK(max_norm(d50) > 0.1);
 }
 
@@ -112,7 +116,7 @@ TEST_CASE("FOTS: rolling a sphere about its centre gives no shear or twist", "[m
     const auto pressed = run(*m, sphere_pose(4e-3, 0, 0, 0.8e-3));
     const auto rolled = run(*m, sphere_pose(4e-3, 0, 0, 0.8e-3, rotation_about(Vec3(1, 2, 0).normalized(), 0.2)));
     if (id == "fots") {
-      for (int j = 0; j < 63; ++j) CHECK((rolled[j] - pressed[j]).norm() < kPxTol);
+      for (int j = 0; j < kMiniMarkers; ++j) CHECK((rolled[j] - pressed[j]).norm() < kPxTol);
     } else {
       // Reimpl: the anchor c is the patch centre (0, 0, -(R - d)) below the sphere centre, so a roll
       // moves it in-plane: that is the Reimpl's contact-anchored shear, not a twist.

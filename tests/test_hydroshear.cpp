@@ -1,8 +1,12 @@
 // HydroShear: expected values derived by hand from the update rules in core/models/hydroshear.hpp.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include "core/models/hydroshear.hpp"
 #include "model_fixtures.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sbtest;
 
@@ -27,7 +31,7 @@ TEST_CASE("HydroShear: no contact gives a zero field and no tracked points", "[m
   auto model = make_model("hydroshear", test_sensor(), sphere_indenter(4e-3));
   FieldOutput out;
   model->step(sphere_pose(4e-3, 0, 0, -1e-3), 0.01, &out);  // 1 mm above the gel
-  REQUIRE(out.disp_px.size() == 63);
+  REQUIRE(out.disp_px.size() == kMiniMarkers);
   CHECK(max_norm(out.disp_px) == 0.0);
   CHECK(out.p_EP.empty());
   for (auto c : out.marker_in_contact) CHECK(c == 0);
@@ -71,7 +75,7 @@ TEST_CASE("HydroShear: stick grows linearly, slip plateaus at mu * depth", "[mod
   ParamSet params = hs_params();
   params.set("lambda_d", 1e7);  // the dilation kernel becomes exp(-43.8) between markers: shear alone
   HydroShearBatch batch(sensor, box, 1, params);
-  std::vector<Vec2> disp(63);
+  std::vector<Vec2> disp(kMiniMarkers);
   auto step = [&](const Pose& X) { batch.step(std::span<const Pose>(&X, 1), 0.01, disp, {}); };
   const double h = 0.5e-3, mu = 0.5;
   // Enter from 0.05 mm above: alpha makes the normal state the depth exactly, u_n = h.
@@ -128,7 +132,7 @@ TEST_CASE("HydroShear: crossing fraction alpha and the reset on leaving", "[mode
     ParamSet params = hs_params();
     params.set("mu", mu);
     HydroShearBatch batch(sensor, ind, 1, params);
-    std::vector<Vec2> disp(63);
+    std::vector<Vec2> disp(kMiniMarkers);
     auto step = [&](const Pose& X) { batch.step(std::span<const Pose>(&X, 1), 0.01, disp, {}); };
     step(box_pose(2e-3, 0, 0, 0.1e-3));
     step(box_pose(2e-3, 0.4e-3, 0, -0.3e-3));
@@ -151,7 +155,7 @@ TEST_CASE("HydroShear: crossing fraction alpha and the reset on leaving", "[mode
 TEST_CASE("HydroShear: the first step after a reset loses penetration already present", "[models][hydroshear]") {
   auto box = box_indenter(kBox);
   HydroShearBatch batch(test_sensor(), box, 1, hs_params());
-  std::vector<Vec2> disp(63);
+  std::vector<Vec2> disp(kMiniMarkers);
   const Pose X0 = box_pose(kBox, 0, 0, -0.3e-3), X1 = box_pose(kBox, 0, 0, -0.5e-3);
   batch.step(std::span<const Pose>(&X0, 1), 0.01, disp, {});
   for (const auto& q : batch.tracked(0)) CHECK(q.u_n == 0.0);  // prev = current (authors)
@@ -209,7 +213,7 @@ TEST_CASE("HydroShear: gravity augmentation shifts the output only", "[models][h
   params.set("lambda_d", 1e7);
   params.set("g_aug", 0.1e-3);  // along the default direction -x_E
   HydroShearBatch batch(test_sensor(), box, 1, params);
-  std::vector<Vec2> disp(63);
+  std::vector<Vec2> disp(kMiniMarkers);
   const Pose X0 = box_pose(kBox, 0, 0, 0.1e-3), X1 = box_pose(kBox, 0, 0, -0.5e-3);
   batch.step(std::span<const Pose>(&X0, 1), 0.01, disp, {});
   batch.step(std::span<const Pose>(&X1, 1), 0.01, disp, {});
@@ -232,7 +236,7 @@ TEST_CASE("HydroShear: weight and normal options", "[models][hydroshear]") {
   ParamSet code = paper;
   code.set("weight", 0);
   HydroShearBatch a(test_sensor(), box, 1, code), b(test_sensor(), box, 1, paper);
-  std::vector<Vec2> da(63), db(63);
+  std::vector<Vec2> da(kMiniMarkers), db(kMiniMarkers);
   // Enter already pressed (first-step loss): code weight u_n = 0.2 mm, paper weight depth = 0.5 mm.
   for (const Pose& X : {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)}) {
     a.step(std::span<const Pose>(&X, 1), 0.01, da, {});
@@ -243,10 +247,10 @@ TEST_CASE("HydroShear: weight and normal options", "[models][hydroshear]") {
   ParamSet ind = code;
   ind.set("normal", 1);
   HydroShearBatch c(test_sensor(), box, 1, ind);
-  std::vector<Vec2> dc(63);
+  std::vector<Vec2> dc(kMiniMarkers);
   for (const Pose& X : {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)})
     c.step(std::span<const Pose>(&X, 1), 0.01, dc, {});
-  for (int j = 0; j < 63; ++j) CHECK((dc[j] - da[j]).norm() < kPxTol);
+  for (int j = 0; j < kMiniMarkers; ++j) CHECK((dc[j] - da[j]).norm() < kPxTol);
 }
 
 TEST_CASE("HydroShear: a batch of slots equals independent single models", "[models][hydroshear]") {
@@ -256,14 +260,14 @@ TEST_CASE("HydroShear: a batch of slots equals independent single models", "[mod
   HydroShearBatch batch(sensor, sphere, n, hs_params());
   std::vector<std::unique_ptr<ShearModel>> singles;
   for (int i = 0; i < n; ++i) singles.push_back(make_model("hydroshear", sensor, sphere));
-  std::vector<Vec2> disp(n * 63);
+  std::vector<Vec2> disp(n * kMiniMarkers);
   for (int k = 0; k < 6; ++k) {
     std::vector<Pose> X;
     for (int i = 0; i < n; ++i) X.push_back(sphere_pose(4e-3, 0.1e-3 * i * k, -0.05e-3 * k, 0.2e-3 * k - 0.1e-3));
     batch.step(X, 0.01, disp, {});
     for (int i = 0; i < n; ++i) {
       const auto single = run(*singles[i], X[i]);
-      for (int j = 0; j < 63; ++j) CHECK((single[j] - disp[i * 63 + j]).norm() == 0.0);
+      for (int j = 0; j < kMiniMarkers; ++j) CHECK((single[j] - disp[i * kMiniMarkers + j]).norm() == 0.0);
     }
   }
 }

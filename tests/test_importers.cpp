@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include "temp_path.hpp"
 
 #include <cmath>
@@ -13,6 +15,8 @@
 #include "core/data/importers.hpp"
 #include "core/tracking/track_eval.hpp"
 #include "core/data/tsd.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 namespace fs = std::filesystem;
@@ -124,14 +128,14 @@ TEST_CASE("FEATS import: both frames kept, 7 x 9 markers tracked, none lost", "[
   const fs::path out = fresh_dir("sb_test_import_feats");
   import_feats(in, out.string());
   const auto j = read_json(out / "dataset.json");
-  CHECK(j["sensor"]["markers_rest_px"].size() == 63);
+  CHECK(j["sensor"]["markers_rest_px"].size() == kMiniMarkers);
   REQUIRE(j["samples"].size() == 1);
   CHECK(j["samples"][0]["has_frames"] == true);
   CHECK(fs::exists(out / "cuboid_contact" / "frames" / "000000.png"));
   CHECK(fs::exists(out / "cuboid_contact" / "frames" / "000001.png"));
-  const auto disp = read_markers_csv((out / "cuboid_contact" / "markers.csv").string(), 63);
+  const auto disp = read_markers_csv((out / "cuboid_contact" / "markers.csv").string(), kMiniMarkers);
   REQUIRE(disp.size() == 2);
-  for (int m = 0; m < 63; ++m) {
+  for (int m = 0; m < kMiniMarkers; ++m) {
     CHECK(disp[0][m].norm() == 0.0);           // frame 0 is the rest
     CHECK(std::isfinite(disp[1][m].x()));      // nothing lost in the contact frame
   }

@@ -4,6 +4,8 @@
 // benchmark workload (BENCH_WORKLOAD.md), every one of its 50 steps (press, hold, slide and twist).
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -13,6 +15,8 @@
 #include "core/models/fots.hpp"
 #include "core/models/hydroshear.hpp"
 #include "core/models/tacsl.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 
@@ -161,7 +165,7 @@ void check_hydroshear(const ParamSet& params) {
   const Workload& w = workload();
   HydroShearBatch batch(w.sensor, w.peg, w.slots, params);
   std::vector<RefHydroShear> ref(w.slots, RefHydroShear(*w.sensor, *w.peg, params));
-  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * 63);
+  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * kMiniMarkers);
   double seen = 0;
   for (int k = 0; k < kBenchMaxSteps; ++k) {
     batch.step(w.X[k], kBenchDt, disp, {});
@@ -343,7 +347,7 @@ void check_fots(FotsVariant variant) {
   const std::string id = variant == FotsVariant::Original ? "fots" : "fots-reimpl";
   FotsBatch batch(variant, w.sensor, w.peg, w.slots, default_params(id));
   std::vector<RefFots> ref(w.slots, RefFots{variant == FotsVariant::Original, w.sensor.get(), w.peg.get(), default_params(id)});
-  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * 63);
+  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * kMiniMarkers);
   double seen = 0;
   for (int k = 0; k < kBenchMaxSteps; ++k) {
     batch.step(w.X[k], kBenchDt, disp, {});
@@ -394,7 +398,7 @@ void check_tacsl(bool normalized) {
   const std::string id = normalized ? "tacsl-normalized" : "tacsl";
   TacslBatch batch(normalized, w.sensor, w.peg, w.slots, default_params(id));
   std::vector<RefTacsl> ref(w.slots, RefTacsl{normalized, w.sensor.get(), w.peg.get(), default_params(id)});
-  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * 63);
+  std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * kMiniMarkers);
   double seen = 0;
   for (int k = 0; k < kBenchMaxSteps; ++k) {
     batch.step(w.X[k], kBenchDt, disp, {});

@@ -1,4 +1,4 @@
-// core/workbench/open_target: what the workbench's Open field opens (issue 34, points 4 and 6).
+// core/workbench/open_target: what the workbench's Open field opens.
 #include <catch2/catch.hpp>
 
 #include "temp_path.hpp"
@@ -33,7 +33,7 @@ TEST_CASE("Open tells a dataset, a scene and a session apart, resolving paths as
   CHECK(rel.kind == OpenKind::Dataset);
   CHECK(rel.path == (root / "twin/twin_a").string());
   CHECK(sb::classify_open_target("twin/twin_a/dataset.json", r, w).path == (root / "twin/twin_a").string());
-  // A scene is a scene, not a session (Session -> Open on a scene adopted its path, issue 34 point 1).
+  // A scene is a scene, not a session (Session -> Open on a scene adopted its path).
   CHECK(sb::classify_open_target("scenes/press.json", r, w).kind == OpenKind::Scene);
   CHECK(sb::classify_open_target("mine.json", r, w).kind == OpenKind::Session);
   // Errors name the file.

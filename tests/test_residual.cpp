@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include "temp_path.hpp"
+#include "test_poses.hpp"
 
 #include <cmath>
 #include <filesystem>
@@ -18,6 +19,7 @@
 
 using sb::FitSample;
 using sb::Pose;
+using sbtest::sphere4mm_pose;
 using sb::Vec2;
 using sb::Vec3;
 
@@ -48,13 +50,6 @@ const Setup& setup() {
   return s;
 }
 
-Pose sphere_pose(double x, double y, double depth, double yaw_deg) {
-  Pose X = Pose::Identity();
-  X.linear() = sb::Rz(yaw_deg * M_PI / 180);
-  X.translation() = Vec3(x, y, 0.004 - depth);
-  return X;
-}
-
 // A press in 8 frames, a 16-frame hold (sliding `slide` and turning `yaw_deg` over it), a release in 6.
 FitSample press(const std::string& id, const std::string& motion, const std::string& split, Vec2 at, double depth,
                 Vec2 slide, double yaw_deg) {
@@ -64,14 +59,14 @@ FitSample press(const std::string& id, const std::string& motion, const std::str
   s.split = split;
   s.dt_s = kDt;
   s.indenter = setup().sphere;
-  for (int k = 0; k < 8; ++k) s.X_EI.push_back(sphere_pose(at.x(), at.y(), depth * (k + 1) / 8.0, 0));
+  for (int k = 0; k < 8; ++k) s.X_EI.push_back(sphere4mm_pose(at.x(), at.y(), depth * (k + 1) / 8.0, 0));
   for (int k = 1; k <= 16; ++k) {
     const Vec2 p = at + slide * std::min(1.0, k / 10.0);
-    s.X_EI.push_back(sphere_pose(p.x(), p.y(), depth, yaw_deg * std::min(1.0, k / 10.0)));
+    s.X_EI.push_back(sphere4mm_pose(p.x(), p.y(), depth, yaw_deg * std::min(1.0, k / 10.0)));
   }
   const Vec2 end = at + slide;
   for (int k = 1; k <= 6; ++k)
-    s.X_EI.push_back(sphere_pose(end.x(), end.y(), depth * (1 - k / 5.0), yaw_deg));   // last frame lifted off
+    s.X_EI.push_back(sphere4mm_pose(end.x(), end.y(), depth * (1 - k / 5.0), yaw_deg));   // last frame lifted off
   return s;
 }
 

@@ -1,4 +1,4 @@
-// The hard case of the residual loop (issue 16): one catalogued effect injected, undeclared, into the
+// The hard case of the residual loop: one catalogued effect injected, undeclared, into the
 // *measured* fields of a finite-element twin set (../shared/data/twin), whose physics none of the models
 // reproduces exactly, then the whole loop (base fitted, every catalogued effect a candidate). The easy
 // case (tests/test_residual.cpp) injects into a model's own output, where the base is exact.
@@ -232,7 +232,7 @@ TEST_CASE("hard case: TacSL on the untouched twin_sphere8 selects no subsurface 
   CHECK(reported == 1);
 }
 
-// The model-form round (issue 17) where the base model is wrong: the FE gel's stick zone moves with the
+// The model-form round where the base model is wrong: the FE gel's stick zone moves with the
 // indenter and its layer has a near field (docs/effects.md), which HydroShear's one-Gaussian linear sum
 // lacks. Fitted on the calibration slice, one of its variants must pass the held-out rule and lower the
 // validation RMSE by at least kMinModelFormGainPct (on the whole set: 2.12 -> 0.745 px, 65 %, hydroshear-contact).
@@ -255,7 +255,7 @@ TEST_CASE("hard case: creep under a wrong model form: the answer is the selected
   const auto j = sb::residual_to_json(r);
   INFO(j["model_forms"].dump(1));
   INFO(j["rounds"].dump(1));
-  // The model-form round (issue 17): a variant passes the held-out rule and lowers the error by at least
+  // The model-form round: a variant passes the held-out rule and lowers the error by at least
   // kMinModelFormGainPct; kept with its dilation kernel held only when held-out data preferred that fit.
   REQUIRE(r.model_form.scores.size() == sb::model_form_variants("hydroshear").size());
   REQUIRE_FALSE(r.model_form.selected.empty());

@@ -2,6 +2,8 @@
 // alone, and rest_i = D_k1(o + A n_i) fitted, D the lens_distortion effect's convention.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -10,6 +12,8 @@
 #include "core/effects/effects.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 #include "core/sensor/sensor.hpp"
+
+using sbtest::kMiniMarkers;
 
 using sb::Vec2;
 
@@ -78,7 +82,7 @@ TEST_CASE("rest grid lens: a perfect 7 x 9 lattice at 33 px has no lens", "[rest
   const auto fit = sb::rest_grid_lens(camera(), sb::make_default_sensor().markers_rest_px);
   INFO(sb::describe(fit));
   REQUIRE(fit.is_lattice);
-  CHECK(fit.markers_used == 63);
+  CHECK(fit.markers_used == kMiniMarkers);
   CHECK(std::set<int>{fit.span.x(), fit.span.y()} == std::set<int>{7, 9});
   CHECK(std::abs(fit.k1) < kExactTol);
   CHECK(fit.rms_px < kExactTol);
@@ -100,7 +104,7 @@ TEST_CASE("rest grid lens: k1 = -0.15 with 0.05 px noise", "[rest_grid_lens]") {
   const auto fit = sb::rest_grid_lens(camera(), rest);
   INFO(sb::describe(fit));
   REQUIRE(fit.is_lattice);
-  CHECK(fit.markers_used == 63);
+  CHECK(fit.markers_used == kMiniMarkers);
   CHECK(std::abs(fit.k1 + 0.15) < kK1Tol);
   CHECK(fit.k1_stderr > 0.5 * kExpectedStderr);
   CHECK(fit.k1_stderr < 2.0 * kExpectedStderr);
@@ -118,7 +122,7 @@ TEST_CASE("rest grid lens: a rotated lattice in shuffled order, with lost marker
   const auto fit = sb::rest_grid_lens(camera(), rest);
   INFO(sb::describe(fit));
   REQUIRE(fit.is_lattice);
-  CHECK(fit.markers_used == 63);
+  CHECK(fit.markers_used == kMiniMarkers);
   CHECK(std::abs(fit.k1 - 0.08) < kExactTol);
   CHECK(fit.pitch_px == Approx(31.0).epsilon(kExactTol));
   // Every marker lies on its own node: the indices are the lattice's, whatever the storage order.
@@ -143,7 +147,7 @@ TEST_CASE("rest grid lens: what is not a lattice", "[rest_grid_lens]") {
     std::mt19937_64 rng(5);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     std::vector<Vec2> pts;
-    for (int i = 0; i < 63; ++i) {
+    for (int i = 0; i < kMiniMarkers; ++i) {
       const double x = 320 * u(rng);
       pts.emplace_back(x, 240 * u(rng));
     }

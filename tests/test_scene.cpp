@@ -1,10 +1,14 @@
 #include <catch2/catch.hpp>
+
+#include "mini_grid.hpp"
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
 #include "core/base/data_root.hpp"
 #include "core/data/scene.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 namespace fs = std::filesystem;
@@ -65,7 +69,7 @@ TEST_CASE("scene: trajectory sampling is linear + slerp and includes the last ke
   CHECK(s.indenter_spec.shape == "sphere");
   CHECK(s.indenter_spec.radius_m == 0.004);
   REQUIRE(s.sensor);
-  CHECK(s.sensor->markers_rest_px.size() == 63);  // default 7 x 9
+  CHECK(s.sensor->markers_rest_px.size() == kMiniMarkers);  // default 7 x 9
 }
 
 TEST_CASE("scene: errors name the file and the JSON pointer", "[scene]") {
@@ -109,7 +113,7 @@ TEST_CASE("scene: a dataset scene replays the sample's poses", "[scene]") {
   CHECK(s.dt_s == 0.02);
   CHECK(s.indenter_spec.shape == "mesh");
   CHECK_THAT(s.indenter_spec.mesh_path, Catch::Matchers::EndsWith("sphere_r17.5.obj"));
-  CHECK(s.sensor->markers_rest_px.size() == 63);
+  CHECK(s.sensor->markers_rest_px.size() == kMiniMarkers);
 }
 
 TEST_CASE("scene: every shipped scene loads", "[scene]") {

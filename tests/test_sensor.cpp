@@ -1,11 +1,15 @@
 // The GelSight Mini sensor: marker grid, camera mapping, flat default sensor, and the real domed gel in E.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include <cstdlib>
 #include <filesystem>
 
 #include "core/base/data_root.hpp"
 #include "core/sensor/sensor.hpp"
+
+using sbtest::kMiniMarkers;
 
 using sb::Vec2;
 using sb::Vec3;
@@ -22,7 +26,7 @@ TEST_CASE("marker grid 7x9 at 33 px is centred on the principal point, x fastest
   // u = 159.5 + (c - 4) * 33, v = 119.5 + (r - 3) * 33: first (27.5, 20.5), last (291.5, 218.5).
   const sb::Camera camera;
   const auto uv = sb::marker_grid_px(sb::MarkerGrid{}, camera);
-  REQUIRE(uv.size() == 63);
+  REQUIRE(uv.size() == kMiniMarkers);
   CHECK(uv.front() == Vec2(27.5, 20.5));
   CHECK(uv[1] == Vec2(60.5, 20.5));     // next column: x fastest
   CHECK(uv[9] == Vec2(27.5, 53.5));     // second row
@@ -57,7 +61,7 @@ TEST_CASE("camera px -> E -> px round trip is exact", "[sensor]") {
 
 TEST_CASE("default sensor: flat pad, markers on z = 0", "[sensor]") {
   const sb::Sensor s = sb::make_default_sensor();
-  REQUIRE(s.p_EM.size() == 63);
+  REQUIRE(s.p_EM.size() == kMiniMarkers);
   // First marker: ((27.5 - 159.5), (20.5 - 119.5)) px * 0.0634e-3 m/px = (-8.3688, -6.2766) mm.
   CHECK(s.p_EM.front().x() == Approx(-8.3688 * mm).epsilon(1e-12));
   CHECK(s.p_EM.front().y() == Approx(-6.2766 * mm).epsilon(1e-12));
@@ -116,7 +120,7 @@ TEST_CASE("sensor with the mesh gel: markers on the domed surface, mesh SDF", "[
   sb::GelSpec spec;
   spec.surface = path;
   const sb::Sensor s = sb::make_sensor(camera, spec, sb::marker_grid_px(sb::MarkerGrid{}, camera), &gel_E);
-  REQUIRE(s.p_EM.size() == 63);
+  REQUIRE(s.p_EM.size() == kMiniMarkers);
   CHECK(s.gel.thickness_m == Approx(4.0 * mm).margin(0.01 * mm));
   // Centre marker sits on the apex; corner markers lower on the dome.
   CHECK(s.p_EM[31].z() == Approx(0).margin(1e-9));

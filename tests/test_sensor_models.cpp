@@ -74,7 +74,7 @@ TEST_CASE("pinhole camera: projection and its Jacobian by hand", "[sensor][camer
 
 TEST_CASE("pinhole camera: back-projection inverts the distortion", "[sensor][camera]") {
   const Camera c = pinhole_camera(-0.2);  // barrel distortion, as a wide-angle TacTip lens has
-  for (const Vec2 uv : {Vec2(320, 240), Vec2(600, 100), Vec2(10, 470), Vec2(321, 239)}) {
+  for (const Vec2& uv : {Vec2(320, 240), Vec2(600, 100), Vec2(10, 470), Vec2(321, 239)}) {
     const auto ray = c.back_project(uv);
     REQUIRE(ray);
     CHECK(ray->origin_E == Vec3(0, 0, -c.distance_m));

@@ -62,7 +62,7 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   CHECK(r.residual_file == s.residual_file);
   CHECK(r.residual_fields);
   CHECK_FALSE(r.residual_corrected);
-  // The 3D view's orbit comes back too (issue 34: the README says the view is saved).
+  // The 3D view's orbit comes back too (the README says the view is saved).
   REQUIRE(r.camera);
   CHECK(r.camera->position == s.camera->position);
   CHECK(r.camera->focal_point == s.camera->focal_point);
@@ -108,7 +108,7 @@ TEST_CASE("a session file that is not JSON is reported with its line", "[session
   fs::remove(path);
 }
 
-TEST_CASE("a save never overwrites a file that is not a session file (issue 34)", "[session]") {
+TEST_CASE("a save never overwrites a file that is not a session file", "[session]") {
   // A scene file the user pointed the Session field at (the quit dialog then offered to save over it).
   const std::string scene_text = "{\n  \"description\": \"press the cow\",\n  \"indenter\": {\"shape\": \"sphere\"}\n}\n";
   const std::string scene = temp_file("scene.json", scene_text);

@@ -1,8 +1,12 @@
 // TacSL penalty shear: expected values derived by hand from core/models/tacsl.hpp.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include "core/models/tacsl.hpp"
 #include "model_fixtures.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sbtest;
 
@@ -36,7 +40,7 @@ TEST_CASE("TacSL: at rest the shear is zero", "[models][tacsl]") {
 TEST_CASE("TacSL: sliding gives a viscous shear capped by mu kn d; release gives zero", "[models][tacsl]") {
   auto sensor = test_sensor();
   TacslBatch raw(false, sensor, box_indenter(kBox), 1, default_params("tacsl"));
-  std::vector<Vec2> disp(63);
+  std::vector<Vec2> disp(kMiniMarkers);
   auto step = [&](const Pose& X, double dt) { raw.step(std::span<const Pose>(&X, 1), dt, disp, {}); };
   const double dt = 0.01;
   step(box_pose(kBox, 0, 0, -1e-3), dt);

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include "temp_path.hpp"
 
 #include <cmath>
@@ -15,6 +17,8 @@
 #include "core/tracking/track_eval.hpp"
 #include "core/tracking/tracker.hpp"
 #include "marker_render.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 using sb::test::grid_7x9;
@@ -54,9 +58,9 @@ TEST_CASE("twin_frames: tracked displacement fields match the exact ones", "[tra
     CHECK(r.grid_rows == 7);
     CHECK(r.grid_cols == 9);
     const TrackComparison c = compare_to_reference(r, rest, ref, false);
-    CHECK(c.paired_markers == 63);
+    CHECK(c.paired_markers == kMiniMarkers);
     CHECK(c.lost == 0);
-    CHECK(c.pairs == 63 * r.frames());
+    CHECK(c.pairs == kMiniMarkers * r.frames());
     CHECK(c.rmse_px <= kMaxRmsePx);
     CHECK(r.lost_fraction() == 0.0);
   }
@@ -83,7 +87,7 @@ TEST_CASE("a 30 px shear ramp, strong in the middle and weak at the edge, is tra
   TrackerOptions opts;
   opts.rest_frames = 1;
   const TrackResult r = track_frames(frames, opts);
-  REQUIRE(r.markers() == 63);
+  REQUIRE(r.markers() == kMiniMarkers);
   double worst = 0;
   for (const auto& p : rest) {
     const int m = nearest(r, p);
@@ -116,7 +120,7 @@ TEST_CASE("a dot that leaves the image is lost, the others are unaffected, and i
   TrackerOptions opts;
   opts.rest_frames = 1;
   const TrackResult r = track_frames(frames, opts);
-  REQUIRE(r.markers() == 63);
+  REQUIRE(r.markers() == kMiniMarkers);
   for (std::size_t t = 0; t < shift.size(); ++t) {
     for (const auto& p : rest) {
       const Vec2 d = r.disp_px[t][nearest(r, p)];

@@ -3,6 +3,8 @@
 // must never be given another marker's dot.
 #include <catch2/catch.hpp>
 
+#include "mini_grid.hpp"
+
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <random>
@@ -10,6 +12,8 @@
 #include "core/tracking/degrade.hpp"
 #include "core/tracking/tracker.hpp"
 #include "marker_render.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 using sb::test::grid_7x9;
@@ -53,7 +57,7 @@ TEST_CASE("dropped frames during a fast drag: markers are lost, never moved onto
     frames.push_back(render(c, rng));
   }
   const TrackResult r = track_frames(frames, TrackerOptions{});
-  REQUIRE(r.markers() == 63);
+  REQUIRE(r.markers() == kMiniMarkers);
   int wrong = 0, lost_after_settling = 0;
   double worst = 0;
   for (const auto& p : rest) {
@@ -83,7 +87,7 @@ TEST_CASE("an occluder sliding over moving dots: hidden markers are lost, visibl
   // the image (r = sqrt(0.08 * 76800 / pi) = 44.2 px) in the frame's mean colour, crosses from u = -r to
   // 320 + r over the 40 frames (11.3 px per frame). The disc's colour differs from the shaded background
   // around it, so its rim is itself a faint dark or bright edge the detector may see.
-  // (Passes on the tracker before issue 19 as well: a regression guard for the lost-marker prediction.)
+  // (An earlier tracker passes it as well: a regression guard for the lost-marker prediction.)
   // Expected, for each marker and frame, with its dot centre at distance D from the disc centre and dot
   // radius 5 px (+1 px for the blur): D < r - 6: the dot is hidden, the marker must be lost (NaN);
   // D > r + 6: fully visible, the marker must be tracked within kMaxErrorPx; in between (a partly hidden
@@ -102,7 +106,7 @@ TEST_CASE("an occluder sliding over moving dots: hidden markers are lost, visibl
     frames.push_back(degrade_frame(render(c, rng), occlusion, t, kFrames));
   }
   const TrackResult r = track_frames(frames, TrackerOptions{});
-  REQUIRE(r.markers() == 63);
+  REQUIRE(r.markers() == kMiniMarkers);
   int hidden_but_tracked = 0, visible_but_lost = 0, visible_wrong = 0, rim_wrong = 0;
   for (int t = 0; t < kFrames; ++t) {
     const Disc disc = occluder(320, 240, kFraction, t, kFrames);
@@ -144,7 +148,7 @@ TEST_CASE("a press grows under an occluder: revealed markers are lost until re-a
   // at 73.8 px moved only 26 exp(-73.8^2 / (2 45^2)) = 6.8 px.
   // Why it is hard: when the disc lifts, a marker predicted at its rest (or at the ring's 6.8 px) finds the
   // dot of its left neighbour (moved 26 exp(-33^2 / (2 45^2)) = 19.8 px, now at -13.2 px) as near as its
-  // own (at +26 px): taking the nearest dot moves the centre one pitch left. (The tracker before issue 19
+  // own (at +26 px): taking the nearest dot moves the centre one pitch left. (An earlier tracker
   // passes this case too, narrowly: the neighbour, predicted from the visible ring, claims its own dot
   // 13.0 px away first. It guards the ring-by-ring prediction and growth against that regression.)
   // Expected: every finite displacement within kMaxErrorPx of the truth (kRimErrorPx for a dot the disc's
@@ -169,7 +173,7 @@ TEST_CASE("a press grows under an occluder: revealed markers are lost until re-a
     frames.push_back(img);
   }
   const TrackResult r = track_frames(frames, TrackerOptions{});
-  REQUIRE(r.markers() == 63);
+  REQUIRE(r.markers() == kMiniMarkers);
   int wrong = 0, hidden_but_tracked = 0, lost_late = 0;
   double worst = 0;
   for (const auto& p : rest) {

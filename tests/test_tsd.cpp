@@ -1,4 +1,6 @@
 #include <catch2/catch.hpp>
+
+#include "mini_grid.hpp"
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -11,6 +13,8 @@
 #include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/data/tsd.hpp"
+
+using sbtest::kMiniMarkers;
 
 using namespace sb;
 namespace fs = std::filesystem;
@@ -266,7 +270,7 @@ TEST_CASE("tsd: reads twin_sphere35 from the data root", "[tsd]") {
   if (!fs::exists(dir / "dataset.json")) FAIL("twin_sphere35 not found at " << dir << " (set SHEARBENCH_DATA)");
   const Dataset ds = read_dataset(dir.string());
   CHECK(ds.samples.size() == 40);
-  CHECK(ds.markers_rest_px.size() == 63);
+  CHECK(ds.markers_rest_px.size() == kMiniMarkers);
   CHECK(ds.markers_rest_px[0] == Vec2(27.5, 20.5));  // FORMAT.md grid: first marker 4 pitches left, 3 up
   const SampleData d = read_sample(ds, "dil_00");
   // First row of dil_00/poses.csv: 0,0.000,-0.004497363,-0.000634689,0.017700000,1,0,0,0

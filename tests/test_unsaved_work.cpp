@@ -55,7 +55,7 @@ TEST_CASE("the autosave path follows SHEARBENCH_AUTOSAVE, then XDG_STATE_HOME", 
   else ::unsetenv("XDG_STATE_HOME");
 }
 
-TEST_CASE("the default session path is in the user's state folder, not the working folder (issue 34)", "[session]") {
+TEST_CASE("the default session path is in the user's state folder, not the working folder", "[session]") {
   const char* old = std::getenv("XDG_STATE_HOME");
   const std::string saved = old ? old : "";
   ::setenv("XDG_STATE_HOME", "/state", 1);

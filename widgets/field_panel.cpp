@@ -69,6 +69,38 @@ void label_box(ImDrawList* dl, ImVec2 at, const std::string& text, ImU32 colour,
   dl->AddRectFilled(ImVec2(c.x - 2, c.y - 1), ImVec2(c.x + ts.x + 2, c.y + ts.y + 1), background, 2.0f);
   dl->AddText(c, colour, text.c_str());
 }
+
+// The labels over a panel's image: its largest displacement (or that it is off the scale), the metrics against
+// the measurement, and the note shown in place of a missing field.
+void draw_panel_labels(ImDrawList* dl, const FieldPanelInput& in, const FieldScale& scale, ImVec2 p0, ImVec2 p1,
+                       bool any_cut) {
+  const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
+  if (have_field) {
+    // The panel's own largest displacement, bottom left: the shared arrow scale can make a small field
+    // look empty, and a field far above the colour scale is said so in words.
+    double max_px = 0;
+    for (const Vec2& d : *in.disp_px)
+      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
+    const std::string off = off_scale_note(max_px, scale.colour_max_px, any_cut);
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
+    label_box(dl, ImVec2(p0.x + 3, p1.y - 3), off.empty() ? std::string(buf) : off,
+              off.empty() ? IM_COL32(255, 255, 255, 255) : IM_COL32(255, 190, 90, 255),
+              off.empty() ? IM_COL32(0, 0, 0, 150) : IM_COL32(0, 0, 0, 190), true);
+  }
+  if (in.metrics) {   // against the measurement, top right of the image (the title row keeps its width)
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "RMSE %.2f px CS %.2f", in.metrics->rmse_px, in.metrics->cs);
+    const ImVec2 ts = ImGui::CalcTextSize(buf);
+    label_box(dl, ImVec2(p1.x - ts.x - 3, p0.y + 3), buf, IM_COL32(255, 220, 120, 255), IM_COL32(0, 0, 0, 150), false);
+  }
+  if (!have_field && !in.note.empty()) {
+    const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());
+    const ImVec2 c((p0.x + p1.x - ts.x) / 2, (p0.y + p1.y - ts.y) / 2);
+    dl->AddRectFilled(ImVec2(c.x - 4, c.y - 2), ImVec2(c.x + ts.x + 4, c.y + ts.y + 2), IM_COL32(0, 0, 0, 160));
+    dl->AddText(c, IM_COL32(255, 255, 255, 255), in.note.c_str());
+  }
+}
 }  // namespace
 
 FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& scale, float width, bool interactive) {
@@ -142,31 +174,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
       }
     }
   }
-  if (have_field) {
-    // The panel's own largest displacement, bottom left: the shared arrow scale can make a small field
-    // look empty, and a field far above the colour scale is said so in words.
-    double max_px = 0;
-    for (const Vec2& d : *in.disp_px)
-      if (std::isfinite(d.x()) && std::isfinite(d.y())) max_px = std::max(max_px, d.norm());
-    const std::string off = off_scale_note(max_px, scale.colour_max_px, any_cut);
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "max %.2f px", max_px);
-    label_box(dl, ImVec2(p0.x + 3, p1.y - 3), off.empty() ? std::string(buf) : off,
-              off.empty() ? IM_COL32(255, 255, 255, 255) : IM_COL32(255, 190, 90, 255),
-              off.empty() ? IM_COL32(0, 0, 0, 150) : IM_COL32(0, 0, 0, 190), true);
-  }
-  if (in.metrics) {   // against the measurement, top right of the image (the title row keeps its width)
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "RMSE %.2f px CS %.2f", in.metrics->rmse_px, in.metrics->cs);
-    const ImVec2 ts = ImGui::CalcTextSize(buf);
-    label_box(dl, ImVec2(p1.x - ts.x - 3, p0.y + 3), buf, IM_COL32(255, 220, 120, 255), IM_COL32(0, 0, 0, 150), false);
-  }
-  if (!have_field && !in.note.empty()) {
-    const ImVec2 ts = ImGui::CalcTextSize(in.note.c_str());
-    const ImVec2 c((p0.x + p1.x - ts.x) / 2, (p0.y + p1.y - ts.y) / 2);
-    dl->AddRectFilled(ImVec2(c.x - 4, c.y - 2), ImVec2(c.x + ts.x + 4, c.y + ts.y + 2), IM_COL32(0, 0, 0, 160));
-    dl->AddText(c, IM_COL32(255, 255, 255, 255), in.note.c_str());
-  }
+  draw_panel_labels(dl, in, scale, p0, p1, any_cut);
   dl->PopClipRect();
   ImGui::SetCursorScreenPos(ImVec2(top.x, p1.y + 4));
   ImGui::Dummy(ImVec2(width, 0));

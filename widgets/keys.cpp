@@ -114,7 +114,7 @@ std::vector<Action> pressed_actions() {
   std::vector<KeyPress> presses;
   presses.swap(key_presses());
   // While a text field has the keyboard, plain keys are typing; Ctrl chords (Ctrl+S) still act: a save must
-  // not depend on where the focus is (issue 34).
+  // not depend on where the focus is.
   const bool typing = ImGui::GetIO().WantTextInput;
   for (const KeyPress& p : presses) {
     const bool shift = (p.mods & GLFW_MOD_SHIFT) != 0;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "widgets/text_field.hpp"
+
 namespace sb::ui {
 
 std::string display_name(const std::string& id) {
@@ -103,8 +105,8 @@ bool pose_panel(Pose& X) {
 // then the data root) or chosen from the list; Enter in the field opens too.
 void open_row(ReplayUi& ui, ReplayRequest& req) {
   ImGui::SetNextItemWidth(-90);
-  if (ImGui::InputTextWithHint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_buf,
-                               sizeof ui.dataset_buf, ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
+  if (input_text_with_hint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_input,
+                           ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
     req.open_dataset = true;
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("a tsd/1 dataset folder, a scene (scenes/*.json) or a session file;\n"
@@ -114,7 +116,7 @@ void open_row(ReplayUi& ui, ReplayRequest& req) {
   if (ImGui::BeginCombo("##openlist", "", ImGuiComboFlags_NoPreview | ImGuiComboFlags_HeightLarge)) {
     for (const std::string& c : ui.choices)
       if (ImGui::Selectable(c.c_str())) {
-        std::snprintf(ui.dataset_buf, sizeof ui.dataset_buf, "%s", c.c_str());
+        ui.dataset_input = c;
         req.open_dataset = true;
       }
     ImGui::EndCombo();

@@ -5,7 +5,7 @@ namespace sb {
 // Gives freed heap memory back to the operating system. glibc keeps the pages a burst of allocations
 // freed (a fit loads a dataset, builds SDFs and Jacobians, then drops them), so without this a
 // long-running workbench's resident memory stepped up with each fit and stayed there (the hour soak of
-// issue 19, docs/reliability.md). A test checks that a freed 64 MB burst comes back (tests/test_free_memory.cpp).
+// docs/reliability.md). A test checks that a freed 64 MB burst comes back (tests/test_free_memory.cpp).
 void return_free_memory_to_os();
 
 // Caps the number of glibc malloc arenas (call before threads start). Every thread that allocates gets

@@ -10,3 +10,11 @@
 #else
 #define SB_VECTOR_CLONES
 #endif
+
+// SB_IVDEP before a loop tells GCC its iterations are independent (#pragma GCC ivdep), so it vectorises
+// without a runtime alias check; other compilers (clang warns on GCC's pragma) get nothing.
+#if defined(__GNUC__) && !defined(__clang__)
+#define SB_IVDEP _Pragma("GCC ivdep")
+#else
+#define SB_IVDEP
+#endif

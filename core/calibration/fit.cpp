@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "core/base/elapsed.hpp"
+#include "core/base/strings.hpp"
 #include "core/data/tsd.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
@@ -314,12 +315,6 @@ std::vector<const FitSample*> samples_with(const std::vector<FitSample>& all, co
   std::vector<const FitSample*> out;
   for (const auto& s : all)
     if (std::find(motions.begin(), motions.end(), s.motion) != motions.end()) out.push_back(&s);
-  return out;
-}
-
-std::string join(const std::vector<std::string>& v, const std::string& sep = ",") {
-  std::string out;
-  for (const auto& s : v) out += (out.empty() ? "" : sep) + s;
   return out;
 }
 

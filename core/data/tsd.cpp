@@ -447,7 +447,7 @@ void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calib
   for (auto& info : ds.samples) info.split = listed(calibration_ids, info.id) ? "calibration" : "validation";
 }
 
-Dataset read_dataset(const std::string& dir, Warnings* warnings) {
+Dataset read_dataset(const std::string& dir, Warnings* /*warnings*/) {
   if (!fs::is_directory(dir)) throw InputError(dir, "dataset folder not found");
   const std::string file = (fs::path(dir) / "dataset.json").string();
   return parse_dataset_json(jsonin::load_file(file), file, dir);

@@ -19,7 +19,7 @@ class CameraMisalignment final : public Effect {
            "(exact for the orthographic camera: the map is linear, so it acts on displacements directly).";
   }
 
-  void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
+  void apply(const EffectContext& /*ctx*/, std::vector<Vec2>& disp_px) override {
     const double theta = params_.get("rotation_rad"), s = params_.get("scale");
     if (theta == 0.0 && s == 1.0) return;
     const double c = std::cos(theta), sn = std::sin(theta);

@@ -19,7 +19,7 @@ class TrackerBias final : public Effect {
            "by a roughly constant offset b. Output g d + b on markers with |d| > threshold, g d elsewhere.";
   }
 
-  void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
+  void apply(const EffectContext& /*ctx*/, std::vector<Vec2>& disp_px) override {
     const double g = params_.get("gain");
     const Vec2 b(params_.get("bias_x_px"), params_.get("bias_y_px"));
     const double threshold = params_.get("moving_threshold_px");

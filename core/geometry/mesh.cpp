@@ -552,6 +552,49 @@ void check_ply_ascii_body(std::istream& in, const std::vector<PlyElement>& layou
     }
 }
 
+bool ply_known_type(const std::string& t) {
+  static const char* types[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
+                                "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  for (const char* k : types) if (t == k) return true;
+  return false;
+}
+
+// OpenMesh tokenises the header across lines and control bytes, so a header that is not plain text
+// parses differently there than here (it looped on one; fuzz_mesh): plain printable ASCII only.
+void check_ply_header_text(const std::string& line, int line_no, const std::string& path) {
+  for (std::size_t k = 0; k < line.size(); ++k) {
+    const unsigned char ch = static_cast<unsigned char>(line[k]);
+    if ((ch < 0x20 && ch != '\t') || ch >= 0x7f)
+      throw InputError(path, line_no, static_cast<int>(k) + 1, "PLY header: a byte that is not text");
+  }
+}
+
+// One 'property' line (after the keyword, in `s`) added to `element`; returns the bytes it adds to a
+// fixed-size record (a face's list counted as a triangle, the smallest polygon).
+std::uintmax_t parse_ply_property(std::istringstream& s, bool face, PlyElement& element, int line_no,
+                                  const std::string& path) {
+  std::string type, count_type, item_type;
+  s >> type;
+  if (type == "list") {
+    s >> count_type >> item_type;
+    if (!ply_known_type(count_type) || !ply_known_type(item_type))
+      throw InputError(path, line_no, 0, "PLY header: unknown list types '" + count_type + " " + item_type + "'");
+    std::string name, extra;
+    if (!(s >> name) || (s >> extra))   // OpenMesh loops on a property without a name (fuzz_mesh)
+      throw InputError(path, line_no, 0, "PLY header: expected 'property list <type> <type> <name>'");
+    if (!ply_integer_type(count_type))
+      throw InputError(path, line_no, 0, "PLY header: list count type '" + count_type + "' is not an integer");
+    element.properties.push_back({name, item_type, count_type});
+    return ply_type_size(count_type) + (face ? 3 * ply_type_size(item_type) : 0);
+  }
+  if (!ply_known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
+  std::string name, extra;
+  if (!(s >> name) || (s >> extra))
+    throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
+  element.properties.push_back({name, type, ""});
+  return ply_type_size(type);
+}
+
 // PLY: the header declares the element counts. OpenMesh's PLY reader invents records at the end of a
 // cut file, so the body is measured here: ASCII files need one line per declared element, binary
 // ones at least the bytes of fixed-size records (faces counted as triangles, the smallest polygon).
@@ -565,16 +608,9 @@ ExpectedCounts scan_ply(const std::string& path) {
   std::uintmax_t min_body_bytes = 0, record_bytes = 0;
   long current_count = 0;
   std::string current;
-  const auto type_size = ply_type_size;
   auto close_element = [&] { min_body_bytes += record_bytes * static_cast<std::uintmax_t>(current_count); };
   // The header is checked against the PLY grammar before OpenMesh sees it: its reader crashes on a
   // property with no element before it or an unknown keyword (found by fuzz_mesh).
-  auto known_type = [](const std::string& t) {
-    static const char* types[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
-                                  "int16", "uint16", "int32", "uint32", "float32", "float64"};
-    for (const char* k : types) if (t == k) return true;
-    return false;
-  };
   bool have_format = false;
   while (std::getline(in, line)) {
     ++line_no;
@@ -582,13 +618,7 @@ ExpectedCounts scan_ply(const std::string& path) {
     std::istringstream s(line);
     std::string word;
     s >> word;
-    // OpenMesh tokenises the header across lines and control bytes, so a header that is not plain text
-    // parses differently there than here (it looped on one; fuzz_mesh): plain printable ASCII only.
-    for (std::size_t k = 0; k < line.size(); ++k) {
-      const unsigned char ch = static_cast<unsigned char>(line[k]);
-      if ((ch < 0x20 && ch != '\t') || ch >= 0x7f)
-        throw InputError(path, line_no, static_cast<int>(k) + 1, "PLY header: a byte that is not text");
-    }
+    check_ply_header_text(line, line_no, path);
     if (line_no == 1) {
       if (word != "ply") throw InputError(path, 1, 0, "not a PLY file (no 'ply' magic)");
       continue;
@@ -619,27 +649,7 @@ ExpectedCounts scan_ply(const std::string& path) {
       if (current == "face") c.faces = current_count;
     } else if (word == "property") {
       if (current.empty()) throw InputError(path, line_no, 0, "PLY header: property before any element");
-      std::string type, count_type, item_type;
-      s >> type;
-      if (type == "list") {
-        s >> count_type >> item_type;
-        if (!known_type(count_type) || !known_type(item_type))
-          throw InputError(path, line_no, 0, "PLY header: unknown list types '" + count_type + " " + item_type + "'");
-        std::string name, extra;
-        if (!(s >> name) || (s >> extra))   // OpenMesh loops on a property without a name (fuzz_mesh)
-          throw InputError(path, line_no, 0, "PLY header: expected 'property list <type> <type> <name>'");
-        if (!ply_integer_type(count_type))
-          throw InputError(path, line_no, 0, "PLY header: list count type '" + count_type + "' is not an integer");
-        layout.back().properties.push_back({name, item_type, count_type});
-        record_bytes += type_size(count_type) + (current == "face" ? 3 * type_size(item_type) : 0);
-      } else {
-        if (!known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
-        std::string name, extra;
-        if (!(s >> name) || (s >> extra))
-          throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
-        layout.back().properties.push_back({name, type, ""});
-        record_bytes += type_size(type);
-      }
+      record_bytes += parse_ply_property(s, current == "face", layout.back(), line_no, path);
     } else if (word == "end_header") {
       close_element();
       if (ascii) {

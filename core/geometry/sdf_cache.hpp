@@ -2,7 +2,7 @@
 // Mesh SDFs built once per process and shared. A workbench fit loads its dataset afresh each time, and every
 // load rebuilt the indenter's OpenVDB field (the torus of twin_torus: about 4200 leaves, 10 MB, plus as much
 // again in the index grid meshToVolume builds on the way), freed it when the fit ended and left the heap
-// fragmented: the hour soak's resident memory stepped up after fits (issue 19, docs/reliability.md). The
+// fragmented: the hour soak's resident memory stepped up after fits (docs/reliability.md). The
 // cache keeps the last few fields, keyed by the mesh's exact vertices and faces and the build options.
 #include <cstddef>
 

@@ -8,7 +8,7 @@
 // Lookups:
 //  - Trilinear: interpolation of the eight surrounding nodes; exact for fields linear in x, y, z (a half
 //    space, a plane); the gradient is the analytic gradient of the interpolant, normalised.
-//  - Nearest: pytorch_volumetric.CachedSDF (BASELINES.md 3.2): index = round((p - min) / voxel) per axis, the
+//  - Nearest: pytorch_volumetric.CachedSDF, the lookup HydroShear's code uses: index = round((p - min) / voxel) per axis, the
 //    value and the source gradient stored at that node; piecewise constant.
 // Out of range (a Trilinear query outside the covered box; a Nearest query whose rounded index falls outside
 // [0, n - 1], i.e. more than half a voxel beyond the box): the source field is evaluated directly. That is what

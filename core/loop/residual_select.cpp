@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "core/base/format.hpp"
+#include "core/base/strings.hpp"
 
 namespace sb {
 
@@ -38,10 +39,9 @@ double improvement_pct(double reference_rmse, double candidate_rmse) {
   return 100.0 * (reference_rmse - candidate_rmse) / reference_rmse;
 }
 
-std::string join(const std::vector<std::string>& ids) {
-  std::string s;
-  for (const auto& id : ids) s += (s.empty() ? "" : "+") + id;
-  return s.empty() ? "(base)" : s;
+// "creep+lens", or "(base)" for no effects.
+std::string chain_label(const std::vector<std::string>& ids) {
+  return ids.empty() ? "(base)" : join(ids, "+");
 }
 
 }  // namespace
@@ -191,7 +191,7 @@ SelectionResult select_effects(const std::vector<std::string>& candidate_ids, co
       CandidateScore s = score_candidate(current, fits.back(), options);
       s.candidate = c;
       s.effect_ids = ids;
-      s.reason = join(ids) + ": " + s.reason;
+      s.reason = chain_label(ids) + ": " + s.reason;
       round.push_back(std::move(s));
     }
     // The best accepted candidate by point improvement; ties go to the higher lower bound.

@@ -115,7 +115,7 @@ void FotsBatch::reset() {
 
 void FotsBatch::reset_slot(int slot) { slots_.at(slot) = Slot{}; }
 
-void FotsBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px,
+void FotsBatch::step(std::span<const Pose> X_EI, double /*dt*/, std::span<Vec2> disp_px,
                      std::span<FieldOutput> diagnostics) {
   const int n = slots();
   const std::size_t nm = sensor_->p_EM.size();

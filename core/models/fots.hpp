@@ -1,5 +1,5 @@
 #pragma once
-// FOTS marker motion (Zhao et al. 2024), two variants (BASELINES.md §4):
+// FOTS marker motion (Zhao et al. 2024), two variants (docs/models.md, "FOTS, original" and "FOTS Reimpl."):
 //
 // `fots` — the original repository (Rancho-zhao/FOTS utils/marker_motion.py) lifted from its planar
 // trajectory to poses. Image-plane pixels; the trajectory is the in-plane motion of the indenter frame's
@@ -10,7 +10,7 @@
 //
 // `fots-reimpl` — HydroShear's "FOTS (Reimpl.)": metres, non-squared exponential kernels, anchored at
 // the initial contact-patch centre c (in I), shear and twist summed at the undeformed markers. The authors
-// set c once "after the grasp" (reset_fots, BASELINES.md §4.2); here the grasp is the normal approach: c
+// set c once "after the grasp" (reset_fots in their code); here the grasp is the normal approach: c
 // follows the patch centre while the indenter has only moved along the gel's normal since first contact,
 // and is fixed from the first step that moves it otherwise (anchor_grasp = 0: fixed at first contact).
 //   D_j = kappa_d sum_k h_k (m_j - m_k) exp(-lambda_d |m_j - m_k|)

@@ -371,7 +371,7 @@ std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
   return out;
 }
 
-void HydroShearBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> disp_px,
+void HydroShearBatch::step(std::span<const Pose> X_EI, double /*dt: quasi-static, the path is the state*/, std::span<Vec2> disp_px,
                            std::span<FieldOutput> diagnostics) {
   const int n = slots();
   const std::size_t nm = sensor_->p_EM.size();
@@ -466,7 +466,7 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
     for (int pos = b; pos < e; ++pos, ++i) {
       sc.cpos[n] = pos;
       sc.ci[n] = i;
-      n += (sc.vs[i] < 0) | (aug && sc.vs_aug[i] < 0);
+      n += static_cast<int>(sc.vs[i] < 0) | static_cast<int>(aug && sc.vs_aug[i] < 0);
     }
   sc.cpos.resize(n);
   sc.ci.resize(n);
@@ -616,7 +616,7 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
 // exp_in_place. The sum over points is then one small matrix product over the points
 //   S_x[r][c] = sum_i (vx_i Y_i[r]) (E_i X_i[c])  (and S_y with vy),
 // formed with the points as the long, vectorised dimension (kernels::shear_matrices, add_products_nt).
-void HydroShearBatch::shear_sum(const Pose& X_EI, Scratch& sc) const {
+void HydroShearBatch::shear_sum(Scratch& sc) const {
   const int nm = markers();
   sc.shear_x.assign(nm, 0.0);
   sc.shear_y.assign(nm, 0.0);
@@ -970,7 +970,7 @@ void HydroShearBatch::step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldO
   if (k_.g_aug > 0) augmented_state(slot, X_EI, sc);
   clock.lap(Phase::State);
   if (disp == nullptr) return;  // the state advances; no field is wanted at this step
-  shear_sum(X_EI, sc);
+  shear_sum(sc);
   clock.lap(Phase::Shear);
   dilation(X_EI, disp, sc, clock);
   clock.lap(Phase::Dilation);

@@ -151,7 +151,7 @@ class HydroShearBatch {
     double aniso = 0;            // + aniso lambda d (d . v): the along-the-load anisotropy (contact's far field)
   };
   void contact_shift(Scratch& sc) const;
-  void shear_sum(const Pose& X_EI, Scratch& sc) const;
+  void shear_sum(Scratch& sc) const;
   bool factored(const ShearTerm& term) const;   // the term's Gaussians factor on the marker grid
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;

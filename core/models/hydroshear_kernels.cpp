@@ -37,7 +37,7 @@ void transform_points(const double* r, const double* t, const double* x, const d
                       double* ox, double* oy, double* oz) {
   const double r0 = r[0], r1 = r[1], r2 = r[2], r3 = r[3], r4 = r[4], r5 = r[5], r6 = r[6], r7 = r[7], r8 = r[8];
   const double t0 = t[0], t1 = t[1], t2 = t[2];
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double a = x[i], b = y[i], c = z[i];
     ox[i] = r0 * a + r1 * b + r2 * c + t0;
@@ -51,7 +51,7 @@ void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, cons
                   double* phi) {
   const double hx = pad.hx, hy = pad.hy, hz = 0.5 * pad.thickness;
   const double sx = shift[0], sy = shift[1], sz = shift[2];
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double qx = std::fabs(x[i] + sx) - hx;
     const double qy = std::fabs(y[i] + sy) - hy;
@@ -68,7 +68,7 @@ namespace {
 template <bool kNormalZ>
 [[gnu::always_inline]] inline void advance_loop(const AdvanceColumns& c, double cone, int n, double* ux, double* uy,
                                                 double* uz, double* un, std::uint8_t* slip) {
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     // In-gel fraction of the segment; 0/0 (s unchanged) is 1 as in the authors' code (s < 0 here).
     const double s = c.s[i], sp = c.s_prev[i];
@@ -128,7 +128,7 @@ template <bool kWeightPaper, bool kNormalZ>
                                                        double* vx, double* vy, double* lead, double* rx, double* ry,
                                                        std::uint8_t* fast) {
   const double l = k.lambda_s;
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     double w;
     point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w);
@@ -167,7 +167,7 @@ namespace {
   for (int k = 1; k < n; ++k) {
     const double* prev = block + static_cast<std::ptrdiff_t>(k - 1) * mp;
     double* row = block + static_cast<std::ptrdiff_t>(k) * mp;
-#pragma GCC ivdep
+SB_IVDEP
     for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_r[i] * q_pow);
     q_pow *= q;
   }
@@ -177,7 +177,7 @@ namespace {
 SB_VECTOR_CLONES
 void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
                   double* block) {
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < mp; ++i) {
     const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
     block[i] = fast[i] ? x : 0.0;
@@ -198,7 +198,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   // Wt: rows 0 = (fast) vx_i and vy_i, then the y axis' recurrence applied to both.
   double* wx0 = Wt;
   double* wy0 = Wt + static_cast<std::ptrdiff_t>(rows) * mp;
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < mp; ++i) {
     const double x = vx[i], y = vy[i];  // loaded unconditionally: a conditional load stops vectorisation
     wx0[i] = fast[i] ? x : 0.0;
@@ -210,7 +210,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
     const double* py = wy0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
     double* rx = wx0 + static_cast<std::ptrdiff_t>(r) * mp;
     double* ry = wy0 + static_cast<std::ptrdiff_t>(r) * mp;
-#pragma GCC ivdep
+SB_IVDEP
     for (int i = 0; i < mp; ++i) {
       const double ratio = e_ry[i] * q_pow;
       rx[i] = px[i] * ratio;
@@ -230,7 +230,7 @@ template <bool kWeightPaper, bool kNormalZ>
 [[gnu::always_inline]] inline void point_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
                                                        double* vx, double* vy, double* w, double* ax, double* ay,
                                                        double* az) {
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w[i]);
     ax[i] = c.px[i] + c.ux[i] + k.shift_x;
@@ -259,7 +259,7 @@ int axis_exponents(const double* ax, const double* ay, const double* az, const S
   const ShearConstants k = constants;
   const double l = k.lambda_s;
   int slow = 0;
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double dx0 = k.x0 - ax[i], dxn = k.xn - ax[i], dy0 = k.y0 - ay[i], dyn = k.yn - ay[i], dz = k.z0 - az[i];
     const double lz = l * dz * dz;
@@ -280,7 +280,7 @@ namespace {
 // target (see for_row_blocks), and these loops are the hot ones.
 // The running row of the y factor at row 0: fast_i gy0_i.
 [[gnu::always_inline]] inline void y_factor_start(const double* e_y0, const std::uint8_t* fast, int m, double* run) {
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < m; ++i) {
     const double g = e_y0[i];   // loaded unconditionally: a conditional load stops vectorisation
     run[i] = fast[i] ? g : 0.0;

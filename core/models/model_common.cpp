@@ -118,7 +118,7 @@ void add_outer_products(const double* W, int nw, const double* X, int stride, in
     for (int a = 0; a < nw; ++a) {
       const double wa = w[a];
       double* s = S + static_cast<std::ptrdiff_t>(a) * stride;
-#pragma GCC ivdep
+SB_IVDEP
       for (int c = 0; c < stride; ++c) s[c] += wa * x[c];
     }
   }
@@ -131,7 +131,7 @@ void exp_in_place(double* x, int n) {
   constexpr double kLn2Hi = 0.693145751953125;
   constexpr double kLn2Lo = 1.42860682030941723212e-6;
   constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer held in the low mantissa bits
-#pragma GCC ivdep
+SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double v = x[i];  // the caller keeps it in [-700, 700]
     const double t = v * kLog2e + kShifter;

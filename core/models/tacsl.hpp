@@ -1,5 +1,5 @@
 #pragma once
-// TacSL penalty-based tactile shear (Akinola et al. 2024; BASELINES.md §2.2-§2.5), the per-taxel model
+// TacSL penalty-based tactile shear (Akinola et al. 2024; docs/models.md, "TacSL"), the per-taxel model
 // HydroShear compares against. Taxels = the markers p_EM; the sensor is static in E, so the relative
 // velocity at a taxel is minus the velocity of the indenter's material point at the contact point c:
 //   d = max(-phi_I(p_I), 0),  n = R_EI grad phi_I,  c_I = p_I + d n_I

@@ -48,7 +48,7 @@ void project_site(const T* const* x, double R, double rp, int ring, int slot, T*
 }
 
 struct PinResidual {
-  PinResidual(Vec2 uv, double R, double rp, TactipPinSite site) : uv_(uv), R_(R), rp_(rp), site_(site) {}
+  PinResidual(const Vec2& uv, double R, double rp, TactipPinSite site) : uv_(uv), R_(R), rp_(rp), site_(site) {}
   template <typename T>
   bool operator()(const T* const* x, T* r) const {
     T uv[2];
@@ -163,6 +163,22 @@ Vec2 tactip_pin_px(const Camera& camera, double dome_radius_m, double pin_depth_
                              -dome_radius_m + rp * std::cos(t)));
 }
 
+namespace {
+// Dense QR on seven parameters, to tight tolerances (the fit is small and its covariance is read); one thread
+// so the result does not depend on the machine.
+ceres::Solver::Options pin_fit_solver_options() {
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 200;
+  so.function_tolerance = 1e-14;
+  so.parameter_tolerance = 1e-14;
+  so.gradient_tolerance = 1e-16;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  return so;
+}
+}  // namespace
+
 TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const TactipGeometryFitOptions& options,
                                       const std::string& where) {
   const Camera& c0 = options.initial;
@@ -179,6 +195,7 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
                                 theta0, c0.focal_px, c0.distance_m, c0.k1};
   ceres::Problem problem;
   std::vector<double*> blocks;
+  blocks.reserve(x.size());
   for (double& v : x) blocks.push_back(&v);
   for (std::size_t j = 0; j < pins_px.size(); ++j) {
     const TactipPinSite& site = fit.rings.sites[j];
@@ -196,16 +213,8 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
   problem.SetParameterLowerBound(blocks[kTheta], 0, 1e-6);
   problem.SetParameterLowerBound(blocks[kDistance], 0, R - rp + 1e-6);
   problem.SetParameterLowerBound(blocks[kFocal], 0, 1e-6);
-  ceres::Solver::Options so;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = 200;
-  so.function_tolerance = 1e-14;
-  so.parameter_tolerance = 1e-14;
-  so.gradient_tolerance = 1e-16;
-  so.num_threads = 1;
-  so.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
-  ceres::Solve(so, &problem, &summary);
+  ceres::Solve(pin_fit_solver_options(), &problem, &summary);
   fit.termination = ceres::TerminationTypeToString(summary.termination_type);
   for (double v : x)
     if (!std::isfinite(v) || summary.termination_type == ceres::FAILURE)

@@ -17,7 +17,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNeighbourRadius = 1.6;  // pitches: the first ring of a hexagonal lattice
-constexpr double kFieldRadius = 2.5;      // pitches: pins whose displacement predicts a lost or unmatched one
 
 double median(std::vector<double> v) {
   if (v.empty()) return kNaN;
@@ -243,6 +242,7 @@ std::vector<Vec2> track_pins(const PinReference& ref, const std::vector<PinDetec
   for (auto& p : prior)
     if (!p.allFinite()) p = Vec2::Zero();
   std::vector<Vec2> det;
+  det.reserve(detections.size());
   for (const auto& d : detections) det.push_back(d.uv);
   const double gate = o.gate_fraction * ref.pitch_px;
   const Vec2 lost(kNaN, kNaN);

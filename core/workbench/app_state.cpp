@@ -208,7 +208,8 @@ void AppState::apply(const Drag& e) {
   if (!drag_active_) {
     // The first drag of a gesture replaces the future of the path by the dragged segment.
     std::lock_guard lock(path_mutex_);
-    path_.resize(static_cast<std::size_t>(step_ + 1));
+    const int kept_steps = step_ + 1;   // step_ >= -1
+    path_.resize(static_cast<std::size_t>(kept_steps));
     drop_checkpoints_after(step_);
     measured_steps_ = std::min(measured_steps_, step_ + 1);
     drag_active_ = true;

@@ -28,7 +28,7 @@ struct SessionSource {
   std::string fots_id = "fots";     // or fots-reimpl
   std::string tacsl_id = "tacsl";   // or tacsl-normalized
   // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form
-  // correction with the model it corrects (issue 17). The first view shows "auto" (above); a session file
+  // correction with the model it corrects. The first view shows "auto" (above); a session file
   // without the key shows none, as before.
   std::string beside_hydroshear = kBesideHydroshearAuto;
   std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")

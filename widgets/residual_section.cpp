@@ -1,7 +1,6 @@
-// The Residual section of the workbench: a residual analysis (shearbench residual --json) read back,
-// its ranked candidates, and the field panels switched to the residual (measured - model) and to the
-// corrected model: the loop's answer, the selected model form (else the base) with the selected effects, at
-// their fitted parameters.
+// The Residual section (residual_section.hpp).
+#include "widgets/residual_section.hpp"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -9,79 +8,79 @@
 #include <cstdio>
 
 #include "core/base/display_path.hpp"
+#include "core/base/strings.hpp"
 #include "core/effects/effects.hpp"
-#include "widgets/workbench.hpp"
+#include "widgets/panels.hpp"
+#include "widgets/text_field.hpp"
 
 namespace sb::ui {
 
 namespace {
 const ImVec4 kSelectedColour(0.45f, 0.85f, 0.45f, 1.0f);
-std::string joined(const std::vector<std::string>& ids, const char* sep) {
-  std::string s;
-  for (const auto& id : ids) s += (s.empty() ? "" : sep) + id;
-  return s;
-}
 }  // namespace
 
-void Workbench::set_residual(ResidualSummary summary) {
-  std::snprintf(residual_path_, sizeof residual_path_, "%s", display_path(summary.file, data_root_).c_str());
+void ResidualSection::set(ResidualSummary summary, const std::string& data_root) {
+  path_ = display_path(summary.file, data_root);
   residual_ = std::move(summary);
+  restart_corrected();
+  open_section_ = true;
+}
+
+void ResidualSection::clear() {
+  residual_.reset();
+  show_residual_fields_ = false;
+  restart_corrected();
+}
+
+void ResidualSection::restart_corrected() {
   corrected_job_.clear();
   corrected_started_ = false;
-  open_residual_section_ = true;
 }
 
-void Workbench::set_residual_view(bool residual_fields, bool corrected_model) {
-  show_residual_fields_ = residual_fields;
-  show_corrected_ = corrected_model;
-}
-
-bool Workbench::apply_residual_base_params() {
+bool ResidualSection::apply_base_params(const AppSnapshot& snap, AppState& state) const {
   if (!residual_) return false;
-  for (std::size_t m = 0; m < snap_.models.size(); ++m)
-    if (snap_.models[m].id == residual_->model_id) {
-      state_->request_params(m, fitted_base_params(*residual_));   // applied at the sync point
+  for (std::size_t m = 0; m < snap.models.size(); ++m)
+    if (snap.models[m].id == residual_->model_id) {
+      state.request_params(m, fitted_base_params(*residual_));   // applied at the sync point
       return true;
     }
   return false;
 }
 
-int Workbench::corrected_slot() const {
+int ResidualSection::corrected_slot(const AppSnapshot& snap) const {
   if (!residual_ || residual_->after_model == residual_->model_id) return -1;
-  for (int m = 0; m < static_cast<int>(snap_.models.size()); ++m)
-    if (snap_.models[m].id == residual_->model_id) return m;
+  for (int m = 0; m < static_cast<int>(snap.models.size()); ++m)
+    if (snap.models[m].id == residual_->model_id) return m;
   return -1;
 }
 
-// The corrected model's fields along the measured sample's poses (worker thread), started once per
-// loaded analysis and sample.
-void Workbench::update_corrected_series() {
-  if (!show_corrected_ || corrected_started_ || corrected_slot() < 0 || measured_.poses.empty()) return;
-  corrected_job_.start(make_corrected_model(*residual_, state_->sensor(), state_->indenter()), measured_.poses,
-                       snap_.dt_s);
+void ResidualSection::update_corrected(const AppSnapshot& snap, const AppState& state,
+                                       const std::vector<Pose>& poses) {
+  if (!show_corrected_ || corrected_started_ || corrected_slot(snap) < 0 || poses.empty()) return;
+  corrected_job_.start(make_corrected_model(*residual_, state.sensor(), state.indenter()), poses, snap.dt_s);
   corrected_started_ = true;
 }
 
-const std::vector<Vec2>* Workbench::corrected_at_step() {
+const std::vector<Vec2>* ResidualSection::corrected_at_step(const AppSnapshot& snap, std::string& message) {
   if (!show_corrected_ || !corrected_started_ || corrected_job_.running()) return nullptr;
   const std::vector<std::vector<Vec2>>* series_ptr = nullptr;
   try {
     series_ptr = &corrected_job_.result();
   } catch (const std::exception& e) {   // the worker failed: say so once, stop showing it
-    message_ = std::string("corrected model: ") + e.what();
+    message = std::string("corrected model: ") + e.what();
     show_corrected_ = false;
     corrected_job_.clear();
     return nullptr;
   }
   const auto& series = *series_ptr;
-  const int k = snap_.step;
-  if (k < 0 || k >= snap_.measured_steps || k >= static_cast<int>(series.size())) return nullptr;
+  const int k = snap.step;
+  if (k < 0 || k >= snap.measured_steps || k >= static_cast<int>(series.size())) return nullptr;
   return &series[k];
 }
 
 // Where (against the contact edge, ahead of or behind the travel), when (phase) and under which load the
 // base model is wrong, and in which direction: the analysis's contact-frame tables, one at a time.
-void Workbench::draw_contact_frame_tables(const ResidualSummary& r) {
+void ResidualSection::draw_contact_frame_tables(const ResidualSummary& r) {
   if (r.contact_frame.empty() ||
       !ImGui::TreeNodeEx("where and when it is wrong (contact frame)", ImGuiTreeNodeFlags_DefaultOpen))
     return;
@@ -118,16 +117,25 @@ void Workbench::draw_contact_frame_tables(const ResidualSummary& r) {
   ImGui::TreePop();
 }
 
-void Workbench::draw_residual_panel(WorkbenchRequest& req) {
+void ResidualSection::draw(const AppSnapshot& snap, AppState& state, bool have_poses, std::string& message,
+                           WorkbenchRequest& req) {
   ImGui::SetNextItemWidth(-60);
-  ImGui::InputText("##residual", residual_path_, sizeof residual_path_);
+  input_text("##residual", path_);
   ImGui::SameLine();
-  if (ImGui::SmallButton("Load##residual")) req.load_residual = std::string(residual_path_);
+  if (ImGui::SmallButton("Load##residual")) req.load_residual = path_;
   if (!residual_) {
     ImGui::TextDisabled("a report of: shearbench residual --json FILE");
     return;
   }
   const ResidualSummary& r = *residual_;
+  draw_summary(r);
+  draw_candidates(r);
+  draw_contact_frame_tables(r);
+  draw_switches(snap, state, have_poses, message);
+}
+
+// The model and dataset, the RMSE before and after, and the answer with its effects.
+void ResidualSection::draw_summary(const ResidualSummary& r) const {
   ImGui::TextWrapped("%s on %s", display_name(r.model_id).c_str(), r.dataset.c_str());
   const double change = 100.0 * (r.after_rmse_px - r.before_rmse_px) / r.before_rmse_px;
   ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
@@ -135,52 +143,59 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
   if (ImGui::IsItemHovered())
     wrapped_tooltip("The model the analysis found: the selected model form (" +
                     (r.model_form.empty() ? std::string("none, so the base") : r.model_form) + ") with the selected effects (" +
-                    (r.selected.empty() ? std::string("none") : joined(r.selected, " + ")) +
+                    (r.selected.empty() ? std::string("none") : join(r.selected, " + ")) +
                     "), fitted jointly. Load it anywhere as --model " + r.after_model +
                     " with the report's _params.json file.");
-  ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : joined(r.selected, " + ").c_str());
+  ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : join(r.selected, " + ").c_str());
+}
+
+// The ranked candidates: gain, its confidence interval and the verdict (the selected ones in green).
+void ResidualSection::draw_candidates(const ResidualSummary& r) const {
   constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
-  if (ImGui::BeginTable("##candidates", 4, kTable)) {
-    ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 1.7f);
-    ImGui::TableSetupColumn("gain%", ImGuiTableColumnFlags_WidthStretch, 0.75f);
-    ImGui::TableSetupColumn("95 % CI", ImGuiTableColumnFlags_WidthStretch, 1.3f);
-    ImGui::TableSetupColumn("why", ImGuiTableColumnFlags_WidthStretch, 1.2f);
-    ImGui::TableHeadersRow();
-    for (const auto& c : r.candidates) {
-      const bool selected = std::find(r.selected.begin(), r.selected.end(), c.effect) != r.selected.end();
-      ImGui::TableNextRow();
-      ImGui::TableNextColumn();
-      // The id with spaces, so a long one wraps in a narrow panel instead of being cut.
-      std::string label = c.effect;
-      std::replace(label.begin(), label.end(), '_', ' ');
-      if (selected) ImGui::PushStyleColor(ImGuiCol_Text, kSelectedColour);
-      ImGui::TextWrapped("%s%s", label.c_str(), selected ? " *" : "");
-      if (selected) ImGui::PopStyleColor();
-      if (ImGui::IsItemHovered()) wrapped_tooltip(c.effect + ": " + make_effect(c.effect)->physics() + "\n\n" + c.reason);
-      ImGui::TableNextColumn();
-      if (std::isfinite(c.improvement_pct)) ImGui::Text("%+.1f", c.improvement_pct);
-      else ImGui::TextDisabled("-");
-      ImGui::TableNextColumn();
-      if (std::isfinite(c.ci95_low_pct)) ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
-      else ImGui::TextDisabled("-");
-      ImGui::TableNextColumn();
-      ImGui::PushStyleColor(ImGuiCol_Text, selected ? kSelectedColour : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-      ImGui::TextWrapped("%s", c.verdict.c_str());
-      ImGui::PopStyleColor();
-      if (ImGui::IsItemHovered()) wrapped_tooltip(c.reason);
-    }
-    ImGui::EndTable();
+  if (!ImGui::BeginTable("##candidates", 4, kTable)) return;
+  ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 1.7f);
+  ImGui::TableSetupColumn("gain%", ImGuiTableColumnFlags_WidthStretch, 0.75f);
+  ImGui::TableSetupColumn("95 % CI", ImGuiTableColumnFlags_WidthStretch, 1.3f);
+  ImGui::TableSetupColumn("why", ImGuiTableColumnFlags_WidthStretch, 1.2f);
+  ImGui::TableHeadersRow();
+  for (const auto& c : r.candidates) {
+    const bool selected = std::find(r.selected.begin(), r.selected.end(), c.effect) != r.selected.end();
+    ImGui::TableNextRow();
+    ImGui::TableNextColumn();
+    // The id with spaces, so a long one wraps in a narrow panel instead of being cut.
+    std::string label = c.effect;
+    std::replace(label.begin(), label.end(), '_', ' ');
+    if (selected) ImGui::PushStyleColor(ImGuiCol_Text, kSelectedColour);
+    ImGui::TextWrapped("%s%s", label.c_str(), selected ? " *" : "");
+    if (selected) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) wrapped_tooltip(c.effect + ": " + make_effect(c.effect)->physics() + "\n\n" + c.reason);
+    ImGui::TableNextColumn();
+    if (std::isfinite(c.improvement_pct)) ImGui::Text("%+.1f", c.improvement_pct);
+    else ImGui::TextDisabled("-");
+    ImGui::TableNextColumn();
+    if (std::isfinite(c.ci95_low_pct)) ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
+    else ImGui::TextDisabled("-");
+    ImGui::TableNextColumn();
+    ImGui::PushStyleColor(ImGuiCol_Text, selected ? kSelectedColour : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", c.verdict.c_str());
+    ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered()) wrapped_tooltip(c.reason);
   }
-  draw_contact_frame_tables(r);
+  ImGui::EndTable();
+}
+
+// The residual fields, the fitted base parameters, and the corrected model in the analysed model's panel.
+void ResidualSection::draw_switches(const AppSnapshot& snap, AppState& state, bool have_poses, std::string& message) {
+  const ResidualSummary& r = *residual_;
   ImGui::Checkbox("residual fields (measured - model)", &show_residual_fields_);
   if (ImGui::SmallButton("Apply the fitted base parameters")) {
-    if (!apply_residual_base_params())
-      message_ = display_name(r.model_id) + " is not one of the shown models";
+    if (!apply_base_params(snap, state))
+      message = display_name(r.model_id) + " is not one of the shown models";
   }
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip("%s's parameters as the analysis fitted them without effects:\nthe fair reference for the corrected model",
                       display_name(r.model_id).c_str());
-  const int slot = corrected_slot();
+  const int slot = corrected_slot(snap);
   if (r.after_model == r.model_id) {
     ImGui::TextDisabled("nothing selected: no corrected model");
   } else if (slot < 0) {
@@ -189,7 +204,7 @@ void Workbench::draw_residual_panel(WorkbenchRequest& req) {
     ImGui::Checkbox(("show " + r.after_model).c_str(), &show_corrected_);
     if (ImGui::IsItemHovered())
       wrapped_tooltip(display_name(r.model_id) + "'s panel shows the loop's answer instead, at its fitted parameters");
-    if (show_corrected_ && measured_.poses.empty()) ImGui::TextDisabled("(needs a replay with measurements)");
+    if (show_corrected_ && !have_poses) ImGui::TextDisabled("(needs a replay with measurements)");
     else if (show_corrected_ && corrected_job_.running()) ImGui::TextDisabled("computing the corrected fields ...");
   }
 }

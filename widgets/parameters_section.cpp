@@ -1,0 +1,139 @@
+#include "widgets/parameters_section.hpp"
+
+#include <imgui.h>
+
+#include <algorithm>
+
+#include "widgets/panels.hpp"
+#include "widgets/text_field.hpp"
+
+namespace sb::ui {
+
+void ParametersSection::start_session(const AppSnapshot& snap) {
+  edit_params_.clear();
+  for (const auto& m : snap.models) edit_params_.push_back(m.params);
+}
+
+void ParametersSection::catch_up(const AppSnapshot& snap, const AppState& state) {
+  for (std::size_t m = 0; m < snap.models.size() && m < edit_params_.size(); ++m)
+    if (!ImGui::IsAnyItemActive() && edit_params_[m].values() != snap.models[m].params.values() &&
+        state.pending_edits() == 0)
+      edit_params_[m] = snap.models[m].params;
+}
+
+void ParametersSection::draw(const AppSnapshot& snap, AppState& state, WorkbenchRequest& req) {
+  draw_variant_switches(snap, req);
+  draw_file_row(req);
+  draw_param_set_row(req);
+  draw_sliders(snap, state);
+}
+
+// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both | the contact variant (both,
+// the layer's far field, contact-following tractions; docs/effects.md);
+// FOTS: original | re-implementation;
+// TacSL: raw | normalised. The choice replaces that panel's model at
+// the sync point (AppState::request_model), which replays the path to the current step.
+void ParametersSection::draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req) {
+  struct Family { const char* label; std::vector<std::string> ids; };
+  static const std::vector<Family> kFamilies{
+      {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"}},
+      {"FOTS", {"fots", "fots-reimpl"}},
+      {"TacSL", {"tacsl", "tacsl-normalized"}}};
+  const auto in_family = [](const Family& f, const std::string& id) {
+    return std::find(f.ids.begin(), f.ids.end(), id) != f.ids.end();
+  };
+  std::string beside;   // a second HydroShear slot is the panel beside HydroShear's
+  for (const Family& f : kFamilies) {
+    bool first = true;
+    for (int m = 0; m < static_cast<int>(snap.models.size()); ++m) {
+      const std::string& id = snap.models[m].id;
+      if (!in_family(f, id)) continue;
+      if (!first) {
+        beside = id;
+        continue;
+      }
+      first = false;
+      ImGui::SetNextItemWidth(-125);   // room for "HydroShear variant"
+      if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
+        for (const std::string& v : f.ids)
+          if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, v);
+        ImGui::EndCombo();
+      }
+    }
+  }
+  // The corrected models beside the one they correct: one more panel, its own parameters.
+  ImGui::SetNextItemWidth(-125);
+  if (ImGui::BeginCombo("beside HydroShear", beside.empty() ? "none" : display_name(beside).c_str())) {
+    if (ImGui::Selectable("none", beside.empty()) && !beside.empty()) req.beside_hydroshear = "";
+    for (const std::string& v : kFamilies.front().ids)
+      if (ImGui::Selectable(display_name(v).c_str(), beside == v) && beside != v) req.beside_hydroshear = v;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("A HydroShear variant in a field panel of its own, to compare a model-form correction\n"
+                      "(docs/effects.md) with HydroShear as it is. Costs one more model per step.");
+}
+
+void ParametersSection::draw_file_row(WorkbenchRequest& req) {
+  next_item_leaves_label_room();
+  input_text("##params", file_);
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Load")) req.load_params = file_;
+  ImGui::SameLine();
+  if (ImGui::SmallButton("Save")) req.save_params = file_;
+}
+
+// A set's name in the combo, with the sensor it was fitted on when that is not the GelSight Mini (read once
+// per set: the combo lists them every frame while it is open).
+std::string ParametersSection::param_set_label(const std::string& name) {
+  auto it = labels_.find(name);
+  if (it == labels_.end()) {
+    std::string sensor;
+    try {
+      sensor = load_param_set(name).sensor_model();
+    } catch (const std::exception&) {
+      sensor.clear();   // a broken file is reported when chosen, not while listing
+    }
+    const bool other = !sensor.empty() && sensor != kDefaultSensorModel;
+    it = labels_.emplace(name, other ? name + "  (" + sensor + ")" : name).first;
+  }
+  return it->second;
+}
+
+// The parameter set every model started from: a combo to start again from another, its provenance as a
+// tooltip (what it was fitted on, by which command, its validation RMSE), and the published values.
+void ParametersSection::draw_param_set_row(WorkbenchRequest& req) {
+  ImGui::TextUnformatted("parameter set");
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::BeginCombo("##param_set", set_.name.c_str())) {
+    for (const std::string& name : param_set_names())
+      if (ImGui::Selectable(param_set_label(name).c_str(), name == set_.name) && name != set_.name)
+        req.param_set = name;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) wrapped_tooltip(set_.summary());
+  if (!mismatch_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.75f, 0.3f, 1.0f));
+    ImGui::TextWrapped("%s", mismatch_.c_str());
+    ImGui::PopStyleColor();
+  }
+  ImGui::Checkbox("show the published values", &show_published_);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("show the authors' published value beside each slider");
+}
+
+// One tree node of sliders per model (the first open).
+void ParametersSection::draw_sliders(const AppSnapshot& snap, AppState& state) {
+  for (std::size_t m = 0; m < snap.models.size() && m < edit_params_.size(); ++m) {
+    const std::string& id = snap.models[m].id;
+    if (!ImGui::TreeNodeEx(id.c_str(), m == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", display_name(id).c_str()))
+      continue;
+    // Slider edits go to a local copy that is sent as a whole; the snapshot catches up after the replay.
+    const ParamSet published = default_params(id);
+    if (param_panel(id, edit_params_[m], set_.params(id), show_published_ ? &published : nullptr))
+      state.request_params(m, edit_params_[m]);
+    ImGui::TreePop();
+  }
+}
+
+}  // namespace sb::ui

@@ -1,0 +1,45 @@
+#pragma once
+// The Parameters section: the model variants shown (HydroShear, FOTS, TacSL families, and a HydroShear variant
+// beside HydroShear), a params.json to load or save, the parameter set every model started from, and each
+// model's sliders. Slider edits go to a local copy per model that is sent whole to the sync point.
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/calibration/param_sets.hpp"
+#include "core/workbench/app_state.hpp"
+#include "widgets/workbench_request.hpp"
+
+namespace sb::ui {
+
+class ParametersSection {
+ public:
+  // The set the models started from (named in the section, provenance as tooltip, the value R resets a
+  // slider to), and the sensor of the open scene (a set fitted on another sensor is named as such).
+  void set_param_set(NamedParamSet set, const std::string& sensor_model) {
+    mismatch_ = sensor_mismatch(set, sensor_model);
+    set_ = std::move(set);
+  }
+  // A new session: the sliders start from its models' parameters.
+  void start_session(const AppSnapshot& snap);
+  // Parameters changed elsewhere (loaded from a file) show up in the sliders, unless one is being dragged or
+  // an edit is still on its way.
+  void catch_up(const AppSnapshot& snap, const AppState& state);
+  void draw(const AppSnapshot& snap, AppState& state, WorkbenchRequest& req);
+
+ private:
+  void draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req);
+  void draw_file_row(WorkbenchRequest& req);
+  void draw_param_set_row(WorkbenchRequest& req);
+  void draw_sliders(const AppSnapshot& snap, AppState& state);
+  std::string param_set_label(const std::string& name);
+
+  std::string file_ = "params.json";
+  std::vector<ParamSet> edit_params_;
+  NamedParamSet set_ = published_param_set();
+  std::string mismatch_;   // sensor_mismatch() of the set and the open scene
+  std::map<std::string, std::string> labels_;   // set name -> its combo label
+  bool show_published_ = false;
+};
+
+}  // namespace sb::ui

@@ -1,0 +1,28 @@
+#include "widgets/pose_section.hpp"
+
+#include <imgui.h>
+
+#include "widgets/panels.hpp"
+
+namespace sb::ui {
+
+void PoseSection::drag_to(const Pose& X_EI, AppState& state, bool skip_same) {
+  if (skip_same && last_drag_ && X_EI.isApprox(*last_drag_, 1e-12)) return;
+  state.request_drag(X_EI);
+  last_drag_ = X_EI;
+}
+
+void PoseSection::nudge(const Pose& delta_E, bool rotate, const AppSnapshot& snap, AppState& state) {
+  Pose X = last_drag_ ? *last_drag_ : snap.X_EI;
+  if (rotate) X.linear() = delta_E.linear() * X.linear();  // about the indenter origin, axes of E
+  X.translation() += delta_E.translation();
+  drag_to(X, state);
+}
+
+void PoseSection::draw(const AppSnapshot& snap, bool dragging, AppState& state) {
+  Pose X = shown(snap, dragging);
+  if (pose_panel(X)) drag_to(X, state);
+  ImGui::TextDisabled("drag it in the 3D view; F1 for keys");
+}
+
+}  // namespace sb::ui

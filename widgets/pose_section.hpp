@@ -1,0 +1,29 @@
+#pragma once
+// The Indenter pose section and every other way the pose is moved by hand (a drag in the 3D view, the
+// keyboard's nudges): it owns the pose last asked for, so a drag continues from where it is, not from the
+// snapshot that has not caught up yet.
+#include <optional>
+
+#include "core/workbench/app_state.hpp"
+
+namespace sb::ui {
+
+class PoseSection {
+ public:
+  // A new session: no drag in progress.
+  void reset() { last_drag_.reset(); }
+  // The pose to show: the one being dragged while `dragging`, else the snapshot's.
+  Pose shown(const AppSnapshot& snap, bool dragging) const {
+    return last_drag_ && dragging ? *last_drag_ : snap.X_EI;
+  }
+  // Asks the sync point for `X_EI` (unless it is the pose already asked for, when `skip_same`).
+  void drag_to(const Pose& X_EI, AppState& state, bool skip_same = false);
+  // A keyboard nudge: translation of `delta_E`, its rotation about the indenter origin when `rotate`.
+  void nudge(const Pose& delta_E, bool rotate, const AppSnapshot& snap, AppState& state);
+  void draw(const AppSnapshot& snap, bool dragging, AppState& state);
+
+ private:
+  std::optional<Pose> last_drag_;
+};
+
+}  // namespace sb::ui

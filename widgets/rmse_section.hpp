@@ -1,0 +1,28 @@
+#pragma once
+// The "RMSE over time" section: every model's RMSE against the measurement, frame by frame, computed on a
+// worker thread (core/calibration/rmse_series) whenever the models' parameters change.
+#include <vector>
+
+#include "core/calibration/rmse_series.hpp"
+#include "core/workbench/app_state.hpp"
+#include "widgets/measured_data.hpp"
+
+namespace sb::ui {
+
+class RmseSection {
+ public:
+  // A new sample: its series is computed afresh.
+  void reset() { params_.clear(); }
+  // Starts the series again when the models' parameters differ from those of the last request, once the
+  // physics has applied them (no pending edits).
+  void update(const AppSnapshot& snap, const AppState& state, const MeasuredData& measured);
+  void draw(const AppSnapshot& snap) const;
+  // Blocks until the series is done (headless renders are deterministic).
+  void wait() const;
+
+ private:
+  RmseSeriesJob job_;
+  std::vector<std::vector<double>> params_;   // the parameter values the running/last job used
+};
+
+}  // namespace sb::ui
