@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
+#include <numbers>
 
 #include "core/effects/effects.hpp"
 
@@ -411,4 +412,40 @@ TEST_CASE("effects compose in order inside EffectModel", "[effects]") {
   m->step(pressed(0.001), kDt, &o);  // depth 1 mm: 1 + 1000 * 0.001 = 2
   const Vec2 d0 = test_field(9)[0];  // (1, -2), moving
   CHECK((o.disp_px[0] - (1.2 * d0 + Vec2(1.0, 0.0)) / 2.0).norm() < kExact);
+}
+
+TEST_CASE("tilt_pivot: a tilt about a pivot h below the apex moves the indenter by h (R z - z)", "[effects]") {
+  // R = Rx(t): R z = (0, -sin t, cos t), so the correction is h (0, -sin t, cos t - 1). At t = 60 deg and
+  // h = 4 mm: (0, -3.4641, -2.0) mm. A twist (about z) has R z = z: no correction.
+  auto e = make_effect("tilt_pivot");
+  REQUIRE(e->acts_on_pose());
+  ParamSet p = e->params();
+  constexpr double h = 0.004, t = std::numbers::pi / 3.0;
+  p.set("pivot_depth_m", h);
+  e->set_params(p);
+  Pose tilted = pressed(-0.001, 0.001, 0.0);
+  tilted.linear() = Eigen::AngleAxisd(t, Vec3::UnitX()).toRotationMatrix();
+  const Vec3 expected = tilted.translation() + h * Vec3(0.0, -std::sin(t), std::cos(t) - 1.0);
+  CHECK((e->corrected_pose(tilted).translation() - expected).norm() < kDepthTol);
+  CHECK(e->corrected_pose(tilted).linear().isApprox(tilted.linear(), 0.0));
+  Pose twisted = pressed(0.001);
+  twisted.linear() = Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix();
+  CHECK((e->corrected_pose(twisted).translation() - twisted.translation()).norm() < kDepthTol);
+
+  SECTION("the base model steps at the corrected pose") {
+    // 1 mm above the pad uncorrected (no contact, no field); corrected, 1 mm lower: the centre sits at
+    // z = R + 1 mm - 2 mm < R, in contact, so the fixed field appears.
+    const auto sensor = make_grid_sensor();
+    auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"tilt_pivot"}, sensor,
+                               make_test_indenter());
+    FieldOutput o;
+    m->step(tilted, kDt, &o);
+    CHECK(o.disp_px[0].norm() == 0.0);
+    ParamSet mp = m->params();
+    mp.set("tilt_pivot.pivot_depth_m", h);
+    m->set_params(mp);
+    m->reset();
+    m->step(tilted, kDt, &o);
+    CHECK((o.disp_px[0] - test_field(9)[0]).norm() < kExact);
+  }
 }

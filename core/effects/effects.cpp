@@ -188,17 +188,20 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
     throw std::invalid_argument("EffectModel::step: dt = " + std::to_string(dt) + " must be finite and >= 0");
   const bool field_needed = std::any_of(effects_.begin(), effects_.end(), [](const auto& e) { return e->stateful(); });
   if (out == nullptr && field_needed) out = &scratch_field_;
-  base_->step(X_EI, dt, out);  // throws on a non-finite pose before any state here changes
+  Pose X_EI_seen = X_EI;
+  for (const auto& e : effects_) X_EI_seen = e->corrected_pose(X_EI_seen);
+  base_->step(X_EI_seen, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
   // The penetration depends on the pose alone and costs more than the base model for a finely sampled
   // indenter; fits replay the same pose sequence from reset() hundreds of times, so it is remembered per
   // step and reused when the pose is bit-identical (the result is then identical too).
-  if (step_index_ < penetration_cache_.size() && penetration_cache_[step_index_].first.matrix() == X_EI.matrix()) {
+  if (step_index_ < penetration_cache_.size() &&
+      penetration_cache_[step_index_].first.matrix() == X_EI_seen.matrix()) {
     last_penetration_ = penetration_cache_[step_index_].second;
   } else {
-    last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI);
+    last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI_seen);
     if (step_index_ >= penetration_cache_.size()) penetration_cache_.resize(step_index_ + 1);
-    penetration_cache_[step_index_] = {X_EI, last_penetration_};
+    penetration_cache_[step_index_] = {X_EI_seen, last_penetration_};
   }
   ++step_index_;
   if (out == nullptr) {  // no field wanted, none of the effects carries state: only the loading state advances
@@ -210,7 +213,7 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   ctx.sensor = sensor_.get();
   ctx.dt_s = dt;
   ctx.time_s = time_s_;
-  ctx.X_EI = X_EI;
+  ctx.X_EI = X_EI_seen;
   ctx.depth_m = last_penetration_.depth_m;
   ctx.contact_centre_E = last_penetration_.centre_E;
   ctx.marker_in_contact = &out->marker_in_contact;
@@ -253,6 +256,7 @@ const std::vector<Registered>& registry() {
       {"load_stiffening", effects::make_load_stiffening},
       {"tracker_bias", effects::make_tracker_bias},
       {"camera_misalignment", effects::make_camera_misalignment},
+      {"tilt_pivot", effects::make_tilt_pivot},
   };
   return r;
 }
@@ -265,6 +269,11 @@ const std::vector<std::string>& effect_ids() {
     return v;
   }();
   return ids;
+}
+
+bool any_acts_on_pose(const std::vector<std::string>& effect_ids) {
+  return std::any_of(effect_ids.begin(), effect_ids.end(),
+                     [](const std::string& id) { return make_effect(id)->acts_on_pose(); });
 }
 
 std::unique_ptr<Effect> make_effect(const std::string& id) {

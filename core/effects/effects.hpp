@@ -60,6 +60,10 @@ class Effect {
   // True for an effect that carries state between steps (it overrides reset()): it must see every step's
   // field, so a model wearing it computes the field even where the caller wants none.
   virtual bool stateful() const { return false; }
+  // A pose effect corrects the recorded pose before the base model steps (the robot's real pivot): the
+  // pose the base sees, in effect order. The others return X_EI and act on the field only.
+  virtual bool acts_on_pose() const { return false; }
+  virtual Pose corrected_pose(const Pose& X_EI) const { return X_EI; }
   // Modifies the field in place. disp_px has one entry per sensor marker (std::invalid_argument
   // otherwise, for effects that use marker positions).
   virtual void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) = 0;
@@ -87,7 +91,7 @@ class EffectModel final : public ShearModel {
   const ParamSet& params() const override { return params_; }
   void set_params(const ParamSet& params) override;
   void reset() override;
-  // Base step, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
+  // The pose effects' corrections, then the base step at the corrected pose, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
   // out == nullptr: the base steps without a field unless an effect is stateful (then into a scratch field).
   void step(const Pose& X_EI, double dt, FieldOutput* out) override;
   std::unique_ptr<ShearModel> clone() const override;
@@ -114,6 +118,10 @@ class EffectModel final : public ShearModel {
   std::vector<std::pair<Pose, Penetration>> penetration_cache_;   // per step index: pose and its penetration
   FieldOutput scratch_field_;                                      // a stateful effect's field when none is wanted
 };
+
+// True when one of `effect_ids` corrects the pose (Effect::acts_on_pose): the base must run under it, a
+// recorded base field cannot stand in for it.
+bool any_acts_on_pose(const std::vector<std::string>& effect_ids);
 
 // The registered effect ids, in display order.
 const std::vector<std::string>& effect_ids();

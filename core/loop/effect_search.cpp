@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 
 #include "core/base/elapsed.hpp"
 #include "core/base/format.hpp"
@@ -106,10 +107,17 @@ EffectSearch::Start EffectSearch::start_of(const std::vector<std::string>& ids) 
   return s;
 }
 
-const EffectSearch::Recording& EffectSearch::recording(const std::string& key) {
+// The form's field under the set's pose effects (they change what the form sees; the others act on its field).
+const EffectSearch::Recording& EffectSearch::recording(const std::vector<std::string>& ids) {
+  const std::string key = effect_set_key(ids);
   if (auto it = recordings_.find(key); it != recordings_.end()) return it->second;
   const ParamSet& p = fits_.at(key).fit.params;
-  Recording r{record_field(form_, p, in_.sensor, in_.calibration), record_field(form_, p, in_.sensor, in_.validation)};
+  std::vector<std::string> pose_effects;
+  std::copy_if(ids.begin(), ids.end(), std::back_inserter(pose_effects),
+               [](const std::string& id) { return any_acts_on_pose({id}); });
+  const std::string recorded = ModelSpec{form_, pose_effects}.id();
+  Recording r{record_field(recorded, p, in_.sensor, in_.calibration),
+              record_field(recorded, p, in_.sensor, in_.validation)};
   return recordings_.emplace(key, std::move(r)).first->second;   // map nodes are stable: factories keep pointers
 }
 
@@ -123,7 +131,7 @@ std::optional<FingerprintCheck> EffectSearch::fingerprint_of(const std::string& 
   progress("fingerprint " + candidate);
   if (!fingerprint_needs_model(candidate, *in_.sensor)) return fingerprint_check(candidate, *in_.sensor, fp_cal_, fp_val_);
   const std::string key = effect_set_key(warm);
-  const Recording& rec = recording(key);
+  const Recording& rec = recording(warm);
   const ParamSet& p = fits_.at(key).fit.params;
   return fingerprint_check(candidate, *in_.sensor,
                            with_model_field(fp_cal_, replay(warm, key, rec.cal), p, in_.calibration),
@@ -156,14 +164,25 @@ std::vector<std::string> EffectSearch::held_of(const std::string& effect, const 
 EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Start& start,
                                   const std::vector<FitStage>& stages) {
   const std::string key = effect_set_key(ids), warm_key = effect_set_key(start.warm);
-  const Recording& rec = recording(warm_key);
-  const auto replay_cal = replay(ids, warm_key, rec.cal), replay_val = replay(ids, warm_key, rec.val);
+  // A new pose effect changes what the form sees: its fit reruns the form; the others replay its field.
+  std::vector<std::string> added;
+  std::copy_if(ids.begin(), ids.end(), std::back_inserter(added), [&](const std::string& id) {
+    return std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end();
+  });
+  SampleModelFactory make_cal, make_val;
+  if (any_acts_on_pose(added)) {
+    make_cal = make_val = spec_model_factory(ModelSpec{form_, ids}.id(), in_.sensor);
+  } else {
+    const Recording& rec = recording(start.warm);
+    make_cal = replay(ids, warm_key, rec.cal);
+    make_val = replay(ids, warm_key, rec.val);
+  }
   CalibrationResult r{form_ + "+" + key, start.params, {}, false, 0};
-  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, replay_cal, stages, in_.calibration, start.params, fo_);
+  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, in_.calibration, start.params, fo_);
   throw_if_cancelled(r, o_.progress);
   std::size_t free_count = 0;
   for (const auto& st : stages) free_count += st.params.size();
-  return score_fit(in_, ids, r.params, free_count + fits_.at(warm_key).fit.free_params, replay_cal, replay_val);
+  return score_fit(in_, ids, r.params, free_count + fits_.at(warm_key).fit.free_params, make_cal, make_val);
 }
 
 // The joint refit (every run reruns the form) only for an effect that alone, over the reference's recorded

@@ -39,7 +39,7 @@ class EffectSearch {
   };
 
   Start start_of(const std::vector<std::string>& ids) const;
-  const Recording& recording(const std::string& key);
+  const Recording& recording(const std::vector<std::string>& ids);
   SampleModelFactory replay(const std::vector<std::string>& ids, const std::string& warm_key,
                             const std::vector<RecordedField>& field) const;
   std::optional<FingerprintCheck> fingerprint_of(const std::string& candidate, const std::vector<std::string>& warm);

@@ -27,8 +27,30 @@ std::string effect_set_key(const std::vector<std::string>& ids) {
   return k;
 }
 
+namespace {
+
+// True when some pose turns the indenter's approach axis (+z) away from E's: a pose effect (tilt_pivot) is
+// the identity on every other pose, so on a set without tilt it has nothing to fit.
+bool any_tilt(const ResidualInputs& in) {
+  constexpr double kTiltRad = 1e-6;
+  for (const auto* split : {&in.calibration, &in.validation})
+    for (const FitSample& s : *split)
+      for (const Pose& X : s.X_EI)
+        if ((X.linear() * Vec3::UnitZ() - Vec3::UnitZ()).norm() > kTiltRad) return true;
+  return false;
+}
+
+// Every catalogued effect that can change this data's model (the caller's list when it gives one).
+std::vector<std::string> default_candidates(const ResidualInputs& in) {
+  std::vector<std::string> out = effect_ids();
+  if (!any_tilt(in)) std::erase_if(out, [](const std::string& id) { return any_acts_on_pose({id}); });
+  return out;
+}
+
+}  // namespace
+
 ResidualLoop::ResidualLoop(const ResidualInputs& in, const ResidualOptions& options)
-    : in_(in), o_(options), candidates_(options.candidates.empty() ? effect_ids() : options.candidates) {
+    : in_(in), o_(options), candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates) {
   if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
   if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
   default_params(in.model_id);                          // an unknown model fails before any work
@@ -131,6 +153,17 @@ ResidualStructure ResidualLoop::score(const std::string& model_id, const EffectF
   return analyse_residual(model_id, fit.fit.params, in_.sensor, everything, o_.bins);
 }
 
+// Step 5 too: the responses of the measured field and of the model to the known inputs. The response
+// surface's degree drops where the calibration split has too few frames for a cubic's 84 terms (3 frames a term).
+std::optional<InputResponseAnalysis> ResidualLoop::input_response(const std::string& model_id, const EffectFit& fit) const {
+  const auto cal = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.calibration);
+  const auto val = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.validation);
+  constexpr std::size_t kFramesPerTerm = 3;
+  const int degree = cal.size() >= 84 * kFramesPerTerm ? 3 : cal.size() >= 28 * kFramesPerTerm ? 2 : 1;
+  if (cal.size() < 7 * kFramesPerTerm || val.empty()) return std::nullopt;
+  return analyse_input_response(cal, val, degree);
+}
+
 ResidualReport ResidualLoop::run() const {
   const auto t0 = std::chrono::steady_clock::now();
   ResidualReport rep;
@@ -149,6 +182,8 @@ ResidualReport ResidualLoop::run() const {
   o_.progress("residual structure", 1.0);
   rep.structure_before = score(in_.model_id, rep.before);
   rep.structure_after = score(rep.after_model, rep.after);
+  rep.response_before = input_response(in_.model_id, rep.before);
+  if (rep.after_model != in_.model_id) rep.response_after = input_response(rep.after_model, rep.after);
   rep.time_s = seconds_since(t0);
   return rep;
 }

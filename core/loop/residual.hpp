@@ -18,6 +18,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,7 @@
 #include "core/calibration/fit.hpp"
 #include "core/calibration/metrics.hpp"
 #include "core/loop/residual_select.hpp"
+#include "core/loop/input_response.hpp"
 #include "core/loop/residual_structure.hpp"
 
 namespace sb {
@@ -100,6 +102,9 @@ struct ResidualReport {
   EffectFit after;                        // its joint fit and scores
   ResidualStructure structure_before;     // base model, all samples (calibration + validation)
   ResidualStructure structure_after;      // final model, all samples
+  // How the measured field and each model respond to the known inputs (input_response.hpp); empty when a
+  // split has no scored frame.
+  std::optional<InputResponseAnalysis> response_before, response_after;
   double time_s = 0;
 };
 
@@ -124,6 +129,7 @@ class ResidualLoop {
   EffectRounds effect_rounds(const std::string& form, const EffectFit& form_fit) const;
   FinalModel final_fit(const EffectRounds& rounds) const;
   ResidualStructure score(const std::string& model_id, const EffectFit& fit) const;
+  std::optional<InputResponseAnalysis> input_response(const std::string& model_id, const EffectFit& fit) const;
   // Every step in order.
   ResidualReport run() const;
 

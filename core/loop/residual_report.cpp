@@ -58,6 +58,29 @@ nlohmann::ordered_json metrics_json(const EffectFit& f) {
   return j;
 }
 
+nlohmann::ordered_json response_json(const std::optional<InputResponseAnalysis>& a) {
+  if (!a) return nullptr;
+  nlohmann::ordered_json j;
+  j["reference"] = {{"depth_m", a->reference.depth_m},
+                    {"tilt", {a->reference.tilt.x(), a->reference.tilt.y()}},
+                    {"travel_m", {a->reference.travel_m.x(), a->reference.travel_m.y()}},
+                    {"twist_rad", a->reference.twist_rad}};
+  nlohmann::ordered_json rows = nlohmann::ordered_json::array();
+  for (const auto& x : a->responses)
+    rows.push_back({{"change", x.input},
+                    {"measured_rms_px", x.measured_rms_px},
+                    {"model_rms_px", x.model_rms_px},
+                    {"gain", x.gain},
+                    {"after_gain_rms_px", x.after_gain_rms_px},
+                    {"measured_mean_px", {x.measured_mean_px.x(), x.measured_mean_px.y()}},
+                    {"model_mean_px", {x.model_mean_px.x(), x.model_mean_px.y()}}});
+  j["responses"] = rows;
+  j["inputs_only_rmse_px"] = a->inputs_only_rmse_px;
+  j["model_rmse_px"] = a->model_rmse_px;
+  j["validation_marker_frames"] = a->validation_marker_frames;
+  return j;
+}
+
 nlohmann::ordered_json structure_json(const ResidualStructure& s) {
   nlohmann::ordered_json cov = nlohmann::ordered_json::array();
   for (const auto& t : s.covariates) {
@@ -303,6 +326,8 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   j["rounds"] = rounds;
   j["residual_before"] = structure_json(r.structure_before);
   j["residual_after"] = structure_json(r.structure_after);
+  j["input_response_before"] = response_json(r.response_before);
+  j["input_response_after"] = response_json(r.response_after);
   if (timings_in_outputs()) j["time_s"] = r.time_s;
   return j;
 }
@@ -388,6 +413,16 @@ std::string structure_markdown(const ResidualStructure& sb, const std::vector<st
   for (const auto& p : plots) md += "![" + p + "](" + p + ")\n";
   return md;
 }
+
+// The measured field's and the models' responses to the known inputs (input_response.hpp).
+std::string response_markdown(const ResidualReport& r) {
+  if (!r.response_before) return "";
+  std::string md = "\n## How the field responds to the known inputs\n\n" +
+                   input_response_markdown(*r.response_before, r.model_id);
+  if (r.response_after) md += "\nThe loop's answer:\n\n" + input_response_markdown(*r.response_after, r.after_model);
+  return md;
+}
+
 
 // The model-form round: the base model's variants, each a model of its own, against the base.
 std::string model_form_markdown(const ResidualReport& r) {
@@ -530,8 +565,8 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
   md += std::string("Base model ") + (r.fit_base ? "fitted on the calibration split (staged + joint)"
                                                   : "with the given parameters (not refitted)") +
         "; scores on the validation split. Residual = measured − predicted.\n\n";
-  md += answer_markdown(r) + structure_markdown(r.structure_before, plots) + model_form_markdown(r) +
-        effects_markdown(r) + errors_markdown(r);
+  md += answer_markdown(r) + structure_markdown(r.structure_before, plots) + response_markdown(r) +
+        model_form_markdown(r) + effects_markdown(r) + errors_markdown(r);
   if (timings_in_outputs()) md += "Run time " + f3(r.time_s) + " s.\n";
   return md;
 }
