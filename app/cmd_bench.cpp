@@ -12,10 +12,10 @@
 #include <sstream>
 
 #include "app/command.hpp"
-#include "core/models/bench_run.hpp"
-#include "core/models/model.hpp"
 #include "core/base/error.hpp"
 #include "core/data/tsd.hpp"
+#include "core/models/bench_run.hpp"
+#include "core/models/model.hpp"
 
 namespace sb::app {
 namespace {
@@ -95,18 +95,21 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   } else {
     bool known = false;
     for (const auto& id : bench_model_ids()) known = known || id == a.model;
-    if (!known) throw InputError("--model", "unknown model '" + a.model + "' (hydroshear, fots, fots-reimpl, "
-                                            "tacsl, tacsl-normalized, all)");
+    if (!known)
+      throw InputError("--model", "unknown model '" + a.model +
+                                      "' (hydroshear, fots, fots-reimpl, "
+                                      "tacsl, tacsl-normalized, all)");
     models = {a.model};
   }
   const std::vector<int> envs = a.envs.empty() ? std::vector<int>{256, 512, 1024} : a.envs;
   if (a.repeat < 1) throw std::invalid_argument("bench: --repeat must be >= 1");
   const auto load_before = load_average();
-  std::printf("BENCH_WORKLOAD: peg grasp, 2 pads per env, steps 0..%d, timed k = %d..%d (median/min/max of %d), "
-              "threads %zu, load average %.2f %.2f %.2f\n",
-              a.steps - 1, kBenchWarmupSteps, a.steps - 1, a.steps - kBenchWarmupSteps,
-              tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), load_before[0],
-              load_before[1], load_before[2]);
+  std::printf(
+      "BENCH_WORKLOAD: peg grasp, 2 pads per env, steps 0..%d, timed k = %d..%d (median/min/max of %d), "
+      "threads %zu, load average %.2f %.2f %.2f\n",
+      a.steps - 1, kBenchWarmupSteps, a.steps - 1, a.steps - kBenchWarmupSteps,
+      tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism), load_before[0], load_before[1],
+      load_before[2]);
   std::printf("%-17s %6s %6s %11s %9s %9s %16s\n", "model", "envs", "slots", "median ms", "min ms", "max ms",
               "sensor-steps/s");
   nlohmann::json results = nlohmann::json::array();
@@ -143,8 +146,7 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
 }
 
 void add_flags(CLI::App& sub, BenchArgs& a) {
-  sub.add_option("--model", a.model, model_ids_text() + " | all")
-      ->capture_default_str();
+  sub.add_option("--model", a.model, model_ids_text() + " | all")->capture_default_str();
   sub.add_option("--envs", a.envs, "environments (2 sensors each); repeatable; default 256 512 1024")
       ->check(CLI::PositiveNumber);
   sub.add_option("--steps", a.steps,
@@ -159,7 +161,8 @@ void add_flags(CLI::App& sub, BenchArgs& a) {
   sub.add_option("--json", a.json_out, "write the results as JSON (atomically)");
 }
 
-const Subcommand<BenchArgs> kSubcommand{"bench", "time the shear models on the BENCH_WORKLOAD peg grasp (ms per batched step)", 80, add_flags, run_bench};
+const Subcommand<BenchArgs> kSubcommand{
+    "bench", "time the shear models on the BENCH_WORKLOAD peg grasp (ms per batched step)", 80, add_flags, run_bench};
 
 }  // namespace
 }  // namespace sb::app

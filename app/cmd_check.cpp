@@ -39,8 +39,10 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
       for (const auto& frame : d.markers_px)
         for (const Vec2& m : frame) {
           ++marker_values;
-          if (!m.allFinite()) ++lost;
-          else max_disp = std::max(max_disp, m.norm());
+          if (!m.allFinite())
+            ++lost;
+          else
+            max_disp = std::max(max_disp, m.norm());
         }
     } catch (const InputError& e) {
       errors.push_back(e.what());
@@ -79,11 +81,10 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
   return 0;
 }
 
-void add_flags(CLI::App& sub, CheckArgs& a) {
-  add_dataset_flag(sub, a.dataset);
-}
+void add_flags(CLI::App& sub, CheckArgs& a) { add_dataset_flag(sub, a.dataset); }
 
-const Subcommand<CheckArgs> kSubcommand{"check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)", 40, add_flags, run_check};
+const Subcommand<CheckArgs> kSubcommand{"check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)", 40,
+                                        add_flags, run_check};
 
 }  // namespace
 }  // namespace sb::app

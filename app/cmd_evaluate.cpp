@@ -5,9 +5,9 @@
 #include <iostream>
 
 #include "app/command.hpp"
-#include "core/calibration/param_sets.hpp"
 #include "core/base/data_root.hpp"
 #include "core/calibration/evaluate.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/data/json_read.hpp"
 
 namespace sb::app {
@@ -17,7 +17,7 @@ struct EvaluateArgs {
   std::string dataset;
   std::string model;
   std::string params;
-  std::string param_set;   // empty: the default for the dataset's sensor
+  std::string param_set;  // empty: the default for the dataset's sensor
   std::string split = "all";
   std::string json_out;
   std::string markdown_out;
@@ -32,14 +32,18 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
   const Dataset ds = read_dataset(resolve_path(a.dataset, root, ""));
   split_selected(a.split, "calibration", "--split");  // rejects an unknown split before any work
   std::vector<std::string> ids;
-  if (a.model == "all") ids = model_ids();
-  else ids.push_back(a.model);
+  if (a.model == "all")
+    ids = model_ids();
+  else
+    ids.push_back(a.model);
   const nlohmann::json params_file = a.params.empty() ? nlohmann::json() : jsonin::load_file(a.params);
 
   const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, ds.sensor_model));
   Warnings warnings;
   if (const std::string w = sensor_mismatch(set, ds.sensor_model); !w.empty()) warnings.add(w);
-  if (!g.quiet) std::fprintf(stderr, "evaluate: parameter set '%s'%s\n", set.name.c_str(), a.params.empty() ? "" : (", then " + a.params).c_str());
+  if (!g.quiet)
+    std::fprintf(stderr, "evaluate: parameter set '%s'%s\n", set.name.c_str(),
+                 a.params.empty() ? "" : (", then " + a.params).c_str());
   std::vector<EvaluationResult> results;
   for (const auto& id : ids) {
     // The set's table, then --params on top.
@@ -65,17 +69,23 @@ int run_evaluate(const EvaluateArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, EvaluateArgs& a) {
   add_dataset_flag(sub, a.dataset);
-  sub.add_option("--model", a.model, "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")->required();
+  sub.add_option(
+         "--model", a.model,
+         "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")
+      ->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
-  sub.add_option("--split", a.split, "calibration | validation | all")->check(CLI::IsMember({"calibration", "validation", "all"}));
+  sub.add_option("--split", a.split, "calibration | validation | all")
+      ->check(CLI::IsMember({"calibration", "validation", "all"}));
   sub.add_option("--json", a.json_out, "write the results as JSON")->required();
   sub.add_option("--markdown", a.markdown_out, "write the table as Markdown");
   sub.add_option("--predictions", a.predictions_out,
                  "write every scored marker's measured and predicted displacement as CSV (one model)");
 }
 
-const Subcommand<EvaluateArgs> kSubcommand{"evaluate", "score shear models against a tsd/1 dataset (RMSE and CS per motion type)", 35, add_flags, run_evaluate};
+const Subcommand<EvaluateArgs> kSubcommand{"evaluate",
+                                           "score shear models against a tsd/1 dataset (RMSE and CS per motion type)",
+                                           35, add_flags, run_evaluate};
 
 }  // namespace
 }  // namespace sb::app

@@ -2,9 +2,10 @@
 // least-squares calibration of one model (or 'all') on the dataset's calibration split
 // (core/calibration/fit.hpp): the model's stages, then a joint refinement of every stage's parameters (the
 // best fit it can give; the paper's stage-only procedure is --stages-only, and it can end worse than the
-// starting values because each stage fits its parameters with the others held). The parameter file is written once, atomically, when every stage is done. Ctrl-C or
-// SIGTERM cancels: nothing is written to --out (an existing file stays as it was) and the exit code is
-// 130; with --checkpoint FILE the completed stages are kept in that separate file as they finish.
+// starting values because each stage fits its parameters with the others held). The parameter file is written once,
+// atomically, when every stage is done. Ctrl-C or SIGTERM cancels: nothing is written to --out (an existing file stays
+// as it was) and the exit code is 130; with --checkpoint FILE the completed stages are kept in that separate file as
+// they finish.
 #include <algorithm>
 #include <atomic>
 #include <cstdio>
@@ -38,10 +39,12 @@ struct FitArgs {
 
 int run_fit(const FitArgs& a, const GlobalOptions& g) {
   std::vector<std::string> ids;
-  if (a.model == "all") ids = model_ids();
-  else ids.push_back(a.model);
-  for (const auto& id : ids) require_model(id);    // unknown ids fail before any work
-  for (const auto& name : a.hold) {                 // so does a held name no model fits
+  if (a.model == "all")
+    ids = model_ids();
+  else
+    ids.push_back(a.model);
+  for (const auto& id : ids) require_model(id);  // unknown ids fail before any work
+  for (const auto& name : a.hold) {              // so does a held name no model fits
     const bool fitted = std::any_of(ids.begin(), ids.end(), [&](const std::string& id) {
       const auto params = joint_stage(id, false).params;
       return std::find(params.begin(), params.end(), name) != params.end();
@@ -69,7 +72,8 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
   const FitData data = load_calibration_data(ds, root, &warnings);
   if (!g.quiet) {
     std::fprintf(stderr, "fit: %zu calibration samples of %s\n", data.samples.size(), ds.name.c_str());
-    std::fprintf(stderr, "fit: %s, then %s\n", a.stages.empty() ? "every stage of the model's table" : "the stages given",
+    std::fprintf(stderr, "fit: %s, then %s\n",
+                 a.stages.empty() ? "every stage of the model's table" : "the stages given",
                  o.joint ? "a joint refinement of all their parameters (--stages-only: the paper's stages alone)"
                          : "nothing else (--stages-only: the paper's procedure; the default adds a joint refinement)");
   }
@@ -108,9 +112,11 @@ int run_fit(const FitArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, FitArgs& a) {
   add_dataset_flag(sub, a.dataset);
-  sub.add_option("--model", a.model, "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")->required();
-  sub.add_option("--stages", a.stages, "stages to run (default: the model's whole table); 'joint' too")
-      ->delimiter(',');
+  sub.add_option(
+         "--model", a.model,
+         "model id, a form with effects (hydroshear-contact+viscoelastic_creep: a residual report's answer) or 'all'")
+      ->required();
+  sub.add_option("--stages", a.stages, "stages to run (default: the model's whole table); 'joint' too")->delimiter(',');
   sub.add_flag("--stages-only", a.stages_only,
                "the paper's procedure: the stages alone, without the joint refinement that follows them by default");
   sub.add_option("--hold", a.hold,
@@ -127,7 +133,8 @@ void add_flags(CLI::App& sub, FitArgs& a) {
   sub.add_option("--checkpoint", a.checkpoint, "also write the completed stages here after every stage");
 }
 
-const Subcommand<FitArgs> kSubcommand{"fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36, add_flags, run_fit};
+const Subcommand<FitArgs> kSubcommand{
+    "fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36, add_flags, run_fit};
 
 }  // namespace
 }  // namespace sb::app

@@ -18,7 +18,7 @@ struct GuiArgs {
   SessionSource open;
   std::string size = "1280x800";
   int profile = 0;
-  std::string headless_out;   // empty: default_headless_out (build/, not the repository; installed: the working folder)
+  std::string headless_out;  // empty: default_headless_out (build/, not the repository; installed: the working folder)
   std::string session;
   double autosave_interval_s = 30.0;
   std::string residual;
@@ -78,7 +78,7 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
 
 int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   if (!ui::display_available()) return run_headless(a, g);
-  limit_malloc_arenas(1);   // before any thread starts: see core/base/free_memory.hpp
+  limit_malloc_arenas(1);  // before any thread starts: see core/base/free_memory.hpp
   const SessionOptions so{a.open, g.data_root_flag};
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
@@ -86,8 +86,8 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   fo.autosave_interval_s = a.autosave_interval_s;
   Frontend front(so, fo);
   if (a.profile > 0) {
-    std::cout << "profile (" << fo.width << "x" << fo.height << ", synthetic drag): "
-              << percentiles_line(front.profile_drag(a.profile)) << "\n";
+    std::cout << "profile (" << fo.width << "x" << fo.height
+              << ", synthetic drag): " << percentiles_line(front.profile_drag(a.profile)) << "\n";
     return 0;
   }
   if (!a.stats.empty()) front.enable_stats(a.stats, a.stats_interval_s);
@@ -104,7 +104,8 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
     front.offer_autosave();
     load_residual();
   }
-  while (front.frame()) {}
+  while (front.frame()) {
+  }
   return 0;
 }
 
@@ -112,18 +113,25 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
   add_source_options(sub, a.open);
   sub.add_option("--session", a.session, "open a saved session file (JSON)");
   sub.add_option("--autosave-interval", a.autosave_interval_s, "seconds of unsaved changes before an autosave")
-      ->capture_default_str()->check(CLI::PositiveNumber);
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   sub.add_option("--size", a.size, "window size")->capture_default_str();
   sub.add_option("--profile", a.profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
   sub.add_option("--residual", a.residual, "show a residual analysis (shearbench residual --json)");
-  sub.add_option("--stats", a.stats, "append a JSON line of frame-time percentiles, resident memory and live GL objects "
-                                     "every --stats-interval seconds to this file (tests/cli/soak.py reads it)");
-  sub.add_option("--stats-interval", a.stats_interval_s, "seconds per --stats line")->capture_default_str()->check(CLI::PositiveNumber);
-  sub.add_option("--headless-out", a.headless_out, "PNG written when there is no display (default: shearbench_headless.png beside the executable in a build "
-                                             "folder, i.e. build/; in the working folder for an installed one)");
+  sub.add_option("--stats", a.stats,
+                 "append a JSON line of frame-time percentiles, resident memory and live GL objects "
+                 "every --stats-interval seconds to this file (tests/cli/soak.py reads it)");
+  sub.add_option("--stats-interval", a.stats_interval_s, "seconds per --stats line")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  sub.add_option(
+      "--headless-out", a.headless_out,
+      "PNG written when there is no display (default: shearbench_headless.png beside the executable in a build "
+      "folder, i.e. build/; in the working folder for an installed one)");
 }
 
-const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display", 5, add_flags, run_gui};
+const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display",
+                                      5, add_flags, run_gui};
 
 }  // namespace
 }  // namespace sb::app

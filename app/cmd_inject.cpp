@@ -24,7 +24,7 @@ namespace {
 struct InjectArgs {
   std::string dataset;
   std::string effect;
-  std::vector<std::string> set;   // name=value, the effect's own parameter names
+  std::vector<std::string> set;  // name=value, the effect's own parameter names
   int hold_frames = 0;
   double noise_px = 0.05;
   unsigned seed = 16;
@@ -89,25 +89,31 @@ int run_inject(const InjectArgs& a, const GlobalOptions& g) {
   for (auto& [name, indenter] : ds.indenters) indenter.mesh = fs::absolute(ds.mesh_path(name)).string();
   std::string what = a.effect;
   for (const auto& [name, value] : values) what += " " + name + "=" + std::to_string(value);
-  ds.provenance += " | shearbench inject: " + what + (a.hold_frames ? ", hold of " + std::to_string(a.hold_frames) +
-                                                                          " frames at peak load" : "");
+  ds.provenance += " | shearbench inject: " + what +
+                   (a.hold_frames ? ", hold of " + std::to_string(a.hold_frames) + " frames at peak load" : "");
   ds.name += "+" + a.effect;
   write_dataset(a.out, ds, samples);
-  if (!g.quiet) std::printf("inject: %s into %zu samples of %s -> %s\n", what.c_str(), samples.size(), a.dataset.c_str(), a.out.c_str());
+  if (!g.quiet)
+    std::printf("inject: %s into %zu samples of %s -> %s\n", what.c_str(), samples.size(), a.dataset.c_str(),
+                a.out.c_str());
   return 0;
 }
 
 void add_flags(CLI::App& sub, InjectArgs& a) {
   add_dataset_flag(sub, a.dataset);
   sub.add_option("--effect", a.effect, "the effect to put in (an id of the effect catalogue)")->required();
-  sub.add_option("--set", a.set, "its parameters, name=value (its own names: tau_s=0.3,creep_fraction=0.3)")->delimiter(',');
-  sub.add_option("--hold-frames", a.hold_frames, "insert a hold of N frames at each sample's peak load first (creep shows there)");
+  sub.add_option("--set", a.set, "its parameters, name=value (its own names: tau_s=0.3,creep_fraction=0.3)")
+      ->delimiter(',');
+  sub.add_option("--hold-frames", a.hold_frames,
+                 "insert a hold of N frames at each sample's peak load first (creep shows there)");
   sub.add_option("--noise-px", a.noise_px, "tracking noise on the held frames, px per component");
   sub.add_option("--seed", a.seed, "seed of that noise");
   sub.add_option("--out", a.out, "new dataset folder (refused when it already holds a dataset)")->required();
 }
 
-const Subcommand<InjectArgs> kSubcommand{"inject", "a copy of a dataset with a known effect put into its measurements (checks the residual loop)", 41, add_flags, run_inject};
+const Subcommand<InjectArgs> kSubcommand{
+    "inject", "a copy of a dataset with a known effect put into its measurements (checks the residual loop)", 41,
+    add_flags, run_inject};
 
 }  // namespace
 }  // namespace sb::app

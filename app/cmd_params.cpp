@@ -2,9 +2,9 @@
 // `--rebuild`, which regenerates every fitted set: each model fitted on the set's dataset's calibration
 // split from the published values (stages, then the joint refinement: `fit` with no flags) and scored on
 // its validation split. `shearbench --reproducible params --rebuild` writes the same bytes every time.
+#include <unistd.h>
 #include <cstdio>
 #include <filesystem>
-#include <unistd.h>
 
 #include "app/command.hpp"
 #include "core/base/atomic_write.hpp"
@@ -28,9 +28,9 @@ struct SetRecipe {
   const char* description;
   const char* import = nullptr;
   std::vector<std::string> calibration_samples = {};
-  int calibration_first = 0;    // 0: the dataset's calibration split
+  int calibration_first = 0;  // 0: the dataset's calibration split
   int validation_every = 1;
-  int max_iterations = 50;      // per stage (FitOptions)
+  int max_iterations = 50;  // per stage (FitOptions)
 };
 
 const std::vector<SetRecipe>& recipes() {
@@ -38,17 +38,24 @@ const std::vector<SetRecipe>& recipes() {
       {"twin_sphere35", "data:twin/twin_sphere35",
        "the default: fitted on the FE twin of the HydroShear paper's calibration (35 mm sphere on a GelSight Mini)"},
       {"twin_sphere8", "data:twin/twin_sphere8", "fitted on the FE twin with an 8 mm sphere (smaller contacts)"},
-      {"real_fots_pair", "data:raw/fots_marker_calib",
+      {"real_fots_pair",
+       "data:raw/fots_marker_calib",
        "fitted on a real GelSight press (FOTS's marker calibration pair; sphere pose estimated from the image at "
        "import, so depth and travel are uncertain: docs/tracking.md), scored on the real shear frame",
-       "fots", {"press"}},
+       "fots",
+       {"press"}},
       // The first 20 calibration samples, scored on every 5th validation sample, at most 10 iterations per
       // stage. A fit on the whole split (1000 samples) now takes minutes per model (docs/performance.md, "The
       // TacTip path"), but the eight models' refit on it was not run yet.
-      {"tactip_shear", "data:raw/tactip_shear",
+      {"tactip_shear",
+       "data:raw/tactip_shear",
        "fitted on the real TacTip set (its own sensor: dome, pins 3 mm below the skin, fitted pinhole camera); "
        "a flat surface pressed, tilted, slid and twisted with known inputs",
-       "tactip_shear", {}, 20, 5, 10},
+       "tactip_shear",
+       {},
+       20,
+       5,
+       10},
   };
   return r;
 }
@@ -76,8 +83,8 @@ void choose_samples(const SetRecipe& recipe, ParamSetData& data, nlohmann::json&
 
 struct ParamsArgs {
   bool rebuild = false;
-  std::vector<std::string> sets;   // empty: all
-  std::string out_dir;             // empty: assets/params
+  std::vector<std::string> sets;  // empty: all
+  std::string out_dir;            // empty: assets/params
 };
 
 nlohmann::json validation_json(const EvaluationResult& e, const Dataset& ds) {
@@ -88,10 +95,14 @@ nlohmann::json validation_json(const EvaluationResult& e, const Dataset& ds) {
 }
 
 NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const GlobalOptions& g) {
-  const std::filesystem::path work = std::filesystem::temp_directory_path() / ("shearbench_params_" + std::to_string(::getpid()));
+  const std::filesystem::path work = std::filesystem::temp_directory_path() /
+                                     ("shearbench_params_" + std::to_string(::getpid()));
   struct RemoveWork {
     std::filesystem::path dir;
-    ~RemoveWork() { std::error_code ec; std::filesystem::remove_all(dir, ec); }
+    ~RemoveWork() {
+      std::error_code ec;
+      std::filesystem::remove_all(dir, ec);
+    }
   } remove_work{work};
   nlohmann::json provenance = recipe_provenance(recipe);
   ParamSetData data = param_set_data(provenance, root, work.string());
@@ -100,7 +111,7 @@ NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const Gl
   o.dataset_dirs = {data.dir};
   o.calibration_ids = data.calibration_ids;
   o.validation_ids = data.validation_ids;
-  o.fit.joint = true;   // the best fit `fit` gives with no flags
+  o.fit.joint = true;  // the best fit `fit` gives with no flags
   o.fit.max_iterations = recipe.max_iterations;
   o.data_root = root;
   if (!g.quiet) o.log = [](const std::string& line) { std::fprintf(stderr, "params: %s\n", line.c_str()); };
@@ -120,11 +131,14 @@ NamedParamSet fit_set(const SetRecipe& recipe, const std::string& root, const Gl
                             ? "fitted on the first " + std::to_string(recipe.calibration_first) +
                                   " samples of the calibration split, scored on every " +
                                   std::to_string(recipe.validation_every) + "th sample of the validation split"
-                        : recipe.calibration_samples.empty() ? "fitted on the calibration split, scored on the validation split"
-                                                             : "fitted on the calibration samples, scored on the others";
-  provenance["fit"] = std::string("every model from the published values: its stages, then the joint refinement") +
-                      (recipe.max_iterations != 50 ? ", at most " + std::to_string(recipe.max_iterations) + " iterations per stage" : "") +
-                      (recipe.calibration_samples.empty() ? "" : " (a stage with no calibration sample of its motion keeps them)");
+                        : recipe.calibration_samples.empty()
+                            ? "fitted on the calibration split, scored on the validation split"
+                            : "fitted on the calibration samples, scored on the others";
+  provenance["fit"] =
+      std::string("every model from the published values: its stages, then the joint refinement") +
+      (recipe.max_iterations != 50 ? ", at most " + std::to_string(recipe.max_iterations) + " iterations per stage"
+                                   : "") +
+      (recipe.calibration_samples.empty() ? "" : " (a stage with no calibration sample of its motion keeps them)");
   provenance["command"] = std::string("shearbench --reproducible params --rebuild --set ") + recipe.name;
   provenance["validation"] = validation;
   provenance["validation_published"] = published;
@@ -151,14 +165,18 @@ int run_params(const ParamsArgs& a, const GlobalOptions& g) {
     save_param_set(path, fit_set(recipe, root, g));
     if (!g.quiet) std::fprintf(stderr, "params: wrote %s\n", path.c_str());
   }
-  if (!any) throw InputError("--set", "no fitted set of that name (twin_sphere35, twin_sphere8, real_fots_pair, tactip_shear; 'published' is not fitted)");
+  if (!any)
+    throw InputError("--set",
+                     "no fitted set of that name (twin_sphere35, twin_sphere8, real_fots_pair, tactip_shear; "
+                     "'published' is not fitted)");
   return 0;
 }
 
 void add_flags(CLI::App& sub, ParamsArgs& a) {
   sub.add_flag("--rebuild", a.rebuild, "refit the fitted sets from the published values and write them");
   sub.add_option("--set", a.sets, "only these sets (with --rebuild)")->delimiter(',');
-  sub.add_option("--out-dir", a.out_dir, "where --rebuild writes (default: assets/params in shearbench's home, see --home)");
+  sub.add_option("--out-dir", a.out_dir,
+                 "where --rebuild writes (default: assets/params in shearbench's home, see --home)");
 }
 
 const Subcommand<ParamsArgs> kSubcommand{

@@ -12,9 +12,9 @@
 #include "app/command.hpp"
 #include "core/base/atomic_write.hpp"
 #include "core/base/data_root.hpp"
-#include "core/loop/release_phase.hpp"
-#include "core/data/tsd.hpp"
 #include "core/base/format.hpp"
+#include "core/data/tsd.hpp"
+#include "core/loop/release_phase.hpp"
 
 namespace sb::app {
 namespace {
@@ -38,7 +38,8 @@ int run_release(const ReleaseArgs& a, const GlobalOptions& g) {
   nlohmann::ordered_json rows = nlohmann::ordered_json::array();
   std::string table =
       "| recording | frames | peak mean px | release at | left mean px | left max px | end mean px | tau s | "
-      "permanent | held-out RMSE px: zero (models) | persistence | recovery law |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+      "permanent | held-out RMSE px: zero (models) | persistence | recovery law "
+      "|\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   std::string skipped;
   for (const auto& dir : a.datasets) {
     const Dataset ds = read_dataset(std::filesystem::absolute(resolve_path(dir, root, "")).string());
@@ -46,22 +47,31 @@ int run_release(const ReleaseArgs& a, const GlobalOptions& g) {
       const SampleData s = read_sample(ds, info.id);
       const double dt = frame_period_s(s);
       const ReleasePhase r = analyse_release(s.markers_px, dt);
-      nlohmann::ordered_json j{{"dataset", ds.name}, {"sample", info.id}, {"frames", s.frames()}, {"dt_s", dt},
-                               {"found", r.found}};
+      nlohmann::ordered_json j{
+          {"dataset", ds.name}, {"sample", info.id}, {"frames", s.frames()}, {"dt_s", dt}, {"found", r.found}};
       if (!r.found) {
         j["why_not"] = r.why_not;
         skipped += "- " + info.id + ": " + r.why_not + "\n";
       } else {
-        j.update({{"peak_frame", r.peak_frame}, {"peak_mean_px", r.peak_mean_px}, {"release_frame", r.release_frame},
-                  {"release_frames", r.frames}, {"left_mean_px", r.left_mean_px}, {"left_max_px", r.left_max_px},
-                  {"end_mean_px", r.end_mean_px}, {"tau_s", r.fit.tau_s}, {"tau_at_bound", r.fit.tau_at_bound},
-                  {"permanent", r.fit.permanent}, {"heldout_rmse_zero_px", r.heldout_rmse_zero_px}, {"heldout_rmse_persistence_px", r.heldout_rmse_persist_px},
+        j.update({{"peak_frame", r.peak_frame},
+                  {"peak_mean_px", r.peak_mean_px},
+                  {"release_frame", r.release_frame},
+                  {"release_frames", r.frames},
+                  {"left_mean_px", r.left_mean_px},
+                  {"left_max_px", r.left_max_px},
+                  {"end_mean_px", r.end_mean_px},
+                  {"tau_s", r.fit.tau_s},
+                  {"tau_at_bound", r.fit.tau_at_bound},
+                  {"permanent", r.fit.permanent},
+                  {"heldout_rmse_zero_px", r.heldout_rmse_zero_px},
+                  {"heldout_rmse_persistence_px", r.heldout_rmse_persist_px},
                   {"heldout_rmse_recovery_px", r.heldout_rmse_fit_px}});
-        table += "| " + info.id + " | " + std::to_string(s.frames()) + " | " + format_number(r.peak_mean_px, "%.2f") + " | " +
-                 std::to_string(r.release_frame) + " | " + format_number(r.left_mean_px, "%.2f") + " | " +
+        table += "| " + info.id + " | " + std::to_string(s.frames()) + " | " + format_number(r.peak_mean_px, "%.2f") +
+                 " | " + std::to_string(r.release_frame) + " | " + format_number(r.left_mean_px, "%.2f") + " | " +
                  format_number(r.left_max_px, "%.2f") + " | " + format_number(r.end_mean_px, "%.2f") + " | " +
-                 (r.fit.tau_at_bound ? ">= " : "") + format_number(r.fit.tau_s, "%.3g") + " | " + format_number(r.fit.permanent, "%.2f") +
-                 " | " + format_number(r.heldout_rmse_zero_px, "%.3f") + " | " + format_number(r.heldout_rmse_persist_px, "%.3f") + " | " +
+                 (r.fit.tau_at_bound ? ">= " : "") + format_number(r.fit.tau_s, "%.3g") + " | " +
+                 format_number(r.fit.permanent, "%.2f") + " | " + format_number(r.heldout_rmse_zero_px, "%.3f") +
+                 " | " + format_number(r.heldout_rmse_persist_px, "%.3f") + " | " +
                  format_number(r.heldout_rmse_fit_px, "%.3f") + " |\n";
       }
       rows.push_back(j);
@@ -88,7 +98,9 @@ void add_flags(CLI::App& sub, ReleaseArgs& a) {
   sub.add_option("--report", a.report_out, "Markdown table (written atomically)")->required();
 }
 
-const Subcommand<ReleaseArgs> kSubcommand{"release", "the release phase of pose-unknown recordings: what is left after unloading, and how it fades", 40, add_flags, run_release};
+const Subcommand<ReleaseArgs> kSubcommand{
+    "release", "the release phase of pose-unknown recordings: what is left after unloading, and how it fades", 40,
+    add_flags, run_release};
 
 }  // namespace
 }  // namespace sb::app

@@ -3,12 +3,12 @@
 // run it under `xvfb-run -a -s "-screen 0 1600x900x24"`.
 #include <cmath>
 #include <filesystem>
-#include <optional>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
-#include "core/base/reproducible.hpp"
 #include "core/base/error.hpp"
+#include "core/base/reproducible.hpp"
 
 #include "app/command.hpp"
 #include "app/frontend.hpp"
@@ -20,20 +20,21 @@ struct RenderArgs {
   std::string session;
   SessionSource open;
   std::string size = "1600x900", out, camera = "iso";
-  int step = -2;     // -2: the last step
-  int frame = -2;    // dataset frame (same as step)
+  int step = -2;   // -2: the last step
+  int frame = -2;  // dataset frame (same as step)
   int profile = 0;
   bool no_timings = false;
   bool report = false;
   bool visible = false;
   std::string panel;
-  std::string export_fields; // folder: every model's field along the path (tsd/1), as the GUI's Export         // crop the PNG to one panel (3D view, a model's name, Measured)
-  std::string residual;      // residual JSON: Residual section open, corrected model in its panel
+  std::string export_fields;  // folder: every model's field along the path (tsd/1), as the GUI's Export         // crop
+                              // the PNG to one panel (3D view, a model's name, Measured)
+  std::string residual;       // residual JSON: Residual section open, corrected model in its panel
   bool residual_fields = false;
-  std::string drag_mm;       // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
-  double drag_twist_deg = 0; // ... twisting it about the pad normal by this much
-  std::string enlarge;       // a field panel's name: drawn enlarged to the whole field area
-  int hover_marker = -1;     // a marker's tooltip shown as if hovered
+  std::string drag_mm;        // "x,y,z": after reaching the step, drag the indenter there (mm, in E)
+  double drag_twist_deg = 0;  // ... twisting it about the pad normal by this much
+  std::string enlarge;        // a field panel's name: drawn enlarged to the whole field area
+  int hover_marker = -1;      // a marker's tooltip shown as if hovered
 };
 
 Vec3 parse_mm_triple(const std::string& text) {
@@ -50,7 +51,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.visible = a.visible;
-  fo.show_timings = !a.no_timings && timings_in_outputs();   // --reproducible: no timing text
+  fo.show_timings = !a.no_timings && timings_in_outputs();  // --reproducible: no timing text
   fo.interactive = false;
   fo.camera = a.camera;
   Frontend front(so, fo);
@@ -64,7 +65,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   if (!a.residual.empty()) {
     front.load_residual(a.residual);
     front.workbench().set_residual_view(a.residual_fields, true);
-    front.workbench().apply_residual_base_params();   // the base beside the corrected model, both fitted
+    front.workbench().apply_residual_base_params();  // the base beside the corrected model, both fitted
   }
   if (!a.enlarge.empty() && !front.workbench().set_enlarged(a.enlarge))
     throw InputError("--enlarge", "no field panel '" + a.enlarge + "' (the models' names as shown, Measured)");
@@ -85,7 +86,8 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
       if (!a.drag_mm.empty()) X.translation() = parse_mm_triple(a.drag_mm);
       X.linear() = Rz(a.drag_twist_deg * M_PI / 180.0) * X.linear();
       state.request_drag(X);
-      while (state.tick()) {}
+      while (state.tick()) {
+      }
     }
   }
   // ImGui lays a fixed-size window out on its first frame and draws it settled on the second.
@@ -94,7 +96,9 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
   if (!a.panel.empty()) img = front.crop_to_region(img, a.panel);
   if (!a.export_fields.empty()) front.export_fields(a.export_fields);
   ui::write_png_atomic(img, a.out);
-  if (!g.quiet) std::cout << "wrote " << std::filesystem::absolute(a.out).string() << " (" << img.width << "x" << img.height << ")\n";
+  if (!g.quiet)
+    std::cout << "wrote " << std::filesystem::absolute(a.out).string() << " (" << img.width << "x" << img.height
+              << ")\n";
   if (a.report) std::cout << text_report(state.snapshot());
   return 0;
 }
@@ -113,15 +117,21 @@ void add_flags(CLI::App& sub, RenderArgs& a) {
   sub.add_option("--drag-mm", a.drag_mm, "then drag the indenter to x,y,z (mm)");
   sub.add_option("--drag-twist-deg", a.drag_twist_deg, "... twisting it by this angle about the normal");
   sub.add_flag("--visible", a.visible, "show the window while rendering");
-  sub.add_option("--panel", a.panel, "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
-  sub.add_option("--enlarge", a.enlarge, "draw this field panel enlarged to the whole field area (e.g. 'FOTS', 'Measured')");
+  sub.add_option("--panel", a.panel,
+                 "write only this panel: '3D view', a model's name as shown (e.g. 'FOTS'), 'Measured'");
+  sub.add_option("--enlarge", a.enlarge,
+                 "draw this field panel enlarged to the whole field area (e.g. 'FOTS', 'Measured')");
   sub.add_option("--hover-marker", a.hover_marker, "show marker N's tooltip (every model's (du, dv)) as if hovered");
-  sub.add_option("--export-fields", a.export_fields, "also write every model's field along the path as DIR/<model>/ (tsd/1)");
-  sub.add_option("--residual", a.residual, "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base parameters, and the corrected model");
+  sub.add_option("--export-fields", a.export_fields,
+                 "also write every model's field along the path as DIR/<model>/ (tsd/1)");
+  sub.add_option("--residual", a.residual,
+                 "a residual analysis (shearbench residual --json): ranked effects, its model at the fitted base "
+                 "parameters, and the corrected model");
   sub.add_flag("--residual-fields", a.residual_fields, "draw measured - model instead of the model fields");
 }
 
-const Subcommand<RenderArgs> kSubcommand{"render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60, add_flags, run_render};
+const Subcommand<RenderArgs> kSubcommand{
+    "render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60, add_flags, run_render};
 
 }  // namespace
 }  // namespace sb::app

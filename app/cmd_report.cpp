@@ -57,7 +57,9 @@ void add_flags(CLI::App& sub, ReportArgs& a) {
   sub.add_option("--out", a.out, "Markdown file to write")->required();
 }
 
-const Subcommand<ReportArgs> kSubcommand{"report", "fit every model on calibration, score on validation, write the fidelity table", 37, add_flags, run_report};
+const Subcommand<ReportArgs> kSubcommand{
+    "report", "fit every model on calibration, score on validation, write the fidelity table", 37, add_flags,
+    run_report};
 
 }  // namespace
 }  // namespace sb::app

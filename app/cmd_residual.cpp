@@ -8,12 +8,12 @@
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/calibration/param_sets.hpp"
 #include "core/base/data_root.hpp"
-#include "core/effects/effects.hpp"
 #include "core/calibration/evaluate.hpp"
 #include "core/calibration/fit_data.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/data/json_read.hpp"
+#include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
 
 namespace sb::app {
@@ -23,10 +23,10 @@ struct ResidualArgs {
   std::string dataset;
   std::string model;
   std::string params;
-  std::string param_set;   // empty: the default for the dataset's sensor
+  std::string param_set;  // empty: the default for the dataset's sensor
   std::vector<std::string> effects;
-  std::vector<std::string> calibration_ids;   // overrides the dataset's splits: these calibrate, the rest validate
-  std::vector<std::string> validation_ids;    // with calibration_ids: only these validate (a fixed subset of a large set)
+  std::vector<std::string> calibration_ids;  // overrides the dataset's splits: these calibrate, the rest validate
+  std::vector<std::string> validation_ids;  // with calibration_ids: only these validate (a fixed subset of a large set)
   int max_iterations = 30;
   int resamples = 2000;
   bool no_model_forms = false;
@@ -45,7 +45,8 @@ std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std
   const auto indenters = dataset_indenters(ds, root, split, warnings);
   std::vector<FitSample> out;
   for (const auto& info : ds.samples)
-    if (info.split == split) out.push_back(to_fit_sample(info, read_sample(ds, info.id, warnings), indenters.at(info.indenter)));
+    if (info.split == split)
+      out.push_back(to_fit_sample(info, read_sample(ds, info.id, warnings), indenters.at(info.indenter)));
   if (out.empty())
     throw InputError(ds.json_path(), "no samples in the " + split + " split (--calibration ID,... assigns them)");
   return out;
@@ -57,7 +58,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   ResidualInputs in;
   in.dataset = ds.name;
   in.model_id = a.model;
-  default_params(a.model);   // unknown ids fail before any work
+  default_params(a.model);  // unknown ids fail before any work
   // The base fit starts from the set's values (the default set unless told otherwise); with --params the
   // base is not fitted at all.
   const NamedParamSet set = load_param_set(param_set_or_default(a.param_set, ds.sensor_model));
@@ -82,7 +83,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   if (!g.quiet)
     std::fprintf(stderr, "residual: %s on %s, %zu calibration + %zu validation samples, from parameter set '%s'\n",
                  a.model.c_str(), ds.name.c_str(), in.calibration.size(), in.validation.size(), set.name.c_str());
-  InterruptScope interrupt;   // Ctrl-C: sb::Cancelled, exit 130, nothing written
+  InterruptScope interrupt;  // Ctrl-C: sb::Cancelled, exit 130, nothing written
   o.progress.cancel = interrupt.flag();
   if (!g.quiet)
     o.progress.report = [](const std::string& stage, double fraction) {
@@ -109,8 +110,8 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
     std::fprintf(stderr, "residual: effects on %s: [%s]\n", rep.effects.form.c_str(),
                  effect_set_key(rep.effects.selection.selected).c_str());
     std::fprintf(stderr, "residual: answer %s; validation RMSE %.4f -> %.4f px (%.1f s); wrote %s, %s, %s\n",
-                 rep.after_model.c_str(), b.rmse_px, f.rmse_px, rep.time_s, a.json_out.c_str(),
-                 report.string().c_str(), params_out.string().c_str());
+                 rep.after_model.c_str(), b.rmse_px, f.rmse_px, rep.time_s, a.json_out.c_str(), report.string().c_str(),
+                 params_out.string().c_str());
   }
   return 0;
 }
@@ -124,19 +125,23 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--calibration", a.calibration_ids,
                  "sample ids that calibrate (the others validate), instead of the dataset's splits")
       ->delimiter(',');
-  sub.add_option("--validation", a.validation_ids,
-                 "with --calibration: only these sample ids validate, the rest are left out (a fixed subset of a large set)")
+  sub.add_option(
+         "--validation", a.validation_ids,
+         "with --calibration: only these sample ids validate, the rest are left out (a fixed subset of a large set)")
       ->delimiter(',');
   sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
-  sub.add_flag("--no-model-forms", a.no_model_forms,
-               "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "
-               "against it; docs/effects.md)");
+  sub.add_flag(
+      "--no-model-forms", a.no_model_forms,
+      "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "
+      "against it; docs/effects.md)");
   sub.add_option("--json", a.json_out, "JSON result (written atomically)")->required();
   sub.add_option("--report", a.report_out, "Markdown report; PNG plots are written beside it")->required();
 }
 
-const Subcommand<ResidualArgs> kSubcommand{"residual", "attribute a model's residual to catalogued effects (fit, analyse, select, report)", 39, add_flags, run_residual};
+const Subcommand<ResidualArgs> kSubcommand{
+    "residual", "attribute a model's residual to catalogued effects (fit, analyse, select, report)", 39, add_flags,
+    run_residual};
 
 }  // namespace
 }  // namespace sb::app

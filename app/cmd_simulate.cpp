@@ -6,16 +6,16 @@
 #include <filesystem>
 
 #include "app/command.hpp"
-#include "core/effects/model_spec.hpp"
-#include "core/calibration/param_sets.hpp"
-#include "core/base/reproducible.hpp"
 #include "core/base/data_root.hpp"
+#include "core/base/reproducible.hpp"
 #include "core/calibration/evaluate.hpp"
-#include "core/models/model.hpp"
-#include "core/data/json_read.hpp"
-#include "core/geometry/mesh.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/calibration/prediction_export.hpp"
+#include "core/data/json_read.hpp"
 #include "core/data/scene.hpp"
+#include "core/effects/model_spec.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/models/model.hpp"
 
 namespace fs = std::filesystem;
 
@@ -26,7 +26,7 @@ struct SimulateArgs {
   std::string scene;
   std::string model;
   std::string params;
-  std::string param_set;   // empty: the default for the scene's sensor
+  std::string param_set;  // empty: the default for the scene's sensor
   std::string out;
 };
 
@@ -62,7 +62,8 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
       const Quat qa(A.linear()), qb(B.linear());
       for (int s = 1; s < scene.substeps; ++s) {
         const double alpha = static_cast<double>(s) / scene.substeps;
-        model->step(make_pose((1 - alpha) * A.translation() + alpha * B.translation(), qa.slerp(alpha, qb)), sub_dt, &out);
+        model->step(make_pose((1 - alpha) * A.translation() + alpha * B.translation(), qa.slerp(alpha, qb)), sub_dt,
+                    &out);
       }
     }
     model->step(scene.X_EI[k], scene.substeps > 1 && k > 0 ? sub_dt : scene.dt_s, &out);
@@ -74,8 +75,9 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
 
   const nlohmann::json pj = params.to_json();
   e.name = scene.name + "_" + a.model;
-  e.provenance = "shearbench " SHEARBENCH_VERSION " simulate: model " + a.model + ", params " + pj.dump() +
-                 ", scene " + a.scene + (scene.dataset_dir.empty() ? "" : " (replaying " + scene.dataset_dir + " sample " + scene.sample_id + ")");
+  e.provenance =
+      "shearbench " SHEARBENCH_VERSION " simulate: model " + a.model + ", params " + pj.dump() + ", scene " + a.scene +
+      (scene.dataset_dir.empty() ? "" : " (replaying " + scene.dataset_dir + " sample " + scene.sample_id + ")");
   e.shearbench = {{"model", a.model}, {"params", pj}, {"scene", a.scene}};
   if (timings_in_outputs()) e.shearbench["seconds"] = seconds;
   e.sample_id = scene.sample_id.empty() ? scene.name : scene.sample_id;
@@ -87,20 +89,25 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("%s on %s: %zu frames in %.3g ms (%.3g ms/frame) -> %s\n", a.model.c_str(), scene.name.c_str(),
-                scene.X_EI.size(), 1e3 * seconds, 1e3 * seconds / std::max<std::size_t>(1, scene.X_EI.size()), a.out.c_str());
+                scene.X_EI.size(), 1e3 * seconds, 1e3 * seconds / std::max<std::size_t>(1, scene.X_EI.size()),
+                a.out.c_str());
   }
   return 0;
 }
 
 void add_flags(CLI::App& sub, SimulateArgs& a) {
   sub.add_option("--scene", a.scene, "scene JSON (scenes/*.json)")->required();
-  sub.add_option("--model", a.model, model_ids_text() + ", or a form with effects (hydroshear-contact+viscoelastic_creep)")->required();
+  sub.add_option("--model", a.model,
+                 model_ids_text() + ", or a form with effects (hydroshear-contact+viscoelastic_creep)")
+      ->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
   sub.add_option("--out", a.out, "output dataset folder")->required();
 }
 
-const Subcommand<SimulateArgs> kSubcommand{"simulate", "run a shear model over a scene and write the predicted field as a tsd/1 dataset", 30, add_flags, run_simulate};
+const Subcommand<SimulateArgs> kSubcommand{
+    "simulate", "run a shear model over a scene and write the predicted field as a tsd/1 dataset", 30, add_flags,
+    run_simulate};
 
 }  // namespace
 }  // namespace sb::app

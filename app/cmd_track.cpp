@@ -3,9 +3,9 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -14,8 +14,8 @@
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 #include "core/data/importers.hpp"
-#include "core/tracking/track_eval.hpp"
 #include "core/data/tsd.hpp"
+#include "core/tracking/track_eval.hpp"
 #include "core/tracking/tracker.hpp"
 
 namespace fs = std::filesystem;
@@ -31,10 +31,11 @@ struct TrackArgs {
 };
 
 void print_comparison(const std::string& what, const TrackComparison& c) {
-  std::printf("%s: %d marker-frames, %d/%d markers paired, lost %d, RMSE %.3f px, median %.3f px, "
-              "p95 %.3f px, max %.3f px, rest offset (%.3f, %.3f) px\n",
-              what.c_str(), c.pairs, c.paired_markers, c.reference_markers, c.lost, c.rmse_px, c.median_px, c.p95_px,
-              c.max_px, c.mean_rest_offset_px.x(), c.mean_rest_offset_px.y());
+  std::printf(
+      "%s: %d marker-frames, %d/%d markers paired, lost %d, RMSE %.3f px, median %.3f px, "
+      "p95 %.3f px, max %.3f px, rest offset (%.3f, %.3f) px\n",
+      what.c_str(), c.pairs, c.paired_markers, c.reference_markers, c.lost, c.rmse_px, c.median_px, c.p95_px, c.max_px,
+      c.mean_rest_offset_px.x(), c.mean_rest_offset_px.y());
   std::printf("  displacements: RMSE %.3f px, median %.3f px, p95 %.3f px, max %.3f px\n", c.disp_rmse_px,
               c.disp_median_px, c.disp_p95_px, c.disp_max_px);
 }
@@ -49,7 +50,8 @@ void draw_frames(const std::vector<cv::Mat>& frames, const TrackResult& r, const
       const Vec2 d = r.disp_px[f][m];
       const bool ok = std::isfinite(d.x());
       const Vec2 p = 3.0 * ((ok ? Vec2(r.rest_px[m] + d) : r.rest_px[m]) + Vec2(0.5, 0.5));
-      cv::circle(big, cv::Point(int(p.x()), int(p.y())), ok ? 4 : 8, ok ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 0, 255), 1);
+      cv::circle(big, cv::Point(int(p.x()), int(p.y())), ok ? 4 : 8, ok ? cv::Scalar(0, 255, 0) : cv::Scalar(0, 0, 255),
+                 1);
       cv::putText(big, std::to_string(m), cv::Point(int(p.x()) + 5, int(p.y()) - 5), cv::FONT_HERSHEY_PLAIN, 0.8,
                   cv::Scalar(255, 255, 255));
     }
@@ -74,17 +76,19 @@ int run_track(const TrackArgs& a, const GlobalOptions& g) {
   parse_grid(a.grid, "--grid", opts);
   opts.rest_frames = a.rest_frames;
   const auto t0 = std::chrono::steady_clock::now();
-  InterruptScope interrupt;   // Ctrl-C: sb::Cancelled, exit 130, nothing written
+  InterruptScope interrupt;  // Ctrl-C: sb::Cancelled, exit 130, nothing written
   Progress progress;
   progress.cancel = interrupt.flag();
   progress.report = [](const std::string& what, double fraction) {
     if (fraction >= 0) std::fprintf(stderr, "%s: %3.0f%%\n", what.c_str(), 100.0 * fraction);
   };
-  const TrackResult r = !a.video.empty() ? track_video(a.video, opts, progress) : track_frames_dir(a.frames, opts, progress);
+  const TrackResult r = !a.video.empty() ? track_video(a.video, opts, progress)
+                                         : track_frames_dir(a.frames, opts, progress);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("tracked %d frames, %d markers (grid %dx%d, pitch %.2f px), lost %.4f of marker-frames, "
-              "%.0f frames/s including decoding\n",
-              r.frames(), r.markers(), r.grid_rows, r.grid_cols, r.pitch_px, r.lost_fraction(), r.frames() / seconds);
+  std::printf(
+      "tracked %d frames, %d markers (grid %dx%d, pitch %.2f px), lost %.4f of marker-frames, "
+      "%.0f frames/s including decoding\n",
+      r.frames(), r.markers(), r.grid_rows, r.grid_cols, r.pitch_px, r.lost_fraction(), r.frames() / seconds);
   for (const auto& w : r.warnings) std::printf("warning: %s\n", w.c_str());
 
   if (!a.out.empty()) {
@@ -96,7 +100,8 @@ int run_track(const TrackArgs& a, const GlobalOptions& g) {
     if (!g.quiet) std::printf("wrote %s\n", a.out.c_str());
   }
   if (!a.reference_vendor.empty())
-    print_comparison("vs vendor tracker", compare_to_vendor(r, read_vendor_csv(a.reference_vendor), a.vendor_frame_offset));
+    print_comparison("vs vendor tracker",
+                     compare_to_vendor(r, read_vendor_csv(a.reference_vendor), a.vendor_frame_offset));
   if (!a.reference_tsd.empty()) compare_tsd(r, a.reference_tsd);
   if (!a.draw.empty() && !a.video.empty()) draw_frames(read_video_frames(a.video), r, a.draw);
   return 0;

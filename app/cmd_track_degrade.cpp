@@ -22,9 +22,9 @@ namespace {
 
 // Three strengths per kind, mild to severe (docs/tracking.md, "Under degradation").
 const std::vector<std::string> kDefaultStudy = {
-    "blur:1",         "blur:2",         "blur:4",       "noise:5",      "noise:15",      "noise:30",
-    "brightness:-0.6", "brightness:0.5", "brightness:1", "jpeg:50",      "jpeg:20",       "jpeg:5",
-    "drop:0.25",      "drop:0.5",       "drop:0.75",    "occlusion:0.05", "occlusion:0.1", "occlusion:0.2"};
+    "blur:1",          "blur:2",         "blur:4",       "noise:5",        "noise:15",      "noise:30",
+    "brightness:-0.6", "brightness:0.5", "brightness:1", "jpeg:50",        "jpeg:20",       "jpeg:5",
+    "drop:0.25",       "drop:0.5",       "drop:0.75",    "occlusion:0.05", "occlusion:0.1", "occlusion:0.2"};
 
 struct TrackDegradeArgs {
   std::vector<std::string> videos;
@@ -36,7 +36,8 @@ struct TrackDegradeArgs {
 };
 
 std::string table_header() {
-  return "| degradation | frames seen | marker-frames | lost | RMSE px | p95 px | max px | jumps | onto a neighbour's dot "
+  return "| degradation | frames seen | marker-frames | lost | RMSE px | p95 px | max px | jumps | onto a neighbour's "
+         "dot "
          "| unpaired markers |\n|---|---|---|---|---|---|---|---|---|---|\n";
 }
 
@@ -47,9 +48,9 @@ std::string table_row(const DegradeScore& s) {
                   s.marker_frames, 100.0 * s.lost_fraction());
     return row;
   }
-  std::snprintf(row, sizeof row, "| %s | %ld | %ld | %.2f %% | %.3f | %.3f | %.3f | %ld | %ld | %d |\n", s.label.c_str(),
-                s.frames_seen, s.marker_frames, 100.0 * s.lost_fraction(), s.rmse_px, s.p95_px, s.max_px, s.jumps,
-                s.onto_neighbour, s.unpaired_markers);
+  std::snprintf(row, sizeof row, "| %s | %ld | %ld | %.2f %% | %.3f | %.3f | %.3f | %ld | %ld | %d |\n",
+                s.label.c_str(), s.frames_seen, s.marker_frames, 100.0 * s.lost_fraction(), s.rmse_px, s.p95_px,
+                s.max_px, s.jumps, s.onto_neighbour, s.unpaired_markers);
   return row;
 }
 
@@ -57,12 +58,24 @@ nlohmann::json score_json(const DegradeScore& s) {
   auto xy = [](const Vec2& p) { return std::isfinite(p.x()) ? nlohmann::json{p.x(), p.y()} : nlohmann::json(nullptr); };
   nlohmann::json events = nlohmann::json::array();
   for (const auto& e : s.jump_events)
-    events.push_back({{"frame", e.source_frame}, {"marker", e.marker}, {"clean_uv", xy(e.clean_uv)},
-                      {"degraded_uv", xy(e.degraded_uv)}, {"onto_marker", e.onto_marker}});
-  return {{"jump_events", events},{"degradation", s.label},   {"frames_seen", s.frames_seen}, {"marker_frames", s.marker_frames},
-          {"lost", s.lost},           {"lost_fraction", s.lost_fraction()}, {"compared", s.compared},
-          {"rmse_px", s.rmse_px},     {"p95_px", s.p95_px},             {"max_px", s.max_px},
-          {"jumps", s.jumps},         {"onto_neighbour", s.onto_neighbour}, {"unverified", s.unverified},
+    events.push_back({{"frame", e.source_frame},
+                      {"marker", e.marker},
+                      {"clean_uv", xy(e.clean_uv)},
+                      {"degraded_uv", xy(e.degraded_uv)},
+                      {"onto_marker", e.onto_marker}});
+  return {{"jump_events", events},
+          {"degradation", s.label},
+          {"frames_seen", s.frames_seen},
+          {"marker_frames", s.marker_frames},
+          {"lost", s.lost},
+          {"lost_fraction", s.lost_fraction()},
+          {"compared", s.compared},
+          {"rmse_px", s.rmse_px},
+          {"p95_px", s.p95_px},
+          {"max_px", s.max_px},
+          {"jumps", s.jumps},
+          {"onto_neighbour", s.onto_neighbour},
+          {"unverified", s.unverified},
           {"unpaired_markers", s.unpaired_markers}};
 }
 
@@ -101,16 +114,20 @@ int run_track_degrade(const TrackDegradeArgs& a, const GlobalOptions& g) {
       }
     clean_total.merge(clean);
     nlohmann::json rows = nlohmann::json::array();
-    per_clip << "\n" << video << " (" << study.clean.markers() << " markers, pitch " << study.clean.pitch_px
-             << " px)\n\n" << table_header() << table_row(clean);
+    per_clip << "\n"
+             << video << " (" << study.clean.markers() << " markers, pitch " << study.clean.pitch_px << " px)\n\n"
+             << table_header() << table_row(clean);
     for (std::size_t d = 0; d < degradations.size(); ++d) {
       total[d].label = study.scores[d].label;
       total[d].merge(study.scores[d]);
       rows.push_back(score_json(study.scores[d]));
       per_clip << table_row(study.scores[d]);
     }
-    clips.push_back({{"video", video}, {"frames", study.clean.frames()}, {"markers", study.clean.markers()},
-                     {"pitch_px", study.clean.pitch_px}, {"clean_lost_fraction", study.clean.lost_fraction()},
+    clips.push_back({{"video", video},
+                     {"frames", study.clean.frames()},
+                     {"markers", study.clean.markers()},
+                     {"pitch_px", study.clean.pitch_px},
+                     {"clean_lost_fraction", study.clean.lost_fraction()},
                      {"degraded", rows}});
   }
 
@@ -127,9 +144,13 @@ int run_track_degrade(const TrackDegradeArgs& a, const GlobalOptions& g) {
   if (a.per_clip) std::printf("%s", per_clip.str().c_str());
   if (!a.markdown.empty()) write_file_atomic(a.markdown, md.str() + (a.per_clip ? per_clip.str() : ""));
   if (!a.json.empty()) {
-    const nlohmann::json j = {{"format", "shearbench-track-degrade/1"}, {"seed", a.seed}, {"max_frames", a.max_frames},
-                              {"jump_pitch", kJumpPitch}, {"pair_pitch", kStudyPairPitch},
-                              {"pooled", totals}, {"clips", clips}};
+    const nlohmann::json j = {{"format", "shearbench-track-degrade/1"},
+                              {"seed", a.seed},
+                              {"max_frames", a.max_frames},
+                              {"jump_pitch", kJumpPitch},
+                              {"pair_pitch", kStudyPairPitch},
+                              {"pooled", totals},
+                              {"clips", clips}};
     write_file_atomic(a.json, j.dump(1) + "\n");
   }
   return 0;
@@ -141,8 +162,8 @@ std::string kinds_help() {
   const ParamSet specs = degrade_param_specs();
   for (const ParamSpec& s : specs.specs()) {
     char line[200];
-    std::snprintf(line, sizeof line, "\n  %s (%s%s%g..%g): %s", s.name.c_str(), s.unit.c_str(), s.unit.empty() ? "" : ", ",
-                  s.min, s.max, s.help.c_str());
+    std::snprintf(line, sizeof line, "\n  %s (%s%s%g..%g): %s", s.name.c_str(), s.unit.c_str(),
+                  s.unit.empty() ? "" : ", ", s.min, s.max, s.help.c_str());
     h += line;
   }
   return h;
@@ -150,7 +171,8 @@ std::string kinds_help() {
 
 void add_flags(CLI::App& sub, TrackDegradeArgs& a) {
   sub.add_option("--video", a.videos, "input video(s); data:... resolves through the data root")->required();
-  sub.add_option("--degrade", a.degrade, "KIND:STRENGTH, repeatable (default: three strengths of each kind):" + kinds_help())
+  sub.add_option("--degrade", a.degrade,
+                 "KIND:STRENGTH, repeatable (default: three strengths of each kind):" + kinds_help())
       ->capture_default_str();
   sub.add_option("--max-frames", a.max_frames, "track only the first N frames of each clip (0 = all)")
       ->capture_default_str();
@@ -161,8 +183,9 @@ void add_flags(CLI::App& sub, TrackDegradeArgs& a) {
 }
 
 const Subcommand<TrackDegradeArgs> kSubcommand{
-    "track-degrade", "the marker tracker under blur, noise, drift, JPEG, dropped frames and occlusion, vs the clean track",
-    41, add_flags, run_track_degrade};
+    "track-degrade",
+    "the marker tracker under blur, noise, drift, JPEG, dropped frames and occlusion, vs the clean track", 41,
+    add_flags, run_track_degrade};
 
 }  // namespace
 }  // namespace sb::app

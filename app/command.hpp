@@ -13,8 +13,8 @@ namespace sb::app {
 
 struct GlobalOptions {
   std::string data_root_flag;  // --data (empty: $SHEARBENCH_DATA, then ../shared/data; core/base/data_root.hpp)
-  std::string home_flag;       // --home (empty: $SHEARBENCH_HOME, then beside the executable; core/base/install_paths.hpp)
-  int threads = 0;             // --threads (0: all cores)
+  std::string home_flag;  // --home (empty: $SHEARBENCH_HOME, then beside the executable; core/base/install_paths.hpp)
+  int threads = 0;        // --threads (0: all cores)
   bool quiet = false;
 };
 

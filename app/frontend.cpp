@@ -16,13 +16,13 @@
 
 #include <imgui.h>
 
-#include "core/effects/model_spec.hpp"
 #include "core/base/data_root.hpp"
 #include "core/base/display_path.hpp"
 #include "core/base/error.hpp"
 #include "core/base/free_memory.hpp"
-#include "core/workbench/field_export.hpp"
 #include "core/data/json_read.hpp"
+#include "core/effects/model_spec.hpp"
+#include "core/workbench/field_export.hpp"
 #include "widgets/panels.hpp"
 
 namespace sb::app {
@@ -46,8 +46,11 @@ ui::CameraPreset parse_camera(const std::string& name) {
 }
 
 Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options)
-    : session_options_(session), options_(options), session_(open_session(session)),
-      window_(window_options(options)), workbench_({options.show_timings, options.interactive}),
+    : session_options_(session),
+      options_(options),
+      session_(open_session(session)),
+      window_(window_options(options)),
+      workbench_({options.show_timings, options.interactive}),
       work_(options.autosave_interval_s),
       autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
@@ -56,7 +59,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
   workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
-  workbench_.set_session_path(default_session_path());   // never the working folder (often the repository)
+  workbench_.set_session_path(default_session_path());  // never the working folder (often the repository)
   refresh_open_choices();
 }
 
@@ -110,7 +113,7 @@ void Frontend::reopen_then(const SessionOptions& session, Baseline baseline, con
                       done.phase = LoadStatus::Phase::Failed;
                     }
                     job.update([&](LoadStatus& s) { s = std::move(done); });
-                    glfwPostEmptyEvent();   // wake the idle frame loop
+                    glfwPostEmptyEvent();  // wake the idle frame loop
                   });
 }
 
@@ -156,7 +159,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   try {
     t = classify_open_target(typed, root, std::filesystem::current_path().string());
   } catch (...) {
-    if (from_session_field) workbench_.revert_session_path();   // a failed open adopts nothing
+    if (from_session_field) workbench_.revert_session_path();  // a failed open adopts nothing
     throw;
   }
   recent_.add(typed);
@@ -166,16 +169,16 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   }
   SessionOptions o = session_options_;
   o.open.sample_id.clear();
-  o.open.param_set.clear();   // the set for the new sensor (a Mini set is meaningless on a TacTip)
+  o.open.param_set.clear();  // the set for the new sensor (a Mini set is meaningless on a TacTip)
   o.open.indenter_mesh.clear();
   if (t.kind == OpenKind::Dataset) {
-    o.open.dataset_dir = data_path(t.path, root);   // "data:twin/..." stays portable in the session file
+    o.open.dataset_dir = data_path(t.path, root);  // "data:twin/..." stays portable in the session file
     o.open.scene_path.clear();
   } else {
     o.open.scene_path = t.path;
     o.open.dataset_dir.clear();
   }
-  if (from_session_field) workbench_.revert_session_path();   // a scene or dataset is not the session file
+  if (from_session_field) workbench_.revert_session_path();  // a scene or dataset is not the session file
   const std::string what = display_path(t.path, root);
   reopen_then(o, Baseline::None, what);
 }
@@ -236,9 +239,8 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
     SessionOptions o = session_options_;
     o.open.param_set = *req.param_set;
     const std::string name = *req.param_set;
-    reopen_then(o, Baseline::None, "parameter set " + name, [this, name] {
-      workbench_.set_message("every model starts again from parameter set " + name);
-    });
+    reopen_then(o, Baseline::None, "parameter set " + name,
+                [this, name] { workbench_.set_message("every model starts again from parameter set " + name); });
   }
 }
 
@@ -252,8 +254,9 @@ void Frontend::save_session_to(const std::string& path) {
   // Saved: the autosave is stale, unless the user just saved over the autosave file itself.
   if (!std::filesystem::equivalent(path, autosave_path_, ec)) std::filesystem::remove(autosave_path_, ec);
   workbench_.set_session_path(path);
-  workbench_.set_message("saved session " + path +
-                         (session_.state->pending_edits() > 0 ? " (before the physics took the last edit: it will be autosaved)" : ""));
+  workbench_.set_message(
+      "saved session " + path +
+      (session_.state->pending_edits() > 0 ? " (before the physics took the last edit: it will be autosaved)" : ""));
 }
 
 bool Frontend::frame() {
@@ -291,8 +294,10 @@ ui::Image Frontend::crop_to_region(const ui::Image& image, const std::string& re
 std::string file_slug(const std::string& text) {
   std::string slug;
   for (char c : text) {
-    if (std::isalnum(static_cast<unsigned char>(c))) slug += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    else if (!slug.empty() && slug.back() != '_') slug += '_';
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      slug += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    else if (!slug.empty() && slug.back() != '_')
+      slug += '_';
   }
   while (!slug.empty() && slug.back() == '_') slug.pop_back();
   return slug;
@@ -317,7 +322,7 @@ FieldExportRequest Frontend::export_request(const std::string& dir) const {
 
 void Frontend::start_export(const std::string& dir) {
   FieldExportRequest r = export_request(dir);
-  check_export_target(r);   // a refused folder is reported now, not by the worker
+  check_export_target(r);  // a refused folder is reported now, not by the worker
   workbench_.start_export(std::move(r));
   workbench_.set_message("exporting fields to " + dir + " ...");
 }
@@ -334,7 +339,7 @@ int Frontend::export_fields(const std::string& dir) {
 void Frontend::switch_model(int slot, const std::string& model_id) {
   AppState& state = *session_.state;
   auto model = make_spec_model(model_id, state.sensor(), state.indenter());
-  model->set_params(session_.param_set.params(model_id));   // the variant starts from the set too
+  model->set_params(session_.param_set.params(model_id));  // the variant starts from the set too
   state.request_model(static_cast<std::size_t>(slot), std::move(model));
   // The session remembers the variant (what `gui --hydroshear/--fots/--tacsl` would open).
   if (model_id.rfind("hydroshear", 0) == 0) session_options_.open.hydroshear_id = model_id;
@@ -405,7 +410,7 @@ SessionFile Frontend::session_file_for_saving() {
 std::string Frontend::work_fingerprint() const {
   nlohmann::ordered_json j = session_to_json(current_session_file());
   j.erase("step");
-  j["display"].erase("camera");   // orbiting the view is not work to ask about (it is saved with the rest)
+  j["display"].erase("camera");  // orbiting the view is not work to ask about (it is saved with the rest)
   // With auto scale on, the arrow gain and colour range follow the fields: derived, not edited.
   if (j["display"]["auto_scale"].get<bool>()) j.erase("display");
   return j.dump();
@@ -438,8 +443,9 @@ void Frontend::apply_session_edits(const SessionFile& f) {
 void Frontend::apply_session_file(const SessionFile& f, Baseline baseline, std::function<void()> then) {
   SessionOptions o = session_options_;
   o.open = f.open;
-  const std::string what = !f.open.dataset_dir.empty() ? f.open.dataset_dir
-                           : !f.open.scene_path.empty() ? f.open.scene_path : std::string("the default scene");
+  const std::string what = !f.open.dataset_dir.empty()  ? f.open.dataset_dir
+                           : !f.open.scene_path.empty() ? f.open.scene_path
+                                                        : std::string("the default scene");
   reopen_then(o, baseline, what, [this, f, then = std::move(then)] {
     apply_session_edits(f);
     if (then) then();
@@ -451,7 +457,7 @@ void Frontend::open_session_file(const std::string& path, std::function<void()> 
   try {
     f = load_session_file(path);
   } catch (...) {
-    workbench_.revert_session_path();   // a failed open adopts nothing
+    workbench_.revert_session_path();  // a failed open adopts nothing
     throw;
   }
   apply_session_file(f, Baseline::Clean, [this, path, then = std::move(then)] {
@@ -466,27 +472,27 @@ void Frontend::open_session_file(const std::string& path, std::function<void()> 
 void Frontend::offer_autosave() {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(autosave_path_, ec)) return;
-  workbench_.ask("restore", "shearbench did not close cleanly last time.\nRestore the unsaved session autosaved in\n" +
-                                autosave_path_ + " ?",
-                 {"Restore", "Discard"});
+  workbench_.ask(
+      "restore",
+      "shearbench did not close cleanly last time.\nRestore the unsaved session autosaved in\n" + autosave_path_ + " ?",
+      {"Restore", "Discard"});
 }
 
 void Frontend::handle_answer(const std::string& id, int button) {
   std::error_code ec;
   if (id == "restore") {
     if (button == 0) {
-      apply_session_file(load_session_file(autosave_path_), Baseline::Restored, [this] {
-        workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)");
-      });
+      apply_session_file(load_session_file(autosave_path_), Baseline::Restored,
+                         [this] { workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)"); });
     } else {
       std::filesystem::remove(autosave_path_, ec);
     }
   } else if (id == "close") {
-    if (button == 0) {   // Save, then close (a refused path keeps the window open, with the reason)
+    if (button == 0) {  // Save, then close (a refused path keeps the window open, with the reason)
       save_session_to(workbench_.session_path());
       close_confirmed_ = true;
       quit_ = true;
-    } else if (button == 1) {   // Discard
+    } else if (button == 1) {  // Discard
       close_confirmed_ = true;
       quit_ = true;
     }
@@ -494,9 +500,10 @@ void Frontend::handle_answer(const std::string& id, int button) {
 }
 
 void Frontend::update_window_title() {
-  std::string state = load_pending_ ? "opening " + loading_what_
+  std::string state = load_pending_   ? "opening " + loading_what_
                       : work_.dirty() ? std::string("unsaved changes")
-                      : saved_once_ ? std::string("saved") : std::string("new session, not saved");
+                      : saved_once_   ? std::string("saved")
+                                      : std::string("new session, not saved");
   const std::string title = "shearbench - " + session_.title + " - " + state;
   if (title == window_title_) return;
   window_title_ = title;
@@ -504,14 +511,16 @@ void Frontend::update_window_title() {
 }
 
 void Frontend::keep_work_tick() {
-  constexpr double kCheckEveryS = 0.5;   // building the document costs ~ a millisecond for long paths
+  constexpr double kCheckEveryS = 0.5;  // building the document costs ~ a millisecond for long paths
   const double now = now_s();
   if (now - last_work_check_s_ < kCheckEveryS) return;
   last_work_check_s_ = now;
   // The baseline is taken once the physics has applied the opened session's edits.
   if (baseline_pending_ != Baseline::None && session_.state->pending_edits() == 0) {
-    if (baseline_pending_ == Baseline::Clean) work_.saved(work_fingerprint());
-    else work_.restored(work_fingerprint());
+    if (baseline_pending_ == Baseline::Clean)
+      work_.saved(work_fingerprint());
+    else
+      work_.restored(work_fingerprint());
     baseline_pending_ = Baseline::None;
   }
   work_.observe(work_fingerprint(), now);
@@ -545,12 +554,13 @@ bool Frontend::allow_close() {
     quit_ = false;
     glfwSetWindowShouldClose(window_.handle(), GLFW_FALSE);
     if (!workbench_.asking())
-      workbench_.ask("close", "There are unsaved changes.\nSave the session to " + workbench_.session_path() +
-                                  " before closing?", {"Save", "Discard", "Cancel"});
+      workbench_.ask(
+          "close", "There are unsaved changes.\nSave the session to " + workbench_.session_path() + " before closing?",
+          {"Save", "Discard", "Cancel"});
     return true;
   }
   std::error_code ec;
-  std::filesystem::remove(autosave_path_, ec);   // a clean exit: nothing to offer back next time
+  std::filesystem::remove(autosave_path_, ec);  // a clean exit: nothing to offer back next time
   return false;
 }
 
@@ -559,7 +569,7 @@ ui::Image Frontend::render_still(int frames) {
   for (int i = 0; i < frames; ++i) {
     window_.begin_frame();
     workbench_.draw(0.0);
-    workbench_.wait_for_background();   // the RMSE series of a replay are in the image, complete
+    workbench_.wait_for_background();  // the RMSE series of a replay are in the image, complete
     window_.render();
     if (i + 1 == frames) img = window_.read_back_buffer();
     window_.present();
@@ -578,7 +588,7 @@ std::vector<double> Frontend::profile_drag(int frames) {
   state.start_thread();
   std::vector<double> ms;
   double draw_ms_sum = 0, imgui_ms_sum = 0, present_ms_sum = 0;
-  constexpr double kRadiusM = 2.0e-3;      // circle radius of the synthetic drag
+  constexpr double kRadiusM = 2.0e-3;  // circle radius of the synthetic drag
   constexpr double kTurnsPerFrame = 1.0 / 120.0;
   for (int i = 0; i < frames; ++i) {
     Pose X = pressed;
@@ -587,7 +597,9 @@ std::vector<double> Frontend::profile_drag(int frames) {
     X.translation().y() += kRadiusM * std::sin(a);
     state.request_drag(X);
     using clock = std::chrono::steady_clock;
-    const auto ms_since = [](clock::time_point t) { return std::chrono::duration<double, std::milli>(clock::now() - t).count(); };
+    const auto ms_since = [](clock::time_point t) {
+      return std::chrono::duration<double, std::milli>(clock::now() - t).count();
+    };
     const auto t0 = clock::now();
     window_.begin_frame();
     workbench_.draw(frame_ms_);  // includes the VTK render of the 3D view
@@ -611,16 +623,19 @@ std::vector<double> Frontend::profile_drag(int frames) {
 std::string percentiles_line(std::vector<double> ms) {
   if (ms.empty()) return "no frames";
   std::sort(ms.begin(), ms.end());
-  const auto pct = [&](double p) { return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * (ms.size() - 1) + 0.5))]; };
+  const auto pct = [&](double p) {
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * (ms.size() - 1) + 0.5))];
+  };
   char buf[200];
-  std::snprintf(buf, sizeof buf, "%zu frames: p50 %.1f ms (%.1f fps)  p90 %.1f ms  p99 %.1f ms  max %.1f ms",
-                ms.size(), pct(0.5), 1000.0 / pct(0.5), pct(0.9), pct(0.99), ms.back());
+  std::snprintf(buf, sizeof buf, "%zu frames: p50 %.1f ms (%.1f fps)  p90 %.1f ms  p99 %.1f ms  max %.1f ms", ms.size(),
+                pct(0.5), 1000.0 / pct(0.5), pct(0.9), pct(0.99), ms.back());
   return buf;
 }
 
 std::string text_report(const AppSnapshot& snap) {
   std::ostringstream r;
-  r << "step " << snap.step << " of " << snap.num_steps - 1 << " (t = " << std::max(0, snap.step) * snap.dt_s << " s)\n";
+  r << "step " << snap.step << " of " << snap.num_steps - 1 << " (t = " << std::max(0, snap.step) * snap.dt_s
+    << " s)\n";
   for (const auto& m : snap.models) {
     double max_px = 0, sum = 0;
     int contact = 0;
@@ -630,7 +645,8 @@ std::string text_report(const AppSnapshot& snap) {
     }
     for (auto c : m.out.marker_in_contact) contact += c != 0;
     char buf[256];
-    std::snprintf(buf, sizeof buf, "  %-18s step %7.2f ms (mean of %ld)  |d| max %.3f px  mean %.3f px  markers in contact %d\n",
+    std::snprintf(buf, sizeof buf,
+                  "  %-18s step %7.2f ms (mean of %ld)  |d| max %.3f px  mean %.3f px  markers in contact %d\n",
                   ui::display_name(m.id).c_str(), m.timing.mean_ms, m.timing.count, max_px,
                   m.out.disp_px.empty() ? 0.0 : sum / m.out.disp_px.size(), contact);
     r << buf;

@@ -25,11 +25,11 @@ struct FrontendOptions {
   bool visible = true;
   bool show_timings = true;
   bool interactive = true;
-  std::string camera = "iso";   // iso | top | side
+  std::string camera = "iso";  // iso | top | side
   // The interactive GUI keeps the user's work: autosave while dirty, offer it back after a crash,
   // ask before closing with unsaved changes. Off for headless renders.
   bool keep_work = false;
-  std::string autosave_path;    // empty: default_autosave_path()
+  std::string autosave_path;  // empty: default_autosave_path()
   double autosave_interval_s = 30.0;
 };
 
@@ -76,7 +76,7 @@ class Frontend {
   // The named region of the last drawn frame (ui::Workbench::regions) cut out of `image`.
   ui::Image crop_to_region(const ui::Image& image, const std::string& region) const;
   // Replaces a panel's model by another variant (fots | fots-reimpl, tacsl | tacsl-normalized).
-  void set_beside_hydroshear(const std::string& model_id);   // "" removes the panel
+  void set_beside_hydroshear(const std::string& model_id);  // "" removes the panel
   void switch_model(int slot, const std::string& model_id);
   // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
   void load_residual(const std::string& path);
@@ -118,7 +118,7 @@ class Frontend {
   UnsavedWork work_;
   std::string autosave_path_;
   Baseline baseline_pending_ = Baseline::Clean;
-  bool saved_once_ = false;   // saved or opened from a session file at least once
+  bool saved_once_ = false;  // saved or opened from a session file at least once
   // Opening on a worker (reopen_then).
   struct LoadStatus {
     enum class Phase { Idle, Running, Done, Failed } phase = Phase::Idle;
@@ -136,7 +136,7 @@ class Frontend {
   RecentPaths recent_;
   bool close_confirmed_ = false;
   double last_work_check_s_ = -1e9;
-  double last_trim_s_ = 0;   // steady-clock seconds of the last trim_memory_when_idle
+  double last_trim_s_ = 0;  // steady-clock seconds of the last trim_memory_when_idle
   void trim_memory_when_idle();
 };
 

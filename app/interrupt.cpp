@@ -13,7 +13,7 @@ Handler g_previous_term = SIG_DFL;
 
 extern "C" void on_interrupt(int sig) {
   g_interrupted.store(true);
-  std::signal(sig, SIG_DFL);   // a second signal ends the process at once
+  std::signal(sig, SIG_DFL);  // a second signal ends the process at once
 }
 
 }  // namespace

@@ -7,16 +7,16 @@
 #include "app/build_info.hpp"
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
-#include "core/base/reproducible.hpp"
-#include "core/base/progress.hpp"
 #include "core/base/error.hpp"
 #include "core/base/install_paths.hpp"
+#include "core/base/progress.hpp"
+#include "core/base/reproducible.hpp"
 
 int main(int argc, char** argv) {
   using namespace sb::app;
   CLI::App cli{"shearbench: a workbench for tactile shear models (HydroShear, FOTS, TacSL) against GelSight data"};
-  cli.set_version_flag("--version", std::string("shearbench ") + SHEARBENCH_VERSION + " (commit " +
-                                        sb::app::build_commit() + ")");
+  cli.set_version_flag("--version",
+                       std::string("shearbench ") + SHEARBENCH_VERSION + " (commit " + sb::app::build_commit() + ")");
   GlobalOptions global;
   cli.add_option("--data", global.data_root_flag,
                  "data root (default: $SHEARBENCH_DATA, else ../shared/data beside the working folder or the "
@@ -26,14 +26,16 @@ int main(int argc, char** argv) {
                  "../share/shearbench beside the executable)");
   cli.add_option("--threads", global.threads, "worker threads (0: all cores)");
   cli.add_flag("-q,--quiet", global.quiet, "print less");
-  cli.add_flag_callback("--reproducible", [] { sb::set_timings_in_outputs(false); },
-                        "leave wall-clock times out of every output file (bit-identical reruns)");
+  cli.add_flag_callback(
+      "--reproducible", [] { sb::set_timings_in_outputs(false); },
+      "leave wall-clock times out of every output file (bit-identical reruns)");
   cli.require_subcommand(0, 1);
   // The global options are accepted after the subcommand too (`shearbench gui --data DIR`): a subcommand
   // hands the options it does not know to its parent (CLI11 fallthrough, inherited by every subcommand).
   cli.fallthrough();
-  cli.footer("With no subcommand: opens the workbench (`gui`) on the default scene; "
-             "without a display it renders the default scene headless.");
+  cli.footer(
+      "With no subcommand: opens the workbench (`gui`) on the default scene; "
+      "without a display it renders the default scene headless.");
 
   auto& registry = command_registry();
   std::sort(registry.begin(), registry.end(), [](auto& a, auto& b) { return a.order < b.order; });

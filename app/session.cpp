@@ -1,25 +1,25 @@
 #include "app/session.hpp"
 
 #include "app/command.hpp"
-#include "core/effects/model_spec.hpp"
 #include "core/calibration/param_sets.hpp"
+#include "core/effects/model_spec.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <algorithm>
-#include <cmath>
 #include <regex>
 
 #include "core/base/data_root.hpp"
 #include "core/base/display_path.hpp"
-#include "core/base/install_paths.hpp"
 #include "core/base/error.hpp"
-#include "core/data/json_read.hpp"
+#include "core/base/install_paths.hpp"
 #include "core/calibration/metrics.hpp"
-#include "core/models/model.hpp"
+#include "core/data/json_read.hpp"
 #include "core/data/tsd.hpp"
 #include "core/loop/residual.hpp"
+#include "core/models/model.hpp"
 
 namespace sb::app {
 
@@ -97,8 +97,8 @@ void load_measured(Session& s, const std::string& data_root) {
   s.replay.dataset_dir = display_path(s.scene.dataset_dir, data_root);
   s.replay.samples.clear();
   for (const auto& smp : ds.samples) s.replay.samples.push_back(smp.id);
-  s.replay.sample_index = static_cast<int>(
-      std::find(s.replay.samples.begin(), s.replay.samples.end(), info.id) - s.replay.samples.begin());
+  s.replay.sample_index =
+      static_cast<int>(std::find(s.replay.samples.begin(), s.replay.samples.end(), info.id) - s.replay.samples.begin());
   s.title = ds.name + " / " + info.id + "  (" + info.motion + ", " + info.split + ", " + ds.kind + ")";
   // How many markers the sample's last frame tracked: a sample with none is said in words, not drawn as 0.00 px.
   s.replay.total_markers = static_cast<int>(s.scene.sensor->markers_rest_px.size());
@@ -157,11 +157,12 @@ Session open_session(const SessionOptions& o) {
     const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
     for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
   }
-  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, s.param_set, indenter), s.scene.X_EI,
-                                       s.scene.dt_s);
+  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, s.param_set, indenter),
+                                       s.scene.X_EI, s.scene.dt_s);
   if (!s.scene.dataset_dir.empty()) load_measured(s, root);
   if (s.title.empty())
-    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : display_path(s.scene.path, root)) : s.scene.name;
+    s.title = s.scene.name.empty() ? (s.scene.path.empty() ? std::string("scene") : display_path(s.scene.path, root))
+                                   : s.scene.name;
   return s;
 }
 
@@ -176,7 +177,7 @@ ui::MetricsFn field_metrics() {
 }
 
 void load_params_file(AppState& state, const std::string& path) {
-  const nlohmann::json j = jsonin::load_file(path);   // the same reader as the CLI's (fuzzed)
+  const nlohmann::json j = jsonin::load_file(path);  // the same reader as the CLI's (fuzzed)
   if (!j.is_object()) throw InputError(path, "expected an object {model id: {name: value}}");
   const AppSnapshot snap = state.snapshot();
   for (std::size_t m = 0; m < snap.models.size(); ++m) {
@@ -196,7 +197,8 @@ void save_params_file(const AppSnapshot& snap, const std::string& path) {
 std::pair<int, int> parse_size(const std::string& text) {
   static const std::regex re(R"((\d{2,5})x(\d{2,5}))");
   std::smatch m;
-  if (!std::regex_match(text, m, re)) throw InputError("--size", "expected WIDTHxHEIGHT such as 1600x900, got '" + text + "'");
+  if (!std::regex_match(text, m, re))
+    throw InputError("--size", "expected WIDTHxHEIGHT such as 1600x900, got '" + text + "'");
   return {std::stoi(m[1]), std::stoi(m[2])};
 }
 
@@ -206,7 +208,9 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--sample", open.sample_id, "sample id of the dataset (default: the first)");
   sub.add_option("--indenter-mesh", open.indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
   sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
-  sub.add_option("--hydroshear", open.hydroshear_id, "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick | hydroshear-contact")->capture_default_str();
+  sub.add_option("--hydroshear", open.hydroshear_id,
+                 "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick | hydroshear-contact")
+      ->capture_default_str();
   sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
   sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
   sub.add_option("--beside-hydroshear", open.beside_hydroshear,
@@ -214,7 +218,7 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
                  "residual loop selects on the twin sets (hydroshear-contact) when the parameter set holds fitted "
                  "values for it")
       ->capture_default_str()
-      ->transform(CLI::Validator(   // a transform: CLI11's checks see a copy, its transforms the value
+      ->transform(CLI::Validator(  // a transform: CLI11's checks see a copy, its transforms the value
           [](std::string& v) {
             if (v == "none") v.clear();
             return std::string();
@@ -224,7 +228,8 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
 }
 
 std::vector<std::string> source_arguments(const SessionSource& open) {
-  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots", open.fots_id, "--tacsl", open.tacsl_id};
+  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots",
+                                   open.fots_id,   "--tacsl",          open.tacsl_id};
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) args.insert(args.end(), {flag, value});
   };
@@ -234,7 +239,8 @@ std::vector<std::string> source_arguments(const SessionSource& open) {
   add("--sample", open.sample_id);
   args.insert(args.end(), {"--beside-hydroshear", open.beside_hydroshear.empty() ? "none" : open.beside_hydroshear});
   if (!open.indenter_mesh.empty())
-    args.insert(args.end(), {"--indenter-mesh", open.indenter_mesh, "--indenter-scale", std::to_string(open.indenter_scale)});
+    args.insert(args.end(),
+                {"--indenter-mesh", open.indenter_mesh, "--indenter-scale", std::to_string(open.indenter_scale)});
   return args;
 }
 

@@ -7,16 +7,16 @@
 #include <string>
 #include <vector>
 
-#include "core/workbench/app_state.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/data/scene.hpp"
+#include "core/workbench/app_state.hpp"
 #include "core/workbench/session_file.hpp"
 #include "widgets/workbench.hpp"
 
 namespace sb::app {
 
 struct SessionOptions {
-  SessionSource open;         // what to open (the session file's "open" section)
+  SessionSource open;  // what to open (the session file's "open" section)
   std::string data_root;
 };
 
@@ -27,7 +27,7 @@ std::vector<std::string> source_arguments(const SessionSource& open);
 
 struct Session {
   Scene scene;
-  NamedParamSet param_set;     // what the models started from (before the scene's own tables)
+  NamedParamSet param_set;  // what the models started from (before the scene's own tables)
   std::unique_ptr<AppState> state;
   ui::MeasuredData measured;
   ui::ReplayUi replay;

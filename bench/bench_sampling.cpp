@@ -17,7 +17,7 @@ void BM_PoissonDiskCow(benchmark::State& state) {
   const char* env = std::getenv("SHEARBENCH_DATA");
   const std::string root = env && *env ? env : sb::resolve_data_root();
   sb::MeshLoadOptions opt;
-  opt.scale = 0.06 / 10.4;   // meshes/SOURCE.md: about 10.4 units long
+  opt.scale = 0.06 / 10.4;  // meshes/SOURCE.md: about 10.4 units long
   const sb::TriMesh cow = sb::load_mesh((std::filesystem::path(root) / "meshes/cow.obj").string(), opt);
   std::size_t points = 0;
   for (auto _ : state) {

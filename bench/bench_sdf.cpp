@@ -11,8 +11,8 @@
 
 namespace {
 
-constexpr double kRadius = 0.005;              // 10 mm sphere
-constexpr double kVoxel = 2 * kRadius / 100;   // 1/100 of its size: 0.1 mm
+constexpr double kRadius = 0.005;             // 10 mm sphere
+constexpr double kVoxel = 2 * kRadius / 100;  // 1/100 of its size: 0.1 mm
 
 const sb::TriMesh& sphere_mesh() {
   static const sb::TriMesh mesh = sb::make_sphere_mesh(kRadius, 5);  // 10,242 vertices

@@ -56,7 +56,9 @@ void BM_TactipEvaluateSplit(benchmark::State& state, const std::string& id) {
   state.counters["samples"] = static_cast<double>(d.samples.size());
 }
 BENCHMARK_CAPTURE(BM_TactipEvaluateSplit, hydroshear, std::string("hydroshear"))
-    ->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 
 // Each model's fit on the whole calibration split, as the shipped set's rebuild runs it. Goal: 300 s each.
 void BM_TactipFit(benchmark::State& state, const std::string& id) {
@@ -72,8 +74,14 @@ void BM_TactipFit(benchmark::State& state, const std::string& id) {
   }
   state.counters["samples"] = static_cast<double>(d.samples.size());
 }
-BENCHMARK_CAPTURE(BM_TactipFit, hydroshear, std::string("hydroshear"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
-BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+BENCHMARK_CAPTURE(BM_TactipFit, hydroshear, std::string("hydroshear"))
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 BENCHMARK_CAPTURE(BM_TactipFit, tacsl, std::string("tacsl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 }  // namespace

@@ -18,7 +18,8 @@ namespace sb::fuzz {
 // A per-process scratch folder in memory (/dev/shm when present): the loaders take paths.
 inline const std::filesystem::path& scratch_dir() {
   static const std::filesystem::path dir = [] {
-    const std::filesystem::path base = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+    const std::filesystem::path base = std::filesystem::exists("/dev/shm") ? "/dev/shm"
+                                                                           : std::filesystem::temp_directory_path();
     auto d = base / ("shearbench_fuzz_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d;

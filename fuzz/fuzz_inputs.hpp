@@ -9,12 +9,12 @@
 
 #include "core/calibration/evaluate.hpp"
 #include "core/data/json_read.hpp"
-#include "core/geometry/mesh.hpp"
-#include "core/models/model.hpp"
 #include "core/data/scene.hpp"
-#include "core/loop/residual_view.hpp"
-#include "core/workbench/session_file.hpp"
 #include "core/data/tsd.hpp"
+#include "core/geometry/mesh.hpp"
+#include "core/loop/residual_view.hpp"
+#include "core/models/model.hpp"
+#include "core/workbench/session_file.hpp"
 #include "fuzz/fuzz_common.hpp"
 
 namespace sb::fuzz {
@@ -31,8 +31,8 @@ inline void one_tsd_dataset(const std::uint8_t* data, std::size_t size) {
 // poses.csv / markers.csv / forces.csv: the first byte picks the reader, the rest is the file.
 inline void one_tsd_csv(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return;
-  constexpr std::size_t kFrames = 64;    // what dataset.json would declare for the sample
-  constexpr std::size_t kMarkers = 63;   // the 7 x 9 GelSight Mini grid
+  constexpr std::size_t kFrames = 64;   // what dataset.json would declare for the sample
+  constexpr std::size_t kMarkers = 63;  // the 7 x 9 GelSight Mini grid
   const int reader = data[0] % 3;
   const char* names[] = {"poses.csv", "markers.csv", "forces.csv"};
   const std::string path = write_input(data + 1, size - 1, names[reader]);

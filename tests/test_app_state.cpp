@@ -17,8 +17,14 @@ class HistoryModel final : public ShearModel {
   HistoryModel() : params_({{"gain", "", 1.0, 0.0, 100.0, "output scale"}}) {}
   std::string id() const override { return "history"; }
   const ParamSet& params() const override { return params_; }
-  void set_params(const ParamSet& p) override { params_ = p; ++set_params_calls; }
-  void reset() override { acc_ = 0; steps_ = 0; }
+  void set_params(const ParamSet& p) override {
+    params_ = p;
+    ++set_params_calls;
+  }
+  void reset() override {
+    acc_ = 0;
+    steps_ = 0;
+  }
   void step(const Pose& X_EI, double, FieldOutput* out) override {
     acc_ += params_.get("gain") * X_EI.translation().x() * double(steps_ + 1);
     ++steps_;
@@ -93,7 +99,8 @@ TEST_CASE("seeking to step k gives what stepping from 0 to k gives", "[ui]") {
   auto state = make_state(n, /*checkpoint_every=*/4);
   const auto path = state->path();
   // Walk to the end, then seek backwards and forwards across checkpoints (4, 8, ...) and between them.
-  while (state->step()) {}
+  while (state->step()) {
+  }
   for (int k : {17, 3, 0, -1, 9, 22, 11, 12, 5}) {
     state->request_seek(k);
     state->sync();
@@ -146,10 +153,11 @@ TEST_CASE("a drag is sub-stepped so that no model step moves more than the limit
   // 0.1 rad twist at <= 0.035 rad per sub-step: ceil(0.1 / 0.035) = 3 more poses.
   REQUIRE(state->path().size() == 2u + 8u + 3u);
   // The drag makes the physics advance without play: tick() runs the whole segment.
-  while (state->tick()) {}
+  while (state->tick()) {
+  }
   CHECK(state->current_step() == 12);
   const auto& stepped = dynamic_cast<const HistoryModel&>(state->model(0)).poses;
-  constexpr double kLimitSlack = 1e-12;  // rounding in the interpolation
+  constexpr double kLimitSlack = 1e-12;               // rounding in the interpolation
   for (std::size_t i = 2; i < stepped.size(); ++i) {  // 0, 1: the original 1 mm ramp
     CHECK((stepped[i].translation() - stepped[i - 1].translation()).norm() <= 0.25e-3 + kLimitSlack);
     CHECK(Quat(stepped[i].linear()).angularDistance(Quat(stepped[i - 1].linear())) <= 0.035 + kLimitSlack);
@@ -207,7 +215,7 @@ TEST_CASE("a replaced model replays the path to the current step; the other slot
   const Vec2 other_before = state->output(0).disp_px[0];
   auto replacement = std::make_unique<HistoryModel>();
   ParamSet p = replacement->params();
-  p.set("gain", 2.0);   // a different model: here the same kind with another gain, so its output differs
+  p.set("gain", 2.0);  // a different model: here the same kind with another gain, so its output differs
   replacement->set_params(p);
   state->request_model(1, std::move(replacement));
   CHECK(state->pending_edits() == 1);

@@ -36,13 +36,13 @@ std::size_t entries(const fs::path& dir) {
 
 TEST_CASE("write_file_atomic creates, replaces and leaves no temporary", "[atomic_write]") {
   const fs::path dir = fresh_dir("replace");
-  const fs::path file = dir / "sub" / "out.json";   // the missing folder is created
+  const fs::path file = dir / "sub" / "out.json";  // the missing folder is created
   sb::write_file_atomic(file.string(), "first");
   CHECK(slurp(file) == "first");
-  const std::string binary("a\0b\xff", 4);          // bytes are written as given, NULs included
+  const std::string binary("a\0b\xff", 4);  // bytes are written as given, NULs included
   sb::write_file_atomic(file.string(), binary);
   CHECK(slurp(file) == binary);
-  CHECK(entries(file.parent_path()) == 1);          // only out.json: the temporary was renamed
+  CHECK(entries(file.parent_path()) == 1);  // only out.json: the temporary was renamed
   fs::remove_all(dir);
 }
 
@@ -62,7 +62,7 @@ TEST_CASE("write_file_atomic failures name the path and keep the old file", "[at
   CHECK_THROWS_AS(sb::write_file_atomic((dir / "folder").string(), "x"), sb::InputError);
   CHECK(fs::is_directory(dir / "folder"));
   CHECK(slurp(blocker) == "old");
-  CHECK(entries(dir) == 2);                          // no temporaries left behind by the failures
+  CHECK(entries(dir) == 2);  // no temporaries left behind by the failures
   fs::remove_all(dir);
 }
 
@@ -76,11 +76,11 @@ TEST_CASE("the temporary is hidden and in the target's folder", "[atomic_write]"
 
 TEST_CASE("write_png_atomic writes a PNG that decodes to the same pixels", "[atomic_write]") {
   const fs::path dir = fresh_dir("png");
-  const unsigned char grey[6] = {0, 50, 100, 150, 200, 255};   // 2 rows x 3 cols
+  const unsigned char grey[6] = {0, 50, 100, 150, 200, 255};  // 2 rows x 3 cols
   sb::write_png_atomic((dir / "g.png").string(), 2, 3, 1, grey);
   const std::string bytes = slurp(dir / "g.png");
   REQUIRE(bytes.size() > 8);
-  CHECK(bytes.substr(1, 3) == "PNG");                 // the PNG signature
+  CHECK(bytes.substr(1, 3) == "PNG");  // the PNG signature
   CHECK_THROWS_AS(sb::write_png_atomic((dir / "bad.png").string(), 2, 3, 2, grey), sb::InputError);
   fs::remove_all(dir);
 }

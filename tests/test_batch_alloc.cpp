@@ -9,14 +9,14 @@
 
 #include <tbb/task_arena.h>
 
+#include "core/effects/effects.hpp"
+#include "core/geometry/sdf.hpp"
 #include "core/models/bench_workload.hpp"
 #include "core/models/fots.hpp"
 #include "core/models/hydroshear.hpp"
 #include "core/models/model.hpp"
-#include "core/geometry/sdf.hpp"
-#include "core/sensor/sensor.hpp"
 #include "core/models/tacsl.hpp"
-#include "core/effects/effects.hpp"
+#include "core/sensor/sensor.hpp"
 #include "tests/asan_detect.hpp"
 
 namespace {
@@ -90,7 +90,7 @@ long second_pass_allocations(Batch batch, int slots, std::size_t markers) {
   });
   double largest = 0;
   for (const Vec2& d : disp) largest = std::max(largest, d.norm());
-  CHECK(largest > 0.1);   // the peg is in contact at the end: the steps did work
+  CHECK(largest > 0.1);  // the peg is in contact at the end: the steps did work
   return counted;
 }
 
@@ -136,18 +136,20 @@ TEST_CASE("the batched models allocate nothing per step once warm", "[models][al
   REQUIRE(g_allocations.load() == 1);
 
   SECTION("hydroshear") {
-    CHECK(second_pass_allocations(HydroShearBatch(sensor, peg, kSlots, default_params("hydroshear")), kSlots, markers) == 0);
+    CHECK(second_pass_allocations(HydroShearBatch(sensor, peg, kSlots, default_params("hydroshear")), kSlots,
+                                  markers) == 0);
   }
   SECTION("fots") {
-    CHECK(second_pass_allocations(FotsBatch(FotsVariant::Original, sensor, peg, kSlots, default_params("fots")),
-                                  kSlots, markers) == 0);
+    CHECK(second_pass_allocations(FotsBatch(FotsVariant::Original, sensor, peg, kSlots, default_params("fots")), kSlots,
+                                  markers) == 0);
   }
   SECTION("fots-reimpl") {
     CHECK(second_pass_allocations(FotsBatch(FotsVariant::Reimpl, sensor, peg, kSlots, default_params("fots-reimpl")),
                                   kSlots, markers) == 0);
   }
   SECTION("tacsl") {
-    CHECK(second_pass_allocations(TacslBatch(false, sensor, peg, kSlots, default_params("tacsl")), kSlots, markers) == 0);
+    CHECK(second_pass_allocations(TacslBatch(false, sensor, peg, kSlots, default_params("tacsl")), kSlots, markers) ==
+          0);
   }
   SECTION("tacsl-normalized") {
     CHECK(second_pass_allocations(TacslBatch(true, sensor, peg, kSlots, default_params("tacsl-normalized")), kSlots,
@@ -165,7 +167,9 @@ TEST_CASE("a HydroShear clone (a workbench checkpoint) does not copy the indente
   WARN("skipped: AddressSanitizer replaces operator new; the release pass runs this test");
 #else
   auto sensor = std::make_shared<const Sensor>(make_default_sensor());
-  const auto clone_bytes = [&](int copies) { return clone_bytes_of(*make_model("hydroshear", sensor, bench_peg(copies))); };
+  const auto clone_bytes = [&](int copies) {
+    return clone_bytes_of(*make_model("hydroshear", sensor, bench_peg(copies)));
+  };
   const long n = clone_bytes(1), n4 = clone_bytes(4);
   INFO("clone bytes: " << n << " with the peg's points, " << n4 << " with 4 times as many ("
                        << bench_peg_points().p_IS.size() << " points)");
@@ -185,7 +189,7 @@ TEST_CASE("an effect-wrapped model's clone costs the same after 10 steps as afte
     auto model = wrap_with_effects(make_model("hydroshear", sensor, peg), {"viscoelastic_creep", "lens_distortion"},
                                    sensor, peg);
     Pose X_EI = Pose::Identity();
-    X_EI.translation() = Vec3(0, 0, 0.01);   // 1 cm above the gel: every step is out of contact
+    X_EI.translation() = Vec3(0, 0, 0.01);  // 1 cm above the gel: every step is out of contact
     FieldOutput out;
     for (int k = 0; k < steps; ++k) model->step(X_EI, 0.01, &out);
     return clone_bytes_of(*model);

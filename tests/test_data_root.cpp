@@ -41,12 +41,12 @@ TEST_CASE("a relative data root is made absolute once, so a scene's folder canno
   CHECK(fs::path(root).is_absolute());
   CHECK(fs::path(root) == (work / "rel" / "data").lexically_normal());
   // The resolved mesh path, joined once more to the scene's folder (as the indenter loader does), stays put.
-  CHECK(sb::resolve_path(mesh, root, (work / "scenes").string()) == (work / "rel" / "data" / "meshes" / "m.obj").string());
+  CHECK(sb::resolve_path(mesh, root, (work / "scenes").string()) ==
+        (work / "rel" / "data" / "meshes" / "m.obj").string());
   fs::remove_all(work);
 }
 
-TEST_CASE("a typed relative path falls back to the data root when it is not in the working folder",
-          "[data_root]") {
+TEST_CASE("a typed relative path falls back to the data root when it is not in the working folder", "[data_root]") {
   const fs::path root = sbtest::temp_path("sb_test_user_path_root");
   const fs::path work = sbtest::temp_path("sb_test_user_path_work");
   fs::create_directories(root / "twin" / "twin_sphere35");

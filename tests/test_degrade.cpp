@@ -30,7 +30,8 @@ TEST_CASE("degradations parse as KIND:STRENGTH with the range of their table ent
   CHECK(d.strength == 2.5);
   CHECK(degradation_label(d) == "blur:2.5");
   CHECK(parse_degradation("brightness:-0.6", "--degrade").strength == -0.6);
-  CHECK_THROWS_WITH(parse_degradation("blur:11", "--degrade"), Catch::Contains("[0, 10]") && Catch::Contains("--degrade"));
+  CHECK_THROWS_WITH(parse_degradation("blur:11", "--degrade"),
+                    Catch::Contains("[0, 10]") && Catch::Contains("--degrade"));
   CHECK_THROWS_AS(parse_degradation("fog:1", "--degrade"), InputError);
   CHECK_THROWS_AS(parse_degradation("blur", "--degrade"), InputError);
   CHECK_THROWS_AS(parse_degradation("blur:2x", "--degrade"), InputError);
@@ -82,7 +83,7 @@ TEST_CASE("blur is a Gaussian of the requested sigma", "[degrade]") {
   // x = 163.5 lies between pixels 163 and 164: average them.
   const double at_one_sigma = 0.5 * (b.at<cv::Vec3b>(120, 163)[1] + b.at<cv::Vec3b>(120, 164)[1]);
   CHECK(at_one_sigma == Approx(255 * 0.841345).margin(kTolGrey));
-  CHECK(b.at<cv::Vec3b>(120, 100)[1] == 0);    // 15 sigma away: untouched
+  CHECK(b.at<cv::Vec3b>(120, 100)[1] == 0);  // 15 sigma away: untouched
   CHECK(b.at<cv::Vec3b>(120, 220)[1] == 255);
 }
 
@@ -90,10 +91,13 @@ TEST_CASE("JPEG re-encoding loses more at lower quality", "[degrade]") {
   // A texture with edges (dots on a gradient) so the quantisation has something to lose.
   cv::Mat img(kH, kW, CV_8UC3);
   for (int y = 0; y < kH; ++y)
-    for (int x = 0; x < kW; ++x) img.at<cv::Vec3b>(y, x) = cv::Vec3b(uchar(100 + x / 4), uchar(150), uchar(200 - y / 4));
+    for (int x = 0; x < kW; ++x)
+      img.at<cv::Vec3b>(y, x) = cv::Vec3b(uchar(100 + x / 4), uchar(150), uchar(200 - y / 4));
   for (int y = 20; y < kH; y += 30)
     for (int x = 20; x < kW; x += 30) cv::circle(img, {x, y}, 5, cv::Scalar(40, 40, 40), cv::FILLED);
-  auto loss = [&](double q) { return cv::norm(img, degrade_frame(img, make(DegradeKind::jpeg, q), 0, 1), cv::NORM_L1) / img.total(); };
+  auto loss = [&](double q) {
+    return cv::norm(img, degrade_frame(img, make(DegradeKind::jpeg, q), 0, 1), cv::NORM_L1) / img.total();
+  };
   const double l95 = loss(95), l50 = loss(50), l5 = loss(5);
   CHECK(l95 < l50);
   CHECK(l50 < l5);

@@ -1,14 +1,15 @@
 #include <catch2/catch.hpp>
 
-#include "temp_path.hpp"
 #include <filesystem>
+#include "temp_path.hpp"
 
 #include "core/base/display_path.hpp"
 
 using namespace sb;
 namespace fs = std::filesystem;
 
-TEST_CASE("display_path: data: inside the data root, relative inside the working folder, else as given", "[display_path]") {
+TEST_CASE("display_path: data: inside the data root, relative inside the working folder, else as given",
+          "[display_path]") {
   const fs::path tmp = sbtest::temp_path("sb_display_path_test");
   fs::remove_all(tmp);
   fs::create_directories(tmp / "data/twin/set");

@@ -14,10 +14,10 @@ TEST_CASE("two quick presses at one place are a double-click", "[double_click]")
   d.press(10.00, 100, 100);
   CHECK_FALSE(d.double_clicked());
   d.begin_poll(0.02);
-  d.press(10.15, 101, 100);   // 0.15 - 0.02 = 0.13 s after, 1 px away
+  d.press(10.15, 101, 100);  // 0.15 - 0.02 = 0.13 s after, 1 px away
   CHECK(d.double_clicked());
   d.begin_poll(0.02);
-  CHECK_FALSE(d.double_clicked());   // reported for the poll that delivered it only
+  CHECK_FALSE(d.double_clicked());  // reported for the poll that delivered it only
 }
 
 TEST_CASE("a slow frame does not break a double-click", "[double_click]") {
@@ -26,9 +26,9 @@ TEST_CASE("a slow frame does not break a double-click", "[double_click]") {
   // for 0.45 s holds the second press, made 0.15 s after the first: polled at 10.5, 0.5 s after the first.
   d.begin_poll(0.02);
   d.press(10.0, 50, 60);
-  d.begin_poll(0.03);           // the release's poll: no press
+  d.begin_poll(0.03);  // the release's poll: no press
   d.begin_poll(0.45);
-  d.press(10.5, 50, 60);        // 10.5 - 0.45 - 10.0 = 0.05 s <= 0.50
+  d.press(10.5, 50, 60);  // 10.5 - 0.45 - 10.0 = 0.05 s <= 0.50
   CHECK(d.double_clicked());
   // Both presses delivered by one poll (the whole double-click during one frame) also count.
   d.begin_poll(1.0);
@@ -42,15 +42,15 @@ TEST_CASE("presses far apart in time or space are two clicks", "[double_click]")
   d.begin_poll(0.02);
   d.press(30.0, 10, 10);
   d.begin_poll(0.05);
-  d.press(30.6, 10, 10);     // 30.6 - 0.05 - 30.0 = 0.55 s > 0.50
+  d.press(30.6, 10, 10);  // 30.6 - 0.05 - 30.0 = 0.55 s > 0.50
   CHECK_FALSE(d.double_clicked());
   d.begin_poll(0.02);
-  d.press(30.7, 17, 10);     // 0.08 s after the last, but 7 px away (> 6 px)
+  d.press(30.7, 17, 10);  // 0.08 s after the last, but 7 px away (> 6 px)
   CHECK_FALSE(d.double_clicked());
   d.begin_poll(0.02);
-  d.press(30.8, 17, 10);     // completes a double-click with the press before
+  d.press(30.8, 17, 10);  // completes a double-click with the press before
   CHECK(d.double_clicked());
   d.begin_poll(0.02);
-  d.press(30.9, 17, 10);     // a third press starts a new pair; it is not a second double-click
+  d.press(30.9, 17, 10);  // a third press starts a new pair; it is not a second double-click
   CHECK_FALSE(d.double_clicked());
 }

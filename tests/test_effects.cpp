@@ -9,8 +9,8 @@ using namespace sb;
 
 namespace {
 
-constexpr double kExact = 1e-12;    // px: closed-form arithmetic on O(1..100) px values
-constexpr double kDepthTol = 1e-12; // metres: analytic SDFs
+constexpr double kExact = 1e-12;     // px: closed-form arithmetic on O(1..100) px values
+constexpr double kDepthTol = 1e-12;  // metres: analytic SDFs
 
 constexpr double kSphereRadius = 0.004;
 const Vec2 kGelSize(0.02, 0.016);
@@ -86,7 +86,7 @@ std::vector<Vec2> test_field(std::size_t n) {
 // Approach, press, hold, slide, release: poses with 10 ms steps.
 std::vector<Pose> test_trajectory() {
   std::vector<Pose> t;
-  for (int k = 0; k <= 30; ++k) t.push_back(pressed(-0.001 + 0.0001 * k));       // to 2 mm deep
+  for (int k = 0; k <= 30; ++k) t.push_back(pressed(-0.001 + 0.0001 * k));        // to 2 mm deep
   for (int k = 0; k < 20; ++k) t.push_back(pressed(0.002, 0.0001 * k, 0.0));      // hold and slide
   for (int k = 0; k <= 30; ++k) t.push_back(pressed(0.002 - 0.0001 * k, 0.002));  // release
   return t;
@@ -179,8 +179,8 @@ TEST_CASE("EffectModel concatenates and routes parameter tables; clone is deep",
   CHECK(m->params().get("load_stiffening.beta_per_m") == 100.0);
 
   // A table from another model is rejected and leaves this one unchanged.
-  ParamSet foreign({{"gain", "", 1, 0, 10, ""}, {"x.y", "", 0, 0, 1, ""}, {"a", "", 0, 0, 1, ""},
-                    {"b", "", 0, 0, 1, ""}});
+  ParamSet foreign(
+      {{"gain", "", 1, 0, 10, ""}, {"x.y", "", 0, 0, 1, ""}, {"a", "", 0, 0, 1, ""}, {"b", "", 0, 0, 1, ""}});
   CHECK_THROWS_AS(m->set_params(foreign), std::invalid_argument);
   CHECK(m->params().get("gain") == 2.0);
 
@@ -202,9 +202,9 @@ TEST_CASE("EffectModel concatenates and routes parameter tables; clone is deep",
   std::vector<std::unique_ptr<Effect>> twice;
   twice.push_back(make_effect("tracker_bias"));
   twice.push_back(make_effect("tracker_bias"));
-  CHECK_THROWS_AS(EffectModel(std::make_unique<FixedFieldModel>(test_field(9)), std::move(twice), sensor,
-                              make_test_indenter()),
-                  std::invalid_argument);
+  CHECK_THROWS_AS(
+      EffectModel(std::make_unique<FixedFieldModel>(test_field(9)), std::move(twice), sensor, make_test_indenter()),
+      std::invalid_argument);
 }
 
 TEST_CASE("indenter penetration is the deepest -phi_E and its weighted centre", "[effects]") {
@@ -325,8 +325,7 @@ TEST_CASE("subsurface_markers: uniform fields are only attenuated; smoothing mix
   CHECK(std::abs(f[1].x() - 0.7 * w / (1 + w)) < kExact);
 }
 
-TEST_CASE("gravity_preload: shear g at the contact centre, g e^{-1/2} at one width, none off contact",
-          "[effects]") {
+TEST_CASE("gravity_preload: shear g at the contact centre, g e^{-1/2} at one width, none off contact", "[effects]") {
   const double w = 0.003;
   const auto sensor = make_test_sensor({Vec2(0.001, 0.0), Vec2(0.001, w)});
   auto e = make_effect("gravity_preload");

@@ -1,14 +1,14 @@
 // core/field_export: the workbench's field export, on its own and on the worker thread.
 #include <catch2/catch.hpp>
 
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "core/base/error.hpp"
-#include "core/workbench/field_export.hpp"
 #include "core/calibration/prediction_export.hpp"
 #include "core/data/tsd.hpp"
+#include "core/workbench/field_export.hpp"
 #include "model_fixtures.hpp"
 
 namespace fs = std::filesystem;
@@ -56,7 +56,7 @@ FieldExportRequest request(const fs::path& dir, int steps) {
 TEST_CASE("an exported field reads back as the model's field along the path", "[field_export]") {
   // The markers are written as the shortest text that reads back to the same double, so the read-back
   // equals a fresh run of the same model exactly.
-  constexpr double kMinFieldPx = 0.1;   // the press and slide must give a field worth comparing
+  constexpr double kMinFieldPx = 0.1;  // the press and slide must give a field worth comparing
   TempDir tmp;
   const FieldExportRequest req = request(tmp.path, 40);
   REQUIRE(export_fields(req) == 2);

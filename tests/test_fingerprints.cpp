@@ -16,10 +16,10 @@ using sb::Vec2;
 
 namespace {
 
-using Series = std::vector<std::vector<Vec2>>;   // [frame][marker]
+using Series = std::vector<std::vector<Vec2>>;  // [frame][marker]
 
 const sb::Sensor& sensor() {
-  static const sb::Sensor s = sb::make_default_sensor();   // 7 x 9 markers at 33 px = 2.09 mm
+  static const sb::Sensor s = sb::make_default_sensor();  // 7 x 9 markers at 33 px = 2.09 mm
   return s;
 }
 
@@ -46,7 +46,7 @@ void add_noise(Series* s, double sigma, std::uint64_t seed) {
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& f : *s)
     for (auto& d : f) {
-      const double dx = n(rng);   // two statements: argument order is unspecified (gcc and clang differ)
+      const double dx = n(rng);  // two statements: argument order is unspecified (gcc and clang differ)
       d += Vec2(dx, n(rng));
     }
 }
@@ -96,7 +96,8 @@ TEST_CASE("sls_glassy_field undoes the viscoelastic_creep effect", "[fingerprint
   // x_3 = c D (1 - a) + a x_2 = c D (1 - a^2), meas_3 = D (1 + c (1 - a^2)). Undone: D on every frame >= 1.
   constexpr double kExact = 1e-12;
   const double D = 2.0, c = 0.5, a = std::exp(-0.5);
-  const Series meas = {{Vec2(0, 0)}, {Vec2(D, 0)}, {Vec2(D * (1 + c * (1 - a)), 0)}, {Vec2(D * (1 + c * (1 - a * a)), 0)}};
+  const Series meas = {
+      {Vec2(0, 0)}, {Vec2(D, 0)}, {Vec2(D * (1 + c * (1 - a)), 0)}, {Vec2(D * (1 + c * (1 - a * a)), 0)}};
   const Series d = sb::sls_glassy_field(meas, 0.1, 0.2, c);
   CHECK(d[0][0].norm() < kExact);
   for (int k = 1; k < 4; ++k) CHECK((d[k][0] - Vec2(D, 0)).norm() < kExact);
@@ -119,7 +120,8 @@ TEST_CASE("creep fingerprint: an SLS-filtered held press gives tau and c back", 
   Series meas = apply_effect("viscoelastic_creep", {{"tau_s", 0.3}, {"creep_fraction", 0.3}}, p.glassy, 0.02);
   add_noise(&meas, 0.05, 1);
   const sb::CreepFingerprint f = sb::creep_fingerprint({creep_sample(p, meas, 0.02)});
-  INFO("tau " << f.tau_s << " c " << f.creep_fraction << " signal " << f.signal_rms_px << " explained " << f.explained_pct);
+  INFO("tau " << f.tau_s << " c " << f.creep_fraction << " signal " << f.signal_rms_px << " explained "
+              << f.explained_pct);
   CHECK(std::abs(f.tau_s - 0.3) < kRelTol * 0.3);
   CHECK(std::abs(f.creep_fraction - 0.3) < kRelTol * 0.3);
   CHECK(f.signal_rms_px > 0.15);
@@ -155,7 +157,7 @@ TEST_CASE("creep fingerprint: an SLS-filtered held press gives tau and c back", 
     add_noise(&still, 0.05, 3);
     const FingerprintSample s = creep_sample(p, still, 0.02);
     const sb::CreepFingerprint g = sb::creep_fingerprint({s});
-    CHECK(g.signal_rms_px < 0.15);   // noise: sqrt(2) sigma per component difference = 0.1 px
+    CHECK(g.signal_rms_px < 0.15);  // noise: sqrt(2) sigma per component difference = 0.1 px
     const auto check = sb::fingerprint_check("viscoelastic_creep", sensor(), {s}, {s});
     REQUIRE(check.has_value());
     CHECK_FALSE(check->consistent);
@@ -226,7 +228,7 @@ const sb::Sensor& scattered_sensor() {
   static const sb::Sensor s = [] {
     sb::Sensor out = sb::make_default_sensor();
     for (std::size_t j = 0; j < out.markers_rest_px.size(); ++j) {
-      const double a = 2.399963 * double(j);   // the golden angle: no two directions alike
+      const double a = 2.399963 * double(j);  // the golden angle: no two directions alike
       out.markers_rest_px[j] += 6.6 * std::fmod(0.618034 * double(j), 1.0) * Vec2(std::cos(a), std::sin(a));
     }
     return out;
@@ -308,7 +310,7 @@ TEST_CASE("lens fingerprint: k1 from the residual that is not symmetric about th
     CHECK(check->evidence.find("the rest grid is not a lattice") != std::string::npos);
     CHECK_FALSE(check->beyond_model_form);
     REQUIRE(check->band.size() == 1);
-    CHECK(check->band[0].low == Approx(check->calibration * 1.5));   // k1 < 0: [1.5 k1, k1 / 1.5]
+    CHECK(check->band[0].low == Approx(check->calibration * 1.5));  // k1 < 0: [1.5 k1, k1 / 1.5]
     CHECK(check->band[0].high == Approx(check->calibration / 1.5));
     REQUIRE(check->held.size() == 1);
     CHECK(check->held[0].first == "k2");
@@ -376,7 +378,8 @@ FingerprintSample sharp_field() {
     std::vector<Vec2> f(m.size());
     for (std::size_t j = 0; j < m.size(); ++j) {
       f[j] = Vec2::Zero();
-      for (const auto& [c, dir] : {std::pair{Vec2(126.5, 86.5), Vec2(1.0, 0.3)}, {Vec2(225.5, 152.5), Vec2(-0.4, 1.0)}}) {
+      for (const auto& [c, dir] :
+           {std::pair{Vec2(126.5, 86.5), Vec2(1.0, 0.3)}, {Vec2(225.5, 152.5), Vec2(-0.4, 1.0)}}) {
         const double sc = (m[j] - c).norm() / 30.0;
         f[j] += 4.0 * k / 10.0 * std::exp(-0.5 * sc * sc) * dir;
       }
@@ -433,7 +436,7 @@ TEST_CASE("subsurface fingerprint: depth from the fine-scale content against the
   SECTION("markers on the surface: no depth") {
     const FingerprintSample surface = sharp_field();
     const auto f = sb::subsurface_fingerprint(sensor(), {surface});
-    CHECK(f.depth_m < 0.25 * 2.0922e-3);   // below a quarter pitch: the finding's floor
+    CHECK(f.depth_m < 0.25 * 2.0922e-3);  // below a quarter pitch: the finding's floor
     CHECK_FALSE(sb::fingerprint_check("subsurface_markers", sensor(), {surface}, {surface})->consistent);
   }
 }

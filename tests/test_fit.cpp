@@ -19,9 +19,9 @@ namespace {
 using sb::FitSample;
 using sb::ParamSet;
 using sb::Pose;
-using sbtest::sphere4mm_pose;
 using sb::Vec2;
 using sb::Vec3;
+using sbtest::sphere4mm_pose;
 
 // Recovery and convergence tolerances of the issue: within 2 % of the truth, and two starts to the same
 // optimum within 1 %.
@@ -82,8 +82,7 @@ Pose at(double x, double y, double z) {
 }
 
 // Press to `depth` (then slide `slide` along x), 20 frames.
-FitSample toy_trajectory(const std::string& id, const std::string& motion, double depth, double slide,
-                         double x0) {
+FitSample toy_trajectory(const std::string& id, const std::string& motion, double depth, double slide, double x0) {
   FitSample s;
   s.id = id;
   s.motion = motion;
@@ -108,22 +107,22 @@ ParamSet toy_truth() {
 }
 
 std::vector<FitSample> toy_samples(const ParamSet& truth) {
-  std::vector<FitSample> v = {toy_trajectory("dil_a", "dilation", 1.0e-3, 0, 0),
-                              toy_trajectory("dil_b", "dilation", 0.6e-3, 0, 1e-3),
-                              toy_trajectory("sh_a", "shear", 0.8e-3, 1.5e-3, -1e-3),
-                              toy_trajectory("sh_b", "shear", 1.0e-3, -1.0e-3, 0)};
+  std::vector<FitSample> v = {
+      toy_trajectory("dil_a", "dilation", 1.0e-3, 0, 0), toy_trajectory("dil_b", "dilation", 0.6e-3, 0, 1e-3),
+      toy_trajectory("sh_a", "shear", 0.8e-3, 1.5e-3, -1e-3), toy_trajectory("sh_b", "shear", 1.0e-3, -1.0e-3, 0)};
   for (auto& s : v) simulate_into(&s, truth);
   return v;
 }
 
 const std::vector<sb::FitStage>& toy_stages() {
   static const std::vector<sb::FitStage> st = {{"dilation", {"lambda", "gain"}, {"dilation"}, false, {}},
-                                              {"friction", {"mu"}, {"slip"}, false, {"shear"}},
-                                              {"joint", {"lambda", "gain", "mu"}, {"dilation", "shear"}, false, {}}};
+                                               {"friction", {"mu"}, {"slip"}, false, {"shear"}},
+                                               {"joint", {"lambda", "gain", "mu"}, {"dilation", "shear"}, false, {}}};
   return st;
 }
 
-sb::CalibrationResult toy_fit(const std::vector<FitSample>& samples, const ParamSet& start, const sb::FitOptions& o = {}) {
+sb::CalibrationResult toy_fit(const std::vector<FitSample>& samples, const ParamSet& start,
+                              const sb::FitOptions& o = {}) {
   const sb::FitModelFactory make = [](std::shared_ptr<const sb::Indenter>) { return std::make_unique<ToyModel>(); };
   return sb::run_fit_stages("toy", make, toy_stages(), samples, start, o);
 }
@@ -283,13 +282,15 @@ FitSample real_sample(const std::string& id, const std::string& motion, double d
   s.motion = motion;
   s.indenter = real_setup().sphere;
   for (int k = 0; k <= 10; ++k) s.X_EI.push_back(sphere4mm_pose(-1e-3, 0, depth * (k - 1) / 9.0));
-  for (int k = 1; k <= 10; ++k) s.X_EI.push_back(sphere4mm_pose(-1e-3 + slide * k / 10.0, 0, depth, yaw_deg * k / 10.0));
+  for (int k = 1; k <= 10; ++k)
+    s.X_EI.push_back(sphere4mm_pose(-1e-3 + slide * k / 10.0, 0, depth, yaw_deg * k / 10.0));
   return s;
 }
 
 std::vector<FitSample> real_samples(const std::string& id, const ParamSet& truth) {
-  std::vector<FitSample> v = {real_sample("dil", "dilation", 1.2e-3, 0, 0), real_sample("shr", "shear", 1.0e-3, 0.4e-3, 0),
-                              real_sample("slp", "slip", 0.4e-3, 2.0e-3, 0), real_sample("twi", "twist", 1.0e-3, 0, 20)};
+  std::vector<FitSample> v = {
+      real_sample("dil", "dilation", 1.2e-3, 0, 0), real_sample("shr", "shear", 1.0e-3, 0.4e-3, 0),
+      real_sample("slp", "slip", 0.4e-3, 2.0e-3, 0), real_sample("twi", "twist", 1.0e-3, 0, 20)};
   auto model = sb::make_model(id, real_setup().sensor, real_setup().sphere);
   model->set_params(truth);
   for (auto& s : v) s.meas_px = sb::simulate_sample(*model, s);
@@ -435,8 +436,8 @@ TEST_CASE("the contact variant is fitted in double whatever its precision parame
 #include <fstream>
 
 #include "core/calibration/fit_data.hpp"
-#include "core/geometry/mesh.hpp"
 #include "core/data/tsd.hpp"
+#include "core/geometry/mesh.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@ using sbtest::kMiniMarkers;
 using namespace sbtest;
 
 namespace {
-constexpr double kPxTol = 1e-9;   // px: identical formulas evaluated twice
+constexpr double kPxTol = 1e-9;  // px: identical formulas evaluated twice
 constexpr double kBox = 6e-3;
 const double kPxPerM = Camera{}.px_per_metre();
 
@@ -84,8 +84,7 @@ TEST_CASE("FOTS original: integer-pixel shear from the origin's travel since fir
   }
 }
 
-TEST_CASE("FOTS: counter-clockwise twist moves markers counter-clockwise; original clips at 50 deg",
-          "[models][fots]") {
+TEST_CASE("FOTS: counter-clockwise twist moves markers counter-clockwise; original clips at 50 deg", "[models][fots]") {
   for (const std::string id : {"fots", "fots-reimpl"}) {
     auto m = fots_without_dilation(id, box_indenter(kBox));
     run(*m, box_pose(kBox, 0, 0, 0.1e-3));
@@ -162,7 +161,7 @@ TEST_CASE("FOTS Reimpl: the anchor is set when the normal approach ends (the aut
     run(*m, sphere_pose(kR, 0, 0, -0.1e-3));
     run(*m, sphere_pose(kR, 0, 0, 0.2e-3));
     const auto pressed = run(*m, sphere_pose(kR, 0, 0, 0.8e-3));
-    CHECK(max_norm(pressed) < kPxTol);   // a pure press: no shear, whichever the anchor
+    CHECK(max_norm(pressed) < kPxTol);  // a pure press: no shear, whichever the anchor
     const auto rolled = run(*m, sphere_pose(kR, 0, 0, 0.8e-3, Rx(kRoll)));
     const double h = kR - (grasp > 0 ? 0.8e-3 : 0.2e-3);
     INFO("anchor_grasp " << grasp);

@@ -22,7 +22,7 @@ TEST_CASE("return_free_memory_to_os hands a freed burst of small blocks back", "
   blocks.reserve(kBlocks);
   for (std::size_t i = 0; i < kBlocks; ++i) {
     blocks.push_back(static_cast<char*>(std::malloc(kBlock)));
-    for (std::size_t b = 0; b < kBlock; b += 512) blocks.back()[b] = 1;   // touch every page
+    for (std::size_t b = 0; b < kBlock; b += 512) blocks.back()[b] = 1;  // touch every page
   }
   char* pin = blocks.back();
   blocks.pop_back();

@@ -37,12 +37,14 @@ TEST_CASE("inputs that crashed the fuzzers are handled", "[fuzz-regress]") {
   // Session 4: PLY list counts OpenMesh hung on (negative, 2^30), and OFF counts on the magic line, which
   // OpenMesh reads from the next line instead ("0-4": a face count of -4, out of memory), and a number
   // left over on an OFF face line (read as the next face's count: out of memory).
-  CHECK(replay("fuzz_mesh", sb::fuzz::one_mesh) >= 13);   // and an OFF magic token with a digit glued on   // binary OFF, whose reader trusts every count, is refused   // and OFF counts: negative, or a face line without one
-  CHECK(replay("fuzz_tsd_dataset", sb::fuzz::one_tsd_dataset) >= 1);   // the same number overflow in dataset.json
+  CHECK(replay("fuzz_mesh", sb::fuzz::one_mesh) >=
+        13);  // and an OFF magic token with a digit glued on   // binary OFF, whose reader trusts every count, is
+              // refused   // and OFF counts: negative, or a face line without one
+  CHECK(replay("fuzz_tsd_dataset", sb::fuzz::one_tsd_dataset) >= 1);  // the same number overflow in dataset.json
   replay("fuzz_tsd_csv", sb::fuzz::one_tsd_csv);
   replay("fuzz_scene", sb::fuzz::one_scene);
   // fuzz_params found a number too large for a double: nlohmann throws out_of_range (not parse_error),
   // which escaped the JSON loader; every JSON file is read through jsonin::load_file, which now converts it.
   CHECK(replay("fuzz_params", sb::fuzz::one_params) >= 1);
-  CHECK(replay("fuzz_session", sb::fuzz::one_session) >= 1);   // and in a session file
+  CHECK(replay("fuzz_session", sb::fuzz::one_session) >= 1);  // and in a session file
 }

@@ -21,7 +21,7 @@ TEST_CASE("left and right modifier keys are held apart", "[workbench][keys]") {
   HeldModifiers h;
   h.press(HeldModifiers::kLeftShift);
   h.press(HeldModifiers::kRightShift);
-  h.release(HeldModifiers::kLeftShift);   // the right one is still down
+  h.release(HeldModifiers::kLeftShift);  // the right one is still down
   CHECK(h.mods() == HeldModifiers::kShift);
   h.press(HeldModifiers::kRightCtrl);
   CHECK(h.mods() == (HeldModifiers::kShift | HeldModifiers::kCtrl));

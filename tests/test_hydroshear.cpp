@@ -12,9 +12,9 @@ using namespace sbtest;
 
 namespace {
 
-constexpr double kTol = 1e-12;       // metres: exact state arithmetic (a few roundings of 1e-3 values)
-constexpr double kPxTol = 1e-9;      // px: fields computed two ways
-constexpr double kBox = 6e-3;        // box indenter side
+constexpr double kTol = 1e-12;   // metres: exact state arithmetic (a few roundings of 1e-3 values)
+constexpr double kPxTol = 1e-9;  // px: fields computed two ways
+constexpr double kBox = 6e-3;    // box indenter side
 
 ParamSet hs_params() { return default_params("hydroshear"); }
 
@@ -238,7 +238,8 @@ TEST_CASE("HydroShear: weight and normal options", "[models][hydroshear]") {
   HydroShearBatch a(test_sensor(), box, 1, code), b(test_sensor(), box, 1, paper);
   std::vector<Vec2> da(kMiniMarkers), db(kMiniMarkers);
   // Enter already pressed (first-step loss): code weight u_n = 0.2 mm, paper weight depth = 0.5 mm.
-  for (const Pose& X : {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)}) {
+  for (const Pose& X :
+       {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)}) {
     a.step(std::span<const Pose>(&X, 1), 0.01, da, {});
     b.step(std::span<const Pose>(&X, 1), 0.01, db, {});
   }
@@ -248,7 +249,8 @@ TEST_CASE("HydroShear: weight and normal options", "[models][hydroshear]") {
   ind.set("normal", 1);
   HydroShearBatch c(test_sensor(), box, 1, ind);
   std::vector<Vec2> dc(kMiniMarkers);
-  for (const Pose& X : {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)})
+  for (const Pose& X :
+       {box_pose(kBox, 0, 0, -0.3e-3), box_pose(kBox, 0, 0, -0.5e-3), box_pose(kBox, 0.1e-3, 0, -0.5e-3)})
     c.step(std::span<const Pose>(&X, 1), 0.01, dc, {});
   for (int j = 0; j < kMiniMarkers; ++j) CHECK((dc[j] - da[j]).norm() < kPxTol);
 }

@@ -7,8 +7,8 @@
 //   S = F(kappa_s = 2k) - F(kappa_s = k),
 // and the shifted sum is formed here over HydroShearBatch::tracked():
 //   S_j = kappa_s sum_i w_i (-K u_i^xy) exp(-l_s |m_j - (o_i + u_i + c)|^2).
-#include <catch2/catch.hpp>
 #include <algorithm>
+#include <catch2/catch.hpp>
 
 #include "hydroshear_fixtures.hpp"
 
@@ -16,7 +16,7 @@ using namespace sbtest;
 
 namespace {
 
-constexpr double kPxTol = 1e-9;    // px: the same sums in another order
+constexpr double kPxTol = 1e-9;  // px: the same sums in another order
 // The contact variant sums its terms in single precision (2^-24 per rounding, a few roundings per operand,
 // 8-lane float partial sums over at most 96 points, then double): relative to the largest marker motion of
 // the field, against the double sums of the models it is compared with.
@@ -51,7 +51,7 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
   ParamSet ls = default_params("hydroshear-layer-stick");
   ParamSet p = default_params("hydroshear-contact");
   for (const auto& spec : ls.specs()) p.set(spec.name, ls.get(spec.name));
-  p.set("beta_s3", 0), p.set("follow", 0);   // the anisotropy then has no term to act on
+  p.set("beta_s3", 0), p.set("follow", 0);  // the anisotropy then has no term to act on
   const auto contact = hs_path_field(p);
   const auto plain = hs_path_field(ls);
   REQUIRE(contact.size() == plain.size());
@@ -66,12 +66,12 @@ TEST_CASE("hydroshear-contact with no far field and no following is layer + stic
     INFO("marker " << j);
     CHECK((exact[j] - plain[j]).norm() < kPxTol);
   }
-  CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
+  CHECK(max_norm(plain) > 0.1);  // the path moves markers: the comparison is not of zeros
 }
 
 TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[models][hydroshear_contact]") {
   const ParamSet d = default_params("hydroshear");
-  const double beta_s3 = 0.3, ls3 = 2e4;   // 1/sqrt(2 l_s3) = 5 mm wide: it reaches every marker
+  const double beta_s3 = 0.3, ls3 = 2e4;  // 1/sqrt(2 l_s3) = 5 mm wide: it reaches every marker
   const auto far = hs_path_field(contact_params(beta_s3, ls3, 0));
   const auto base = hs_path_field(d);
   ParamSet wide = d;
@@ -83,7 +83,7 @@ TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[mod
     CHECK((far[j] - (base[j] + beta_s3 * S3[j])).norm() < kPxTol + kFloatRel * max_norm(far));
     far_s = std::max(far_s, beta_s3 * S3[j].norm());
   }
-  CHECK(far_s > 0.01);   // the term moves markers on this path
+  CHECK(far_s > 0.01);  // the term moves markers on this path
 }
 
 TEST_CASE("hydroshear-contact's following moves every kernel by follow times the weighted mean stuck state",
@@ -103,10 +103,10 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   Vec2 swu = Vec2::Zero();
   for (const HydroShearPoint& t : points) {
     sw += E * t.u_n;
-    swu += E * t.u_n * t.u_E.head<2>();   // the normal is +z: u_E's in-plane part is u_t
+    swu += E * t.u_n * t.u_E.head<2>();  // the normal is +z: u_E's in-plane part is u_t
   }
   const Vec2 c = -kFollow * swu / sw;
-  CHECK(c.norm() > 0.1e-3);   // the box slid 0.32 mm while stuck: the shift is not a rounding
+  CHECK(c.norm() > 0.1e-3);  // the box slid 0.32 mm while stuck: the shift is not a rounding
   // The shifted sum by hand.
   const Pose X = hs_box_path().back();
   const auto sensor = test_sensor();
@@ -123,7 +123,7 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   double moved = 0;
   for (std::size_t j = 0; j < S.size(); ++j) {
     INFO("marker " << j);
-    CHECK((S[j] - expected[j]).norm() < 1e-6);   // px: the sum over ~50 points in another order
+    CHECK((S[j] - expected[j]).norm() < 1e-6);  // px: the sum over ~50 points in another order
     moved = std::max(moved, (S[j] - S0[j]).norm());
   }
   // The following changes the field on this path (by 4 % of its largest shear; the tolerance above is
@@ -137,7 +137,7 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
 // the axes' factors, in single precision (add_term_single); this sums it point by point in double.
 TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to each point's term",
           "[models][hydroshear_contact]") {
-  constexpr double kBeta3 = 0.3, kLambda3 = 2e4, kAniso = 3;   // 5 mm wide: it reaches every marker
+  constexpr double kBeta3 = 0.3, kLambda3 = 2e4, kAniso = 3;  // 5 mm wide: it reaches every marker
   const ParamSet d = default_params("hydroshear");
   const double ks = d.get("kappa_s"), E = d.get("E"), K = d.get("K");
   HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
@@ -166,7 +166,7 @@ TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to e
     CHECK((aniso[j] - iso[j] - expected[j]).norm() < kPxTol + kFloatRel * max_norm(aniso));
     largest = std::max(largest, expected[j].norm());
   }
-  CHECK(largest > 1e-4 * max_norm(iso));   // the term is not zero on this path
+  CHECK(largest > 1e-4 * max_norm(iso));  // the term is not zero on this path
   INFO("largest anisotropic part " << largest << " px of a field of " << max_norm(iso));
 }
 
@@ -181,7 +181,8 @@ TEST_CASE("a step without a field advances the state exactly as one with it", "[
     const auto path = hs_box_path();
     std::vector<Vec2> disp(last_only.markers());
     for (std::size_t k = 0; k < path.size(); ++k)
-      last_only.step(std::span<const Pose>(&path[k], 1), 0.01, k + 1 == path.size() ? std::span<Vec2>(disp) : std::span<Vec2>(), {});
+      last_only.step(std::span<const Pose>(&path[k], 1), 0.01,
+                     k + 1 == path.size() ? std::span<Vec2>(disp) : std::span<Vec2>(), {});
     INFO(id);
     CHECK(disp == expected);
   }

@@ -120,7 +120,7 @@ TEST_CASE("shear kernels: one anchor on a marker gives the Gaussian of the grid"
   // A second point with its anchor 1 m away exceeds the exponent budget: fast = 0 and zero weight here.
   const std::vector<double> px = {-1e-4, 1.0}, py = {0, 0}, pz = {-2e-4, 0}, ux = {1e-4, 0}, uy = {0, 0},
                             uz = {2e-4, 0}, un = {2e-4, 1e-4}, phi = {-1e-4, -1e-4};
-  const kernels::ShearColumns in{px.data(), py.data(), pz.data(), ux.data(), uy.data(), uz.data(),
+  const kernels::ShearColumns in{px.data(), py.data(),  pz.data(), ux.data(), uy.data(), uz.data(),
                                  un.data(), phi.data(), nullptr,   nullptr,   nullptr};
   kernels::ShearConstants k{};
   k.E = 1, k.K = 1, k.lambda_s = l, k.z0 = 0, k.weight_paper = false, k.normal_z = true;
@@ -155,7 +155,7 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
   // c^2 + r^2, kl d (d . v) = 2 vx (c^2, c r):
   //   S_x = vx e^-(c^2 + r^2) (1 + 2 c^2),  S_y = vx e^-(c^2 + r^2) 2 c r.
   // Assembled as add_term_single does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
-  constexpr double kFloatRel = 1e-6;   // single-precision operands, sums in double
+  constexpr double kFloatRel = 1e-6;  // single-precision operands, sums in double
   constexpr double l = 1e6, h = 1e-3, kAniso = 2, vx0 = -2e-8;
   constexpr int cols = 4, rows = 3, mp = 8, cols_pad = 6;
   std::vector<float> vx(mp, 0.0f), vy(mp, 0.0f);
@@ -182,7 +182,7 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
   const float* WB = W1 + rows * mp;
   const float* WC = WB + 2 * rows * mp;
   const int nm = rows * cols;
-  std::vector<float> Sacc(8 * 4 * nm, 0.0f);   // 8 lanes per output
+  std::vector<float> Sacc(8 * 4 * nm, 0.0f);  // 8 lanes per output
   kernels::add_products_acc(W1, rows, XA, cols, mp, Sacc.data());
   kernels::add_products_acc(WB, 2 * rows, XB, cols, mp, Sacc.data() + 8 * nm);
   kernels::add_products_acc(WC, rows, XC, cols, mp, Sacc.data() + 8 * 3 * nm);
@@ -199,8 +199,7 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
     }
 }
 
-TEST_CASE("shear kernels: single precision holds an anchor far from the grid's first marker",
-          "[hydroshear][kernels]") {
+TEST_CASE("shear kernels: single precision holds an anchor far from the grid's first marker", "[hydroshear][kernels]") {
   // 9 columns x 7 rows at 1 mm pitch (the GelSight Mini's grid shape), lambda = 4e6 m^-2, one point with
   // its anchor on the last marker (8, 6) mm: at marker (c, r) the Gaussian is
   //   exp(-4 ((8 - c)^2 + (6 - r)^2)),
@@ -208,29 +207,28 @@ TEST_CASE("shear kernels: single precision holds an anchor far from the grid's f
   // a factor referred to the grid's first marker alone would pass float's range (e^88), one split by axis
   // stays at most 1 on every marker. With weights vx = -3e-8, vy = 5e-8, w = 2e-4 the sums are those
   // weights times the Gaussian. A second point with its anchor 1 m away is past the exponent budget: not fast.
-  constexpr double kFloatRel = 1e-6;   // single-precision operands, sums in double
+  constexpr double kFloatRel = 1e-6;  // single-precision operands, sums in double
   // Where the float products underflow (far from the anchor) the sums are 0: below this they agree.
   constexpr double kUnderflow = 1e-40;
   constexpr double l = 4e6, h = 1e-3;
   constexpr int cols = 9, rows = 7, mp = 8;
-  const std::vector<double> ax = {8 * h, 1.0, 0, 0, 0, 0, 0, 0}, ay = {6 * h, 0, 0, 0, 0, 0, 0, 0},
-                            az(mp, 0.0);
+  const std::vector<double> ax = {8 * h, 1.0, 0, 0, 0, 0, 0, 0}, ay = {6 * h, 0, 0, 0, 0, 0, 0, 0}, az(mp, 0.0);
   kernels::ShearConstants k{};
   k.lambda_s = l, k.z0 = 0, k.max_total_exponent = 650;
   k.x0 = 0, k.xn = (cols - 1) * h, k.hx = h, k.y0 = 0, k.yn = (rows - 1) * h, k.hy = h;
   std::vector<double> args(4 * mp);
   std::vector<std::uint8_t> fast(mp);
   const int slow = kernels::axis_exponents(ax.data(), ay.data(), az.data(), k, mp, args.data(), args.data() + mp,
-                          args.data() + 2 * mp, args.data() + 3 * mp, fast.data());
+                                           args.data() + 2 * mp, args.data() + 3 * mp, fast.data());
   CHECK(fast[0] == 1);
   CHECK(fast[1] == 0);
   CHECK(slow == 1);
-  CHECK(args[0] == Approx(-256).epsilon(1e-12));   // ex0 = -l (0 - 8 mm)^2
-  CHECK(args[2 * mp] == Approx(-144).epsilon(1e-12));   // ey0 = -l (0 - 6 mm)^2
+  CHECK(args[0] == Approx(-256).epsilon(1e-12));       // ex0 = -l (0 - 8 mm)^2
+  CHECK(args[2 * mp] == Approx(-144).epsilon(1e-12));  // ey0 = -l (0 - 6 mm)^2
   exp_in_place(args.data(), 4 * mp);
   std::vector<float> vx(mp, 0.0f), vy(mp, 0.0f), w(mp, 0.0f);
   vx[0] = -3e-8f, vy[0] = 5e-8f, w[0] = 2e-4f;
-  vx[1] = 1.0f;   // not fast: its weight must not reach the sums
+  vx[1] = 1.0f;  // not fast: its weight must not reach the sums
   const double q = std::exp(-2 * l * h * h);
   constexpr int cols_pad = 9;
   std::vector<float> X(cols_pad * mp), W(3 * rows * mp);

@@ -12,8 +12,8 @@ using namespace sbtest;
 
 namespace {
 
-constexpr double kPxTol = 1e-9;    // px: the same sums in another order
-constexpr double kBox = 6e-3;      // box indenter side: it covers markers, so the dilation acts
+constexpr double kPxTol = 1e-9;  // px: the same sums in another order
+constexpr double kBox = 6e-3;    // box indenter side: it covers markers, so the dilation acts
 
 // The field along a press, a slide and a twist of the box (stick and slip, shear and dilation).
 std::vector<Vec2> path_field(const std::string& id, const ParamSet& p) {
@@ -40,13 +40,13 @@ TEST_CASE("hydroshear-layer with beta = 0 is HydroShear, bit for bit", "[models]
   const auto plain = path_field("hydroshear", default_params("hydroshear"));
   REQUIRE(layer.size() == plain.size());
   for (std::size_t j = 0; j < layer.size(); ++j) CHECK(layer[j] == plain[j]);
-  CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
+  CHECK(max_norm(plain) > 0.1);  // the path moves markers: the comparison is not of zeros
 }
 
 TEST_CASE("hydroshear-layer adds the shear kernel's near-field term linearly", "[models][hydroshear_layer]") {
   const ParamSet d = default_params("hydroshear");
   const double ls = d.get("lambda_s"), ks = d.get("kappa_s");
-  const double beta_s = 2.5, ls2 = 3e5;   // near field 1/sqrt(2 l_s2) = 1.3 mm wide: it reaches the markers
+  const double beta_s = 2.5, ls2 = 3e5;  // near field 1/sqrt(2 l_s2) = 1.3 mm wide: it reaches the markers
   ParamSet p = default_params("hydroshear-layer");
   p.set("beta_s", beta_s), p.set("lambda_s2", ls2);
   const auto layer = path_field("hydroshear-layer", p);
@@ -60,5 +60,5 @@ TEST_CASE("hydroshear-layer adds the shear kernel's near-field term linearly", "
     CHECK((layer[j] - (base[j] + beta_s * S2)).norm() < kPxTol);
     near_s = std::max(near_s, (beta_s * S2).norm());
   }
-  CHECK(near_s > 0.01);   // the near-field term acts on this path (the check is not of zeros)
+  CHECK(near_s > 0.01);  // the near-field term acts on this path (the check is not of zeros)
 }

@@ -14,7 +14,7 @@ using namespace sbtest;
 
 namespace {
 
-constexpr double kPxTol = 1e-9;    // px: the same sums in another order
+constexpr double kPxTol = 1e-9;  // px: the same sums in another order
 
 }  // namespace
 
@@ -28,7 +28,7 @@ TEST_CASE("hydroshear-stick with s = 0 is HydroShear, bit for bit", "[models][hy
   for (const Pose& X : hs_box_path()) stick = run(*m, X), plain = run(*h, X);
   REQUIRE(stick.size() == plain.size());
   for (std::size_t j = 0; j < stick.size(); ++j) CHECK(stick[j] == plain[j]);
-  CHECK(max_norm(plain) > 0.1);   // the path moves markers: the comparison is not of zeros
+  CHECK(max_norm(plain) > 0.1);  // the path moves markers: the comparison is not of zeros
 }
 
 TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydroshear_stick]") {
@@ -45,14 +45,15 @@ TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydrosh
   std::vector<double> W(sensor->p_EM.size(), 0.0);
   for (const HydroShearPoint& t : plain.tracked(0)) {
     const Vec3 anchor = X * hs_box()->samples.p_IS[t.index] + t.u_E;
-    for (std::size_t j = 0; j < W.size(); ++j) W[j] += E * t.u_n * std::exp(-ls * (sensor->p_EM[j] - anchor).squaredNorm());
+    for (std::size_t j = 0; j < W.size(); ++j)
+      W[j] += E * t.u_n * std::exp(-ls * (sensor->p_EM[j] - anchor).squaredNorm());
   }
-  constexpr double kSat = 2e3;   // 1/m: W reaches ~1e-3 m over this contact, so s W is of order 1
+  constexpr double kSat = 2e3;  // 1/m: W reaches ~1e-3 m over this contact, so s W is of order 1
   for (const std::string id : {"hydroshear-stick", "hydroshear-layer-stick"}) {
     ParamSet p = default_params(id);
     for (const auto& spec : d.specs()) p.set(spec.name, d.get(spec.name));
     p.set("stick_sat", kSat);
-    if (p.index_of("beta_s") >= 0) p.set("beta_s", 0);   // the layer's near field off: the same S
+    if (p.index_of("beta_s") >= 0) p.set("beta_s", 0);  // the layer's near field off: the same S
     const auto stick = hs_path_field(p);
     double largest_sW = 0;
     for (std::size_t j = 0; j < stick.size(); ++j) {
@@ -61,6 +62,6 @@ TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydrosh
       CHECK((stick[j] - (D + S / (1 + kSat * W[j]))).norm() < kPxTol);
       largest_sW = std::max(largest_sW, kSat * W[j]);
     }
-    CHECK(largest_sW > 0.3);   // the saturation acts on this path (the check is not of a factor 1)
+    CHECK(largest_sW > 0.3);  // the saturation acts on this path (the check is not of a factor 1)
   }
 }

@@ -13,8 +13,8 @@
 
 #include "core/base/data_root.hpp"
 #include "core/data/importers.hpp"
-#include "core/tracking/track_eval.hpp"
 #include "core/data/tsd.hpp"
+#include "core/tracking/track_eval.hpp"
 
 using sbtest::kMiniMarkers;
 
@@ -58,7 +58,8 @@ Field radial_field(const Vec2& c, double a, double A, const Vec2& drift, const V
       const double rn = rv.norm();
       const double ur = rn < a ? A * rn / a : A * a / rn;
       f.rest.push_back(p);
-      f.disp.push_back(drift + (rn > 1e-9 ? Vec2(ur * rv / rn) : Vec2(Vec2::Zero())) + (rn <= a ? inside_shift : Vec2::Zero()));
+      f.disp.push_back(drift + (rn > 1e-9 ? Vec2(ur * rv / rn) : Vec2(Vec2::Zero())) +
+                       (rn <= a ? inside_shift : Vec2::Zero()));
     }
   return f;
 }
@@ -136,8 +137,8 @@ TEST_CASE("FEATS import: both frames kept, 7 x 9 markers tracked, none lost", "[
   const auto disp = read_markers_csv((out / "cuboid_contact" / "markers.csv").string(), kMiniMarkers);
   REQUIRE(disp.size() == 2);
   for (int m = 0; m < kMiniMarkers; ++m) {
-    CHECK(disp[0][m].norm() == 0.0);           // frame 0 is the rest
-    CHECK(std::isfinite(disp[1][m].x()));      // nothing lost in the contact frame
+    CHECK(disp[0][m].norm() == 0.0);       // frame 0 is the rest
+    CHECK(std::isfinite(disp[1][m].x()));  // nothing lost in the contact frame
   }
 }
 

@@ -7,7 +7,7 @@
 using namespace sb;
 
 namespace {
-constexpr double kTolM = 5e-6;   // indent_down stops within 2 um of the surface; 5 um covers it
+constexpr double kTolM = 5e-6;  // indent_down stops within 2 um of the surface; 5 um covers it
 }
 
 TEST_CASE("indent_down: a sphere pressed into a flat surface leaves its spherical cap", "[indent]") {
@@ -22,7 +22,7 @@ TEST_CASE("indent_down: a sphere pressed into a flat surface leaves its spherica
   CHECK(std::abs(p[0].z() - (-1e-3)) < kTolM);
   CHECK(std::abs(p[1].z() - (c - std::sqrt(R * R - 4e-6))) < kTolM);
   CHECK(p[2].z() == 0.0);
-  CHECK(p[1].x() == 2.5e-3);   // straight down: x, y unchanged
+  CHECK(p[1].x() == 2.5e-3);  // straight down: x, y unchanged
 }
 
 TEST_CASE("indent_down follows a tilted indenter's lower face, not its far side", "[indent]") {
@@ -32,7 +32,8 @@ TEST_CASE("indent_down follows a tilted indenter's lower face, not its far side"
   const auto box = make_box_sdf(Vec3(10e-3, 10e-3, 10e-3));
   const double a = 30.0 * M_PI / 180.0;
   const Pose X_EI = make_pose(Vec3(0, 0, 4e-3), Quat(Eigen::AngleAxisd(a, Vec3::UnitX())));
-  // Lowest edge: the corner direction (0, -5, -5) rotated by a about x -> z = -5 cos a - 5 sin a (mm), at y = 5 sin a - 5 cos a.
+  // Lowest edge: the corner direction (0, -5, -5) rotated by a about x -> z = -5 cos a - 5 sin a (mm), at y = 5 sin a -
+  // 5 cos a.
   const double y_edge = (5 * std::sin(a) - 5 * std::cos(a)) * 1e-3;
   const double z_edge = 4e-3 - 5e-3 * (std::cos(a) + std::sin(a));
   std::vector<Vec3> p = {Vec3(1e-3, y_edge, 0)};

@@ -119,7 +119,7 @@ TEST_CASE("cylinder along z with filleted rims: Pappus' area and volume", "[inde
     CHECK(m.signed_volume() == Approx(volume).epsilon(kCylinderFacetTol));
   }
   SECTION("impossible dimensions are refused") {
-    CHECK_THROWS_AS(make_cylinder_mesh(1e-3, 10e-3, 1e-3), std::invalid_argument);   // fillet = radius
+    CHECK_THROWS_AS(make_cylinder_mesh(1e-3, 10e-3, 1e-3), std::invalid_argument);  // fillet = radius
     CHECK_THROWS_AS(make_cylinder_mesh(-1e-3, 10e-3, 0.0), std::invalid_argument);
   }
 }

@@ -9,9 +9,9 @@ using namespace sb;
 
 namespace {
 
-constexpr double kExact = 1e-12;       // metres and radians: closed-form pose arithmetic
-constexpr double kSolveTol = 1e-8;     // px: a least-squares fit of an exact polynomial (conditioning ~1e4)
-constexpr double kBox = 0.004;         // box indenter's side: its flat bottom is at z = -2 mm in I
+constexpr double kExact = 1e-12;    // metres and radians: closed-form pose arithmetic
+constexpr double kSolveTol = 1e-8;  // px: a least-squares fit of an exact polynomial (conditioning ~1e4)
+constexpr double kBox = 0.004;      // box indenter's side: its flat bottom is at z = -2 mm in I
 
 // The box's bottom `depth` into the pad at (x, y), turned by R.
 Pose box_at(double x, double y, double depth, const Mat3& R = Mat3::Identity()) {
@@ -75,9 +75,9 @@ TEST_CASE("ResponseSurface reproduces a cubic law of the inputs away from the fi
   const auto grid = input_grid();
   std::vector<std::vector<Vec2>> fields;
   for (const auto& x : grid) fields.push_back(law(x, 3));
-  fields[5][1] = Vec2::Constant(std::nan(""));   // a lost marker in one frame is left out of its fit
+  fields[5][1] = Vec2::Constant(std::nan(""));  // a lost marker in one frame is left out of its fit
   const auto s = ResponseSurface::fit(grid, fields, 3);
-  CHECK(s.terms() == 84);   // C(6 + 3, 3) monomials of six varying inputs
+  CHECK(s.terms() == 84);  // C(6 + 3, 3) monomials of six varying inputs
   PoseInputs x;
   x.depth_m = 0.0021, x.tilt = Vec2(0.03, -0.02), x.travel_m = Vec2(-0.001, 0.0013), x.twist_rad = 0.02;
   const auto want = law(x, 3), got = s.predict(x);
@@ -95,10 +95,10 @@ TEST_CASE("analyse_input_response: a model at half the law has gain 2 and no sha
   for (std::size_t i = 0; i < grid.size(); ++i)
     (i % 4 == 0 ? val : cal).push_back({grid[i], law(grid[i], 4), law(grid[i], 4, 0.5)});
   const auto a = analyse_input_response(cal, val);
-  REQUIRE(a.responses.size() == 7);   // the reference and one row per input
+  REQUIRE(a.responses.size() == 7);  // the reference and one row per input
   for (const auto& r : a.responses) {
     INFO(r.input);
-    if (r.model_rms_px < 1e-6) continue;   // tilt y: the law does not depend on it
+    if (r.model_rms_px < 1e-6) continue;  // tilt y: the law does not depend on it
     CHECK(r.gain == Approx(2.0).epsilon(1e-6));
     CHECK(r.after_gain_rms_px < 1e-6);
   }

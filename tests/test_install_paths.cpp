@@ -82,8 +82,8 @@ TEST_CASE("home_dir rejects an override without assets/params, naming both ways 
     FAIL("home_dir accepted a folder without assets/params");
   } catch (const sb::InputError& e) {
     CHECK(e.file() == empty.string());
-    CHECK_THAT(e.what(), Catch::Contains("SHEARBENCH_HOME") && Catch::Contains("--home") &&
-                             Catch::Contains("assets/params"));
+    CHECK_THAT(e.what(),
+               Catch::Contains("SHEARBENCH_HOME") && Catch::Contains("--home") && Catch::Contains("assets/params"));
   }
   sb::set_home_flag("");
   fs::remove_all(empty);

@@ -14,7 +14,8 @@ using namespace sb::test;
 
 namespace {
 
-constexpr double kWrongPx = 1.0;  // a right match is off by the disc's rasterisation (< 0.2 px); a wrong one by >= a pitch
+constexpr double kWrongPx =
+    1.0;  // a right match is off by the disc's rasterisation (< 0.2 px); a wrong one by >= a pitch
 
 struct Scene {
   PinReference ref;
@@ -69,7 +70,8 @@ std::vector<Vec2> shifted_by_one_site(const Scene& s, const Vec2& step, bool (*i
 
 }  // namespace
 
-TEST_CASE("a smooth field of up to two pitches: with a prior off by 0.4 pitch every pin is right", "[tracker][tactip]") {
+TEST_CASE("a smooth field of up to two pitches: with a prior off by 0.4 pitch every pin is right",
+          "[tracker][tactip]") {
   // Bulge 0.25, slide (20, -12) px, twist 0.08 rad: the largest displacement is 1-2 pitches (asserted).
   const Scene s = make_scene(0.25, Vec2(20, -12), 0.08);
   REQUIRE(largest(s.truth) > 1.0 * kPinPitchPx);
@@ -115,7 +117,8 @@ TEST_CASE("the lattice check: a clean field passes; a slipped region, a swap and
   SECTION("the true field is clean") {
     const LatticeCheckResult c = check_lattice(s.ref, s.truth, det);
     INFO("slipped " << c.slipped_pairs << " skipped " << c.skipped_sites << " flipped " << c.flipped_triangles
-                    << " margin " << c.registration_margin << " largest " << largest(s.truth) << " n " << s.ref.rest_px.size());
+                    << " margin " << c.registration_margin << " largest " << largest(s.truth) << " n "
+                    << s.ref.rest_px.size());
     CHECK(c.clean());
     CHECK(c.pairs_checked > 2 * int(s.ref.rest_px.size()));  // ~3 edges per pin inside a hexagonal disc
     CHECK(c.triangles_checked > int(s.ref.rest_px.size()));  // ~2 triangles per pin
@@ -131,7 +134,8 @@ TEST_CASE("the lattice check: a clean field passes; a slipped region, a swap and
     // pitch: a relative step of 1 +- the field's gradient (< 0.45 above) > 0.6. Edges on one side don't change.
     int across = 0;
     for (const auto& [i, j] : lattice_edges(s.ref))
-      across += d[i].allFinite() && d[j].allFinite() && ((s.ref.rest_px[i].x() > centre.x()) != (s.ref.rest_px[j].x() > centre.x()));
+      across += d[i].allFinite() && d[j].allFinite() &&
+                ((s.ref.rest_px[i].x() > centre.x()) != (s.ref.rest_px[j].x() > centre.x()));
     REQUIRE(across > 10);
     CHECK(c.slipped_pairs == across);
     CHECK(c.skipped_sites > 0);

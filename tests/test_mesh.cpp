@@ -1,5 +1,6 @@
 // Mesh loading (every format, every bad input), validation and measures. Fixture meshes are written by
 // the tests themselves into a temporary directory.
+#include <unistd.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <cstdint>
@@ -9,7 +10,6 @@
 #include <fstream>
 #include <limits>
 #include <sstream>
-#include <unistd.h>
 
 #include "core/base/data_root.hpp"
 #include "core/geometry/mesh.hpp"
@@ -56,8 +56,10 @@ std::string tet_obj(bool inward = false, int drop_face = -1) {
   for (int f = 0; f < 4; ++f) {
     if (f == drop_face) continue;
     const int* t = kTetFaces[f];
-    if (inward) s << "f " << t[0] + 1 << " " << t[2] + 1 << " " << t[1] + 1 << "\n";
-    else s << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    if (inward)
+      s << "f " << t[0] + 1 << " " << t[2] + 1 << " " << t[1] + 1 << "\n";
+    else
+      s << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
   }
   return s.str();
 }
@@ -66,7 +68,8 @@ std::string cube_obj() {
   std::ostringstream s;
   s << "# unit cube\n";
   for (auto v : kCubeVertices) s << "v " << v << "\n";
-  for (const auto& q : kCubeQuads) s << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
+  for (const auto& q : kCubeQuads)
+    s << "f " << q[0] + 1 << " " << q[1] + 1 << " " << q[2] + 1 << " " << q[3] + 1 << "\n";
   return s.str();
 }
 
@@ -215,7 +218,9 @@ TEST_CASE("bad mesh files are rejected with an error naming the file", "[mesh]")
   SECTION("missing file") { expect_error(temp_dir() / "nope.obj", "not found"); }
   SECTION("unknown extension") { expect_error(write_text("tet.xyz", tet_obj()), "unknown mesh format"); }
   SECTION("empty file") { expect_error(write_text("empty.obj", ""), "no faces"); }
-  SECTION("vertices but no faces") { expect_error(write_text("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no faces"); }
+  SECTION("vertices but no faces") {
+    expect_error(write_text("points.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n"), "no faces");
+  }
   SECTION("OBJ cut in the middle of a vertex record") {
     const std::string full = tet_obj();
     expect_error(write_text("cut_v.obj", full.substr(0, full.find("v 0 1 0") + 4)), "truncated");
@@ -223,8 +228,8 @@ TEST_CASE("bad mesh files are rejected with an error naming the file", "[mesh]")
   SECTION("OBJ whose faces reference vertices the file lost") {
     // Faces first, then vertices cut off after two of four: faces name vertices 3 and 4.
     std::string text;
-    for (const auto& t : kTetFaces) text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " +
-                                            std::to_string(t[2] + 1) + "\n";
+    for (const auto& t : kTetFaces)
+      text += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
     text += "v 0 0 0\nv 1 0 0\n";
     expect_error(write_text("lost_v.obj", text), "only 2 vertices");
   }
@@ -362,10 +367,10 @@ TEST_CASE("validate_mesh counts each kind of defect", "[mesh]") {
   }
   SECTION("degenerate faces and unreferenced vertices") {
     TriMesh m = tet;
-    m.faces.emplace_back(0, 0, 1);             // repeated vertex
-    m.vertices.emplace_back(2, 0, 0);          // collinear with 0 and 1
-    m.faces.emplace_back(0, 1, 4);             // zero area
-    m.vertices.emplace_back(9, 9, 9);          // in no face
+    m.faces.emplace_back(0, 0, 1);     // repeated vertex
+    m.vertices.emplace_back(2, 0, 0);  // collinear with 0 and 1
+    m.faces.emplace_back(0, 1, 4);     // zero area
+    m.vertices.emplace_back(9, 9, 9);  // in no face
     const MeshReport r = validate_mesh(m);
     CHECK(r.degenerate_faces == 2);
     CHECK(r.unreferenced_vertices == 1);

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 #include "core/calibration/metrics.hpp"
 
@@ -80,6 +80,6 @@ TEST_CASE("metrics: mismatched field sizes are rejected", "[metrics]") {
 TEST_CASE("nothing_tracked: every marker lost, and only that", "[metrics]") {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   CHECK(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(nan, nan)}));
-  CHECK_FALSE(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(0, 0)}));   // one marker kept, at rest
-  CHECK_FALSE(sb::nothing_tracked({}));                                     // no row at all: not this case
+  CHECK_FALSE(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(0, 0)}));  // one marker kept, at rest
+  CHECK_FALSE(sb::nothing_tracked({}));                                    // no row at all: not this case
 }

@@ -139,7 +139,8 @@ struct RefHydroShear {
       if (g_aug > 0) {  // one uncommitted step toward the shifted point
         const double s_aug = sensor->gel_sdf->value(pts[i] + shift);
         active = s_aug < 0;
-        if (active) std::tie(ui, uni) = advance(in[i] ? u[i] : Vec3::Zero(), n, s_now[i], pts[i], s_aug, pts[i] + shift);
+        if (active)
+          std::tie(ui, uni) = advance(in[i] ? u[i] : Vec3::Zero(), n, s_now[i], pts[i], s_aug, pts[i] + shift);
         phi = s_aug;
       }
       if (!active) continue;
@@ -192,8 +193,7 @@ TEST_CASE("HydroShear kernel equals the dense reference loop on the workload", "
   check_hydroshear(default_params("hydroshear"));
 }
 
-TEST_CASE("HydroShear kernel equals the dense reference with the paper options and augmentation",
-          "[bench][models]") {
+TEST_CASE("HydroShear kernel equals the dense reference with the paper options and augmentation", "[bench][models]") {
   // weight = paper, normal = indenter, a 0.25 mm augmentation out of the plane and along it: the cull
   // must keep the clusters that only the shifted points bring into the gel.
   ParamSet p = default_params("hydroshear");
@@ -227,7 +227,9 @@ TEST_CASE("GaussianAxis recurrence equals one exp per coordinate", "[bench][mode
 // ---------------------------------------------------------------- FOTS (both), reference
 namespace {
 
-Vec2 rot(const Vec2& d, double th) { return {std::cos(th) * d.x() - std::sin(th) * d.y(), std::sin(th) * d.x() + std::cos(th) * d.y()}; }
+Vec2 rot(const Vec2& d, double th) {
+  return {std::cos(th) * d.x() - std::sin(th) * d.y(), std::sin(th) * d.x() + std::cos(th) * d.y()};
+}
 
 struct RefFots {
   bool original;
@@ -334,7 +336,8 @@ struct RefFots {
       out[j] = p.get("kappa_s") * dxy * std::exp(-p.get("lambda_s") * d.norm()) +
                p.get("kappa_t") * (rot(d, dth) - d) * std::exp(-p.get("lambda_t") * d.norm());
       for (int k = 0; k < nm; ++k)
-        out[j] += p.get("kappa_d") * h[k] * std::exp(-p.get("lambda_d") * (M[j] - M[k]).norm()) * (M[j] - M[k]).head<2>();
+        out[j] += p.get("kappa_d") * h[k] * std::exp(-p.get("lambda_d") * (M[j] - M[k]).norm()) *
+                  (M[j] - M[k]).head<2>();
     }
     X_prev = X;
     have_prev = true;
@@ -346,7 +349,8 @@ void check_fots(FotsVariant variant) {
   const Workload& w = workload();
   const std::string id = variant == FotsVariant::Original ? "fots" : "fots-reimpl";
   FotsBatch batch(variant, w.sensor, w.peg, w.slots, default_params(id));
-  std::vector<RefFots> ref(w.slots, RefFots{variant == FotsVariant::Original, w.sensor.get(), w.peg.get(), default_params(id)});
+  std::vector<RefFots> ref(w.slots,
+                           RefFots{variant == FotsVariant::Original, w.sensor.get(), w.peg.get(), default_params(id)});
   std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * kMiniMarkers);
   double seen = 0;
   for (int k = 0; k < kBenchMaxSteps; ++k) {

@@ -12,7 +12,7 @@ using namespace sbtest;
 
 TEST_CASE("model registry: ids, defaults, unknown id", "[models]") {
   const auto& ids = model_ids();
-  REQUIRE(ids.size() == 9);   // the five published models and HydroShear's four model-form variants
+  REQUIRE(ids.size() == 9);  // the five published models and HydroShear's four model-form variants
   for (const auto& id : ids) {
     const ParamSet p = default_params(id);
     CHECK(p.size() > 0);

@@ -84,7 +84,7 @@ TEST_CASE("bad parameter sets name the file and the place", "[param_sets]") {
 }
 
 TEST_CASE("each fitted set reproduces its recorded validation RMSE within 2 %", "[param_sets][slow]") {
-  constexpr double kRelTol = 0.02;   // the threshold: a changed model or dataset shows here
+  constexpr double kRelTol = 0.02;  // the threshold: a changed model or dataset shows here
   const std::string root = sb::resolve_data_root();
   for (const std::string& name : sb::param_set_names()) {
     if (name == sb::kPublishedParamSet) continue;
@@ -97,7 +97,8 @@ TEST_CASE("each fitted set reproduces its recorded validation RMSE within 2 %", 
     for (const auto& [id, table] : set.tables) {
       const double recorded = set.provenance.at("validation").at(id).at("overall").at("rmse_px").get<double>();
       sb::Warnings w;
-      const auto r = sb::evaluate_dataset(ds, sb::dataset_model_factory(ds, id, table, root, name, &w), "validation", id, &w);
+      const auto r =
+          sb::evaluate_dataset(ds, sb::dataset_model_factory(ds, id, table, root, name, &w), "validation", id, &w);
       const double now = r.metrics.overall.result().rmse_px;
       INFO(id << ": recorded " << recorded << " px, now " << now << " px");
       CHECK(std::abs(now - recorded) <= kRelTol * recorded);

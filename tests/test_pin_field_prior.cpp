@@ -64,7 +64,8 @@ struct Press {
 std::vector<Vec2> press_truth(const PinReference& ref, const Press& p) {
   std::vector<Vec2> t;
   for (const auto& r : ref.rest_px)
-    t.push_back(press_field(r, 0.30 * std::pow(p.depth / 5.0, 1.5), p.slide * (p.depth / 5.0), p.twist * (p.depth / 5.0)));
+    t.push_back(
+        press_field(r, 0.30 * std::pow(p.depth / 5.0, 1.5), p.slide * (p.depth / 5.0), p.twist * (p.depth / 5.0)));
   return t;
 }
 
@@ -85,7 +86,8 @@ Press press_number(int k, double lo_depth, double hi_depth) {
 
 }  // namespace
 
-TEST_CASE("continuation from shallow to deep presses: deep fields tracked with no pin a site off", "[tracker][tactip]") {
+TEST_CASE("continuation from shallow to deep presses: deep fields tracked with no pin a site off",
+          "[tracker][tactip]") {
   const PinReference ref = make_pin_reference(render_pins(hex_disc_lattice()), PinTrackerOptions{}, "synthetic rest");
   const std::size_t n = ref.rest_px.size();
   auto detections_of = [&](const Press& p) {
@@ -124,7 +126,8 @@ TEST_CASE("continuation from shallow to deep presses: deep fields tracked with n
     const std::vector<PinDetection> d = detections_of(p);
     const std::vector<Vec2> prior = fit.prior.predict(press_covariates(p));
     const std::vector<Vec2> tracked = track_pins(ref, d, PinTrackerOptions{}, prior);
-    const std::vector<Vec2> kept_field = without_suspects(tracked, check_lattice(ref, tracked, d, LatticeCheckOptions{}, prior));
+    const std::vector<Vec2> kept_field =
+        without_suspects(tracked, check_lattice(ref, tracked, d, LatticeCheckOptions{}, prior));
     int kept = 0, off = 0;
     for (std::size_t i = 0; i < n; ++i)
       if (kept_field[i].allFinite()) {

@@ -139,10 +139,10 @@ TEST_CASE("tactip_shear import of three samples per split reads back as tsd/1", 
   REQUIRE(s.frames() == std::size_t(opts.slide_steps + 2));
   // Final pose: p_EI = -R_EI (0, 0, d) with R_EI = Rx(-rx) Ry(-ry), whose z is -d cos(rx) cos(ry).
   const double deg = M_PI / 180.0;
-  CHECK(s.p_EI.back().z() == Approx(-1.445930981e-3 * std::cos(-11.98328445 * deg) * std::cos(20.65162021 * deg))
-                                 .margin(1e-12));
-  for (const auto& m : s.markers_px.front()) CHECK(m.norm() == 0.0);     // frame 0: the reference
-  for (const auto& m : s.markers_px[1]) CHECK(std::isnan(m.x()));       // pressed, not imaged
+  CHECK(s.p_EI.back().z() ==
+        Approx(-1.445930981e-3 * std::cos(-11.98328445 * deg) * std::cos(20.65162021 * deg)).margin(1e-12));
+  for (const auto& m : s.markers_px.front()) CHECK(m.norm() == 0.0);  // frame 0: the reference
+  for (const auto& m : s.markers_px[1]) CHECK(std::isnan(m.x()));     // pressed, not imaged
   CHECK(kept(s.markers_px.back()) == ds.samples[3].extra.at("pins_tracked").get<int>());
   CHECK(kept(s.markers_px.back()) >= int(std::ceil(0.95 * 327)));
   // The camera fitted to the reference's pin rings (docs/sensors.md, "The TacTip's geometry fitted from the
@@ -179,8 +179,8 @@ TEST_CASE("a malformed targets.csv row is an InputError naming file, line and co
       "sensor_image,object_label,pose_x,pose_y,pose_z,pose_Rx,pose_Ry,pose_Rz,shear_x,shear_y,shear_z,shear_Rx,"
       "shear_Ry,shear_Rz,object_x,object_y,object_z,object_Rx,object_Ry,object_Rz\n";
   {
-    std::ofstream(dir / "calibration" / "targets.csv") << header
-                                                       << "image_1.png,surface,0,0,two,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n";
+    std::ofstream(dir / "calibration" / "targets.csv")
+        << header << "image_1.png,surface,0,0,two,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0\n";
   }
   try {
     import_tactip_shear(dir.string(), (dir / "out").string());

@@ -10,7 +10,7 @@ using namespace sb;
 
 namespace {
 
-constexpr double kDt = 0.05;              // s per frame
+constexpr double kDt = 0.05;  // s per frame
 constexpr int kMarkers = 12;
 // tau is searched on a grid of 40 points per decade: a factor 10^(1/40) = 1.059 between neighbours, so
 // the nearest grid point is within 3 % of any tau.
@@ -38,7 +38,7 @@ std::vector<std::vector<Vec2>> recording(int release, double tau, double c) {
 TEST_CASE("release phase: found after the load, recovery law recovered, held-out error", "[release]") {
   const double tau = 0.5, c = 0.2;
   auto d = recording(40, tau, c);
-  d[30][3] = Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0);   // a lost marker is skipped
+  d[30][3] = Vec2(std::numeric_limits<double>::quiet_NaN(), 0.0);  // a lost marker is skipped
   const ReleasePhase r = analyse_release(d, kDt);
   REQUIRE(r.found);
   CHECK(r.peak_mean_px == Approx(5.0));
@@ -54,7 +54,7 @@ TEST_CASE("release phase: found after the load, recovery law recovered, held-out
   // Held out: frames 20 + 1 + 19 = 40 .. 59. The zero field's RMSE is the RMS of g (|d0| = 1 px).
   double sum = 0;
   for (int k = 20; k < 40; ++k) sum += std::pow(c + (1 - c) * std::exp(-k * kDt / tau), 2);
-  CHECK(r.heldout_rmse_zero_px == Approx(std::sqrt(sum / 20)).epsilon(0.01));   // one NaN marker-frame fewer
+  CHECK(r.heldout_rmse_zero_px == Approx(std::sqrt(sum / 20)).epsilon(0.01));  // one NaN marker-frame fewer
   CHECK(r.heldout_rmse_fit_px < 0.02);
   // Persistence (d = d0 throughout): RMS of 1 - g over the held-out frames.
   double sum_p = 0;
@@ -82,14 +82,14 @@ TEST_CASE("release phase: none while still loaded, after a new contact, or when 
   CHECK_FALSE(analyse_release(loaded, kDt).found);
   CHECK_THAT(analyse_release(loaded, kDt).why_not, Catch::Contains("still loaded"));
   auto again = recording(10, 0.2, 0.0);
-  for (int k = 0; k < 5; ++k) again.push_back(loaded[0]);   // pressed again ...
-  for (int k = 0; k < 10; ++k) again.push_back(std::vector<Vec2>(kMarkers, Vec2(0.01, 0.0)));   // ... and released
+  for (int k = 0; k < 5; ++k) again.push_back(loaded[0]);                                      // pressed again ...
+  for (int k = 0; k < 10; ++k) again.push_back(std::vector<Vec2>(kMarkers, Vec2(0.01, 0.0)));  // ... and released
   // The last loaded frame is the second press's: the release after it is the one analysed.
   const ReleasePhase r = analyse_release(again, kDt);
   CHECK(r.found);
   CHECK(r.release_frame == 35);
   auto bump = recording(10, 0.2, 0.0);
-  const double to_2px = 2.0 / bump[25][0].norm();   // every marker 2 px: above 30 % of 5 px, below 50 %
+  const double to_2px = 2.0 / bump[25][0].norm();  // every marker 2 px: above 30 % of 5 px, below 50 %
   for (auto& v : bump[25]) v *= to_2px;
   CHECK_THAT(analyse_release(bump, kDt).why_not, Catch::Contains("contact again"));
   CHECK_THAT(analyse_release(recording(3, 1.0, 0.0), kDt).why_not, Catch::Contains("only 3 frames"));
@@ -98,5 +98,6 @@ TEST_CASE("release phase: none while still loaded, after a new contact, or when 
   auto unloading = recording(6, 0.1, 0.0);
   for (int k = 0; k < 6; ++k) unloading.push_back(std::vector<Vec2>(kMarkers, Vec2(0.0, 0.01)));
   CHECK(analyse_release(unloading, kDt).release_frame == 26);
-  CHECK_THAT(analyse_release({std::vector<Vec2>(kMarkers, Vec2::Zero())}, kDt).why_not, Catch::Contains("no marker moves"));
+  CHECK_THAT(analyse_release({std::vector<Vec2>(kMarkers, Vec2::Zero())}, kDt).why_not,
+             Catch::Contains("no marker moves"));
 }

@@ -19,9 +19,9 @@
 
 using sb::FitSample;
 using sb::Pose;
-using sbtest::sphere4mm_pose;
 using sb::Vec2;
 using sb::Vec3;
+using sbtest::sphere4mm_pose;
 
 namespace {
 
@@ -32,7 +32,7 @@ constexpr double kParamRelTol = 0.15;
 // The base model the data come from, with its default parameters held fixed (the loop gets them as --params
 // would give them): the test is about attribution, not about the base calibration.
 const std::string kBase = "fots-reimpl";
-constexpr double kDt = 0.05;   // s; 30 frames = 1.5 s per sample
+constexpr double kDt = 0.05;  // s; 30 frames = 1.5 s per sample
 
 struct Setup {
   std::shared_ptr<const sb::Sensor> sensor = std::make_shared<const sb::Sensor>(sb::make_default_sensor());
@@ -66,13 +66,13 @@ FitSample press(const std::string& id, const std::string& motion, const std::str
   }
   const Vec2 end = at + slide;
   for (int k = 1; k <= 6; ++k)
-    s.X_EI.push_back(sphere4mm_pose(end.x(), end.y(), depth * (1 - k / 5.0), yaw_deg));   // last frame lifted off
+    s.X_EI.push_back(sphere4mm_pose(end.x(), end.y(), depth * (1 - k / 5.0), yaw_deg));  // last frame lifted off
   return s;
 }
 
 std::vector<FitSample> trajectories(const std::string& split) {
   const bool cal = split == "calibration";
-  const double o = cal ? 1.0 : -1.0;   // validation presses mirror the calibration ones
+  const double o = cal ? 1.0 : -1.0;  // validation presses mirror the calibration ones
   return {press(split + "_dil", "dilation", split, Vec2(-2e-3 * o, 1e-3), 1.0e-3, Vec2::Zero(), 0),
           press(split + "_dil2", "dilation", split, Vec2(3e-3 * o, -2e-3 * o), 1.4e-3, Vec2::Zero(), 0),
           press(split + "_shr", "shear", split, Vec2(1e-3 * o, 0.5e-3), 1.0e-3, Vec2(0.5e-3 * o, 0.2e-3), 0),
@@ -94,7 +94,7 @@ void simulate(std::vector<FitSample>* samples, const std::string& effect, const 
     s.meas_px = sb::simulate_sample(*model, s);
     for (auto& frame : s.meas_px)
       for (auto& d : frame) {
-        const double dx = noise(rng);   // sequenced: argument order is unspecified
+        const double dx = noise(rng);  // sequenced: argument order is unspecified
         d += Vec2(dx, noise(rng));
       }
   }
@@ -102,7 +102,8 @@ void simulate(std::vector<FitSample>* samples, const std::string& effect, const 
 
 // The sensor the data are recorded with: a lens also bends the rest grid it images (the markers stay where
 // they are: p_EM kept), which is the lens's fingerprint (core/loop/rest_grid_lens.hpp).
-std::shared_ptr<const sb::Sensor> recording_sensor(const std::string& effect, const std::map<std::string, double>& truth) {
+std::shared_ptr<const sb::Sensor> recording_sensor(const std::string& effect,
+                                                   const std::map<std::string, double>& truth) {
   if (effect != "lens_distortion") return setup().sensor;
   auto bent = std::make_shared<sb::Sensor>(*setup().sensor);
   for (Vec2& m : bent->markers_rest_px) m = sb::lens_distort_px(bent->camera, truth.at("k1"), m);
@@ -120,8 +121,8 @@ sb::ResidualReport run_loop(const std::string& effect, const std::map<std::strin
   simulate(&in.calibration, effect, truth, in.sensor, 11);
   simulate(&in.validation, effect, truth, in.sensor, 23);
   sb::ResidualOptions o;
-  o.max_iterations = 15;   // bounds the test time; the recovery checks below fail if it were too few
-  o.fit_base = false;   // every catalogued effect is a candidate: the loop is not told which one is in the data
+  o.max_iterations = 15;  // bounds the test time; the recovery checks below fail if it were too few
+  o.fit_base = false;     // every catalogued effect is a candidate: the loop is not told which one is in the data
   return sb::run_residual_loop(in, o);
 }
 
@@ -131,7 +132,7 @@ void check_recovers(const std::string& effect, const std::map<std::string, doubl
   INFO(j["candidates"].dump(1));
   REQUIRE(r.effects.selection.selected.size() >= 1);
   CHECK(r.effects.selection.selected.front() == effect);
-  REQUIRE(r.effects.selection.selected.size() == 1);   // the second greedy round finds nothing left to explain
+  REQUIRE(r.effects.selection.selected.size() == 1);  // the second greedy round finds nothing left to explain
   for (const auto& [name, value] : truth) {
     const double fitted = r.after.fit.params.get(effect + "." + name);
     INFO(effect << "." << name << ": fitted " << fitted << ", injected " << value);
@@ -187,12 +188,14 @@ TEST_CASE("residual loop selects nothing when the data hold no effect", "[residu
   INFO(sb::residual_to_json(r)["candidates"].dump(1));
   CHECK(r.effects.selection.selected.empty());
   // The base alone is the truth: its validation RMSE is the noise's, sqrt(2) sigma (within 15 %).
-  CHECK(std::abs(r.before.validation.overall.result().rmse_px - std::sqrt(2.0) * kNoisePx) < 0.15 * std::sqrt(2.0) * kNoisePx);
+  CHECK(std::abs(r.before.validation.overall.result().rmse_px - std::sqrt(2.0) * kNoisePx) <
+        0.15 * std::sqrt(2.0) * kNoisePx);
 
   // The report: the JSON shape the CLI promises, and one PNG per covariate plus the two quiver plots.
   const auto j = sb::residual_to_json(r);
-  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after", "after_model"}) CHECK(j.contains(key));
-  CHECK(j["after_model"] == kBase);   // nothing selected: the answer is the base
+  for (const char* key : {"dataset", "model", "before", "candidates", "selected", "after", "after_model"})
+    CHECK(j.contains(key));
+  CHECK(j["after_model"] == kBase);  // nothing selected: the answer is the base
   CHECK(j["before"].contains("validation_rmse_px"));
   CHECK(j["before"].contains("validation_cs"));
   CHECK(j["before"]["by_motion"].contains("shear"));
@@ -220,7 +223,8 @@ TEST_CASE("residual structure: a rank-one residual is one principal component, b
   for (std::size_t k = 0; k < s.meas_px.size(); ++k)
     for (std::size_t j = 0; j < s.meas_px[k].size(); ++j) s.meas_px[k][j] += a(k) * u(j);
   double biggest = 0;
-  for (auto& f : s.meas_px) for (auto& d : f) biggest = std::max(biggest, d.norm());
+  for (auto& f : s.meas_px)
+    for (auto& d : f) biggest = std::max(biggest, d.norm());
   INFO("largest measured displacement " << biggest << " px");
   const auto st = sb::analyse_residual(kBase, sb::default_params(kBase), setup().sensor, {s}, 5);
   REQUIRE(st.frames > 2);
@@ -235,7 +239,7 @@ TEST_CASE("residual structure: a rank-one residual is one principal component, b
   CHECK(std::abs(st.mean_field_px[0].y()) < kTol);
   for (std::size_t j = 0; j < st.pc1_px.size(); ++j) {
     const Vec2 v = st.pc1_px[j];
-    CHECK(std::abs(v.x() * u(j).y() - v.y() * u(j).x()) < kTol);   // parallel to u_j
+    CHECK(std::abs(v.x() * u(j).y() - v.y() * u(j).x()) < kTol);  // parallel to u_j
   }
   long in_contact = -1;
   for (const auto& t : st.covariates) {
@@ -303,8 +307,8 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
     for (auto& d : frame) d += Vec2(0.3, 0.0);
   const auto uniform = sb::analyse_residual(kBase, sb::default_params(kBase), setup().sensor, {s}, 5);
   long n_lead = 0, n_trail = 0;
-  for (const auto& [name, along, sign] : {std::tuple{leading, 0.3, 1}, std::tuple{trailing, 0.3, -1},
-                                          std::tuple{no_travel, 0.0, 0}}) {
+  for (const auto& [name, along, sign] :
+       {std::tuple{leading, 0.3, 1}, std::tuple{trailing, 0.3, -1}, std::tuple{no_travel, 0.0, 0}}) {
     const auto& t = table(uniform, name);
     for (std::size_t b = 0; b < t.labels.size(); ++b) {
       if (t.count[b] == 0) continue;

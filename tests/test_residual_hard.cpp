@@ -31,9 +31,9 @@ namespace {
 
 // Main parameters must be recovered within 30 % (the issue's criterion).
 constexpr double kMainParamRelTol = 0.30;
-constexpr int kHoldFrames = 50;         // 1 s at the twin's 0.02 s frames
+constexpr int kHoldFrames = 50;        // 1 s at the twin's 0.02 s frames
 constexpr int kPerMotion = 1;          // samples per motion and split: the CI slice
-constexpr double kTwinNoisePx = 0.05;   // the twin sets' tracking noise (dataset.json provenance)
+constexpr double kTwinNoisePx = 0.05;  // the twin sets' tracking noise (dataset.json provenance)
 
 std::string data_root() {
   const char* env = std::getenv("SHEARBENCH_DATA");
@@ -77,7 +77,8 @@ void inject(const sb::Sensor& sensor, const std::string& effect, const std::map<
 // D(rest)); p_EM stays, the markers are physically where they are. The injection above used the unbent
 // sensor: D(m + d) - D(m) about the true rest m (the effect, given the recorded D(m), differs at second order).
 std::shared_ptr<const sb::Sensor> recorded_sensor(const std::shared_ptr<const sb::Sensor>& sensor,
-                                                  const std::string& effect, const std::map<std::string, double>& params) {
+                                                  const std::string& effect,
+                                                  const std::map<std::string, double>& params) {
   if (effect != "lens_distortion") return sensor;
   auto bent = std::make_shared<sb::Sensor>(*sensor);
   for (Vec2& m : bent->markers_rest_px) m = sb::lens_distort_px(bent->camera, params.at("k1"), m);
@@ -168,7 +169,8 @@ TEST_CASE("hard case: undeclared creep in FE twin data is selected and its tau r
 // contact, the fingerprint before, read the FE pad's own asymmetry too: 0.03 / -0.14 with FOTS re-impl. for the
 // injected -0.15, 0.24 / 0.01 on the untouched set; it is kept only for rest grids that are not a lattice.)
 // Release, 2 shared cores: 10.5 s (FOTS re-impl.), 6.4 s (TacSL), 6.1 s (HydroShear).
-TEST_CASE("hard case: undeclared lens distortion in FE twin data is selected and k1 recovered", "[residual_hard][slow]") {
+TEST_CASE("hard case: undeclared lens distortion in FE twin data is selected and k1 recovered",
+          "[residual_hard][slow]") {
   const std::string model = GENERATE(as<std::string>{}, "fots-reimpl", "tacsl", "hydroshear");
   check_hard(model, "twin_sphere35", "lens_distortion", "k1", -0.15, kLens);
 }
@@ -196,8 +198,10 @@ TEST_CASE("hard case: subsurface markers under a model wrong at the grid scale a
       CHECK_FALSE(c["accepted"].get<bool>());
       const std::string verdict = c["fingerprint"]["verdict"];
       // HydroShear's Gaussian kernel is smoother than the FE field: it reads no depth at all.
-      if (model == "hydroshear") CHECK(verdict.find("not smoother than the model's") != std::string::npos);
-      else CHECK(verdict.find("wrong at the grid scale") != std::string::npos);
+      if (model == "hydroshear")
+        CHECK(verdict.find("not smoother than the model's") != std::string::npos);
+      else
+        CHECK(verdict.find("wrong at the grid scale") != std::string::npos);
     }
   CHECK(reported);
 }
@@ -250,7 +254,8 @@ sb::ResidualReport run_creep(bool model_forms) {
   return run_hard("hydroshear", "twin_sphere35", "viscoelastic_creep", kCreep, o);
 }
 
-TEST_CASE("hard case: creep under a wrong model form: the answer is the selected form plus creep", "[residual_hard][slow]") {
+TEST_CASE("hard case: creep under a wrong model form: the answer is the selected form plus creep",
+          "[residual_hard][slow]") {
   const auto r = run_creep(true);
   const auto j = sb::residual_to_json(r);
   INFO(j["model_forms"].dump(1));
@@ -273,7 +278,8 @@ TEST_CASE("hard case: creep under a wrong model form: the answer is the selected
   const auto base_creep = run_creep(false);
   REQUIRE(base_creep.after_model == "hydroshear+viscoelastic_creep");
   const double creep_alone = sb::validation_rmse(base_creep.after.fit.validation);
-  INFO("base " << base << " px, answer " << answer << " px, form alone " << form << " px, hydroshear + creep " << creep_alone << " px");
+  INFO("base " << base << " px, answer " << answer << " px, form alone " << form << " px, hydroshear + creep "
+               << creep_alone << " px");
   CHECK(answer < form);
   CHECK(answer < creep_alone);
   const double tau = r.after.fit.params.get("viscoelastic_creep.tau_s");
@@ -298,7 +304,7 @@ TEST_CASE("model-form round: HydroShear's own field selects no variant", "[resid
       s.meas_px = sb::simulate_sample(*m, s);
       for (auto& frame : s.meas_px)
         for (auto& d : frame) {
-          const double dx = noise(rng);   // sequenced: argument order is unspecified
+          const double dx = noise(rng);  // sequenced: argument order is unspecified
           d += Vec2(dx, noise(rng));
         }
     }

@@ -107,8 +107,7 @@ TEST_CASE("selection: clear improvement selected, noise-level and unpaid ones no
   // "lens": 10% better alone, and 10% better again on top of creep.
   t.table[key({"lens"})] = fit(scaled(base, [](std::size_t) { return 0.81; }), 810.0, 5);
   t.table[key({"creep", "lens"})] = fit(scaled(base, [](std::size_t) { return 0.64 * 0.81; }), 518.4, 7);
-  t.table[key({"creep", "noise"})] =
-      fit(scaled(base, [&](std::size_t i) { return 0.64 * jitter(i); }), 639.0, 6);
+  t.table[key({"creep", "noise"})] = fit(scaled(base, [&](std::size_t i) { return 0.64 * jitter(i); }), 639.0, 6);
 
   const SelectionResult r = select_effects({"noise", "lens", "creep"}, std::ref(t));
   REQUIRE(r.selected == std::vector<std::string>{"creep", "lens"});
@@ -167,7 +166,7 @@ TEST_CASE("selection: a vetoed fit (parameter at a bound) is not accepted whatev
 TEST_CASE("selection: the held-drift fingerprint accepts a small gain, only when the drift is above noise",
           "[effects][residual_select]") {
   const ValidationErrors base = base_errors();
-  const SelectionOptions o;   // fingerprint: >= 50 % explained of a drift with RMS >= 0.15 px
+  const SelectionOptions o;  // fingerprint: >= 50 % explained of a drift with RMS >= 0.15 px
   FitResult ref = fit(base, 1000.0, 3);
   // A 0.5 % squared-error gain: RMSE improvement 100 (1 - sqrt(0.995)) = 0.25 %, under the 1 % margin.
   FitResult cand = fit(scaled(base, [](std::size_t) { return 0.995; }), 990.0, 5);

@@ -66,7 +66,7 @@ TEST_CASE("residual summary: metrics, selection, candidates ranked by improvemen
   CHECK(s.after_rmse_px == 0.20);
   const ParamSet base = fitted_base_params(s);
   CHECK(base.get("kappa_s") == 15000.0);
-  CHECK(base.size() == default_params("fots-reimpl").size());   // the base table, no effect parameters
+  CHECK(base.size() == default_params("fots-reimpl").size());  // the base table, no effect parameters
   REQUIRE(s.selected == std::vector<std::string>{"camera_misalignment"});
   REQUIRE(s.candidates.size() == 3);
   CHECK(s.candidates[0].effect == "camera_misalignment");
@@ -74,7 +74,7 @@ TEST_CASE("residual summary: metrics, selection, candidates ranked by improvemen
   CHECK(s.candidates[0].accepted);
   CHECK(s.candidates[1].effect == "tracker_bias");
   CHECK(s.candidates[1].reason == "interval includes zero");
-  CHECK(s.candidates[2].effect == "lens_distortion");   // unscored: last
+  CHECK(s.candidates[2].effect == "lens_distortion");  // unscored: last
   CHECK(std::isnan(s.candidates[2].improvement_pct));
 }
 
@@ -83,23 +83,31 @@ TEST_CASE("residual summary: each candidate's reason in two words for the table"
   // where two apply, the one its reason names first: a fingerprint not found before a veto (the screened
   // gravity_preload below has no fingerprint; a bound with a fingerprint not found is "no evidence").
   nlohmann::json j = residual_json();
-  j["model_form_symptoms"] = nlohmann::json::array();   // a report that records the rules
+  j["model_form_symptoms"] = nlohmann::json::array();  // a report that records the rules
   auto cand = [](const char* effect, double gain, nlohmann::json extra) {
-    nlohmann::json c = {{"effect", effect}, {"validation_rmse_px", 0.3}, {"improvement_pct", gain},
-                        {"ci95_pct", {gain - 1, gain + 1}}, {"accepted", false}, {"reason", "..."}};
-    if (extra.is_object()) c.update(extra);   // {} is null, not an empty object
+    nlohmann::json c = {{"effect", effect},        {"validation_rmse_px", 0.3},
+                        {"improvement_pct", gain}, {"ci95_pct", {gain - 1, gain + 1}},
+                        {"accepted", false},       {"reason", "..."}};
+    if (extra.is_object()) c.update(extra);  // {} is null, not an empty object
     return c;
   };
   j["candidates"] = {
       cand("camera_misalignment", 50, {{"accepted", true}}),
-      cand("load_stiffening", 30, {{"model_form_symptom", true}, {"veto", "load_stiffening.beta_per_m = 2000 at a bound"}}),
+      cand("load_stiffening", 30,
+           {{"model_form_symptom", true}, {"veto", "load_stiffening.beta_per_m = 2000 at a bound"}}),
       cand("gravity_preload", 0.2, {{"veto", "screened: alone over the fitted base it gains 0.20% (< 0.50%)"}}),
-      cand("viscoelastic_creep", 12, {{"model_form_symptom", true}, {"veto", "creep_fraction = 1 at a bound"},
-                                      {"fingerprint", {{"found", false}}}}),
+      cand("viscoelastic_creep", 12,
+           {{"model_form_symptom", true},
+            {"veto", "creep_fraction = 1 at a bound"},
+            {"fingerprint", {{"found", false}}}}),
       cand("subsurface_markers", 13, {{"fingerprint", {{"found", false}, {"verdict", "wrong at the grid scale"}}}}),
-      cand("lens_distortion", 3, {{"fingerprint", {{"found", true}}}, {"veto", "the whole field disagrees with the evidence"}}),
+      cand("lens_distortion", 3,
+           {{"fingerprint", {{"found", true}}}, {"veto", "the whole field disagrees with the evidence"}}),
       cand("tracker_bias", 2, {}),
-      {{"effect", "edge_constraint"}, {"validation_rmse_px", nullptr}, {"improvement_pct", nullptr}, {"ci95_pct", {nullptr, nullptr}}}};
+      {{"effect", "edge_constraint"},
+       {"validation_rmse_px", nullptr},
+       {"improvement_pct", nullptr},
+       {"ci95_pct", {nullptr, nullptr}}}};
   const ResidualSummary s = load_residual_summary(write_temp("verdicts", j));
   std::map<std::string, std::string> verdict;
   for (const auto& c : s.candidates) verdict[c.effect] = c.verdict;
@@ -125,7 +133,7 @@ TEST_CASE("residual summary: the contact-frame tables, none in older reports", "
       {"bin": "loading", "rms_px": 1.5, "count": 10, "mean_radial_px": 0.25, "mean_along_travel_px": 0.0},
       {"bin": "slide", "rms_px": null, "count": 0, "mean_radial_px": null, "mean_along_travel_px": null}]}])");
   const ResidualSummary s = load_residual_summary(write_temp("cf", j));
-  REQUIRE(s.contact_frame.size() == 1);   // the plain covariate table is not a contact-frame one
+  REQUIRE(s.contact_frame.size() == 1);  // the plain covariate table is not a contact-frame one
   const ContactFrameTableView& t = s.contact_frame[0];
   CHECK(t.name == "contact frame: phase");
   CHECK(t.bins == std::vector<std::string>{"loading", "slide"});
@@ -150,7 +158,7 @@ TEST_CASE("residual summary: bad files are InputErrors naming the file and the e
   j["after"]["effects"] = nlohmann::json::array();
   CHECK_THAT(load_error(j), Catch::Contains("/after/effects"));
   j = residual_json();
-  j["after"]["params"]["camera_misalignment.scale"] = 7.0;   // outside [0.8, 1.25]
+  j["after"]["params"]["camera_misalignment.scale"] = 7.0;  // outside [0.8, 1.25]
   CHECK_THAT(load_error(j), Catch::Contains("/after/params"));
   j = residual_json();
   j["candidates"][1]["ci95_pct"] = {1.0};
@@ -185,7 +193,7 @@ TEST_CASE("corrected model: base wrapped with the selected effects at the fitted
     CHECK((a.disp_px[i] - 1.2 * b.disp_px[i]).norm() < 1e-9);
     largest = std::max(largest, b.disp_px[i].norm());
   }
-  CHECK(largest > 0.1);   // the press does move markers: the check above is not 0 == 0
+  CHECK(largest > 0.1);  // the press does move markers: the check above is not 0 == 0
 }
 
 // Issue 31: the loop's answer is the selected model form with the selected effects on it. A report that
@@ -237,7 +245,7 @@ TEST_CASE("residual field is measured minus predicted; a lost marker stays NaN",
   REQUIRE(r.size() == 3);
   CHECK((r[0] - Vec2(0.5, 1.5)).norm() < kExact);
   CHECK(std::isnan(r[1].x()));
-  CHECK(std::isnan(r[2].x()));   // no prediction for this marker
+  CHECK(std::isnan(r[2].x()));  // no prediction for this marker
   CHECK(residual_field({}, predicted).empty());
 }
 

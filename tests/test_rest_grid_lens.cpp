@@ -39,7 +39,7 @@ void add_noise(std::vector<Vec2>* p, double sigma, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> n(0.0, sigma);
   for (auto& v : *p) {
-    const double dx = n(rng);   // two statements: argument order is unspecified
+    const double dx = n(rng);  // two statements: argument order is unspecified
     v += Vec2(dx, n(rng));
   }
 }
@@ -54,7 +54,7 @@ TEST_CASE("rest grid lens: D is the lens_distortion effect's map, a corner marke
   CHECK((sb::lens_distort_px(camera(), -0.15, Vec2(192.5, 152.5)) - corner).norm() < kHandTolPx);
   // The effect maps a marker's displacement d as D(m + d) - D(m): at m = c (D(c) = c) it is D(c + d) - c.
   sb::Sensor s = sb::make_default_sensor();
-  const std::size_t centre = 3 * 9 + 4;   // row 3, column 4 of the 7 x 9 grid: the principal point
+  const std::size_t centre = 3 * 9 + 4;  // row 3, column 4 of the 7 x 9 grid: the principal point
   REQUIRE((s.markers_rest_px[centre] - s.camera.principal_px).norm() < kHandTolPx);
   auto lens = sb::make_effect("lens_distortion");
   sb::ParamSet p = lens->params();

@@ -11,7 +11,7 @@
 namespace {
 
 constexpr double kRmseTol = 1e-12;
-constexpr double kFarAboveM = 10e-3;   // a 2 mm sphere 10 mm above the gel: every model predicts zero
+constexpr double kFarAboveM = 10e-3;  // a 2 mm sphere 10 mm above the gel: every model predicts zero
 
 std::vector<sb::Pose> far_path(int n) {
   return std::vector<sb::Pose>(n, sb::make_pose(sb::Vec3(0, 0, kFarAboveM), sb::Quat::Identity()));
@@ -53,7 +53,7 @@ TEST_CASE("the series job runs off the caller's thread and keeps the latest requ
   req.measured_px.assign(4, std::vector<sb::Vec2>(M, sb::Vec2(3, 4)));
   sb::RmseSeriesJob job;
   job.start(req);
-  req.measured_px.assign(4, std::vector<sb::Vec2>(M, sb::Vec2(0, 2)));   // a second request replaces the first
+  req.measured_px.assign(4, std::vector<sb::Vec2>(M, sb::Vec2(0, 2)));  // a second request replaces the first
   job.start(req);
   for (int i = 0; i < 500 && job.running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   REQUIRE_FALSE(job.running());

@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
-#include "mini_grid.hpp"
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include "mini_grid.hpp"
 
 #include "core/base/data_root.hpp"
 #include "core/data/scene.hpp"
@@ -145,14 +145,22 @@ TEST_CASE("scene: every shipped scene loads", "[scene]") {
   CHECK(n >= 10);
 }
 
-TEST_CASE("scene: a TacTip-like sensor (pinhole camera, spherical cap, pins at depth) and its errors", "[scene][sensor]") {
+TEST_CASE("scene: a TacTip-like sensor (pinhole camera, spherical cap, pins at depth) and its errors",
+          "[scene][sensor]") {
   using Catch::Matchers::Contains;
   nlohmann::json j = press_json();
-  j["sensor"] = {{"camera", {{"model", "pinhole"}, {"focal_px", 300}, {"principal_px", {320, 240}},
-                             {"distance_m", 0.03}, {"k1", -0.05}, {"image_size_px", {640, 480}}}},
-                 {"gel", {{"surface", "spherical_cap"}, {"radius_m", 0.02}, {"footprint_radius_m", 0.0175}, {"thickness_m", 0.025}}},
-                 {"markers_depth_m", 0.003},
-                 {"markers", "5x5"}};
+  j["sensor"] = {
+      {"camera",
+       {{"model", "pinhole"},
+        {"focal_px", 300},
+        {"principal_px", {320, 240}},
+        {"distance_m", 0.03},
+        {"k1", -0.05},
+        {"image_size_px", {640, 480}}}},
+      {"gel",
+       {{"surface", "spherical_cap"}, {"radius_m", 0.02}, {"footprint_radius_m", 0.0175}, {"thickness_m", 0.025}}},
+      {"markers_depth_m", 0.003},
+      {"markers", "5x5"}};
   const Scene scene = parse_scene(j, "scenes/x.json", data_root(), "");
   CHECK(scene.sensor->camera.pinhole());
   CHECK(scene.sensor->gel.surface == "spherical_cap");

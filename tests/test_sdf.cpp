@@ -93,8 +93,8 @@ TEST_CASE("mesh SDF of an icosphere matches the exact distance to the same mesh"
     CHECK(v == Approx(exact).margin(kValueTolerance));
     CHECK(angle_deg(g, n) < kAngleToleranceDeg);
   }
-  WARN("icosphere: worst |phi - exact| = " << worst / voxel << " voxel, worst normal angle " << worst_angle
-                                           << " deg (" << sdf->describe() << ")");
+  WARN("icosphere: worst |phi - exact| = " << worst / voxel << " voxel, worst normal angle " << worst_angle << " deg ("
+                                           << sdf->describe() << ")");
 }
 
 TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[sdf][slow]") {
@@ -138,7 +138,7 @@ TEST_CASE("mesh SDF of a torus matches the exact distance to the same mesh", "[s
     CHECK(angle_deg(g, g_analytic) < kAngleToleranceDeg + h / (2 * (r + d)) * 180 / M_PI);
   }
   WARN("torus: worst |phi - exact| beyond the interpolation bound = " << worst / h << " voxel, worst normal angle "
-                                                                       << worst_angle << " deg");
+                                                                      << worst_angle << " deg");
 }
 
 TEST_CASE("mesh SDF is exact at voxel centres", "[sdf][slow]") {
@@ -227,8 +227,7 @@ TEST_CASE("mesh SDF of cow.obj (closed, not a clean manifold) has the right sign
   int inside = 0, outside = 0;
   for (int i = 0; i < 400; ++i) {
     Vec3 p;
-    for (int d = 0; d < 3; ++d)
-      p[d] = std::uniform_real_distribution<double>(box.min()[d], box.max()[d])(rng);
+    for (int d = 0; d < 3; ++d) p[d] = std::uniform_real_distribution<double>(box.min()[d], box.max()[d])(rng);
     const double dist = mesh_distance(cow, p);
     if (dist < kClearance) continue;
     const bool in = inside_by_parity(cow, p);
@@ -253,8 +252,8 @@ TEST_CASE("mesh SDF of an open mesh (allow_open) keeps a best-effort sign", "[sd
   sb::MeshSdfOptions options;
   options.allow_open = true;
   const auto sdf = sb::make_mesh_sdf(mesh, options);
-  CHECK(sdf->value(Vec3(0, 0, 0.002)) < 0);    // 3 mm deep
-  CHECK(sdf->value(Vec3(0, 0.006, 0)) > 0);    // 1 mm outside
+  CHECK(sdf->value(Vec3(0, 0, 0.002)) < 0);  // 3 mm deep
+  CHECK(sdf->value(Vec3(0, 0.006, 0)) > 0);  // 1 mm outside
   CHECK(sdf->value(Vec3(0.004, 0, 0)) == Approx(-0.001).margin(1e-5));
 }
 

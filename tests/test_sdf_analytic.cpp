@@ -8,7 +8,7 @@ using namespace sb;
 namespace {
 constexpr double kExact = 1e-12;  // metres: closed-form distances
 constexpr double kTol = 1e-12;    // metres: the cap's distances, closed-form too (a square root and a hypot)
-}
+}  // namespace
 
 TEST_CASE("sphere SDF is |p - c| - r with a radial gradient", "[sdf]") {
   const auto s = make_sphere_sdf(0.004, Vec3(0, 0, 0.001));
@@ -106,7 +106,7 @@ TEST_CASE("spherical cap SDF: dome, rim, wall and bottom; against the cap's mesh
         }
   }
   SECTION("impossible shapes are refused") {
-    CHECK_THROWS_AS(make_spherical_cap_sdf(R, 25e-3, T), std::invalid_argument);   // footprint > radius
-    CHECK_THROWS_AS(make_spherical_cap_sdf(R, F, 3e-3), std::invalid_argument);    // ends above the rim
+    CHECK_THROWS_AS(make_spherical_cap_sdf(R, 25e-3, T), std::invalid_argument);  // footprint > radius
+    CHECK_THROWS_AS(make_spherical_cap_sdf(R, F, 3e-3), std::invalid_argument);   // ends above the rim
   }
 }

@@ -13,7 +13,7 @@ namespace {
 
 sb::MeshSdfOptions coarse() {
   sb::MeshSdfOptions o;
-  o.voxel_size = 1e-3;   // a 10 mm box at 1 mm voxels builds in milliseconds
+  o.voxel_size = 1e-3;  // a 10 mm box at 1 mm voxels builds in milliseconds
   o.band_width = 3e-3;
   return o;
 }
@@ -29,7 +29,7 @@ TEST_CASE("mesh SDF cache: the same mesh and options share one field, anything e
   CHECK(sb::mesh_sdf_cache_size() == 1);
   // The field is the one make_mesh_sdf builds: 3 mm along x from the centre is 2 mm inside the face x = 5 mm
   // (inside the 3 mm band; negative inside).
-  constexpr double kVoxelInterpolation = 1e-4;   // m: trilinear sampling of an exact distance at 1 mm voxels
+  constexpr double kVoxelInterpolation = 1e-4;  // m: trilinear sampling of an exact distance at 1 mm voxels
   CHECK(first->value(Vec3(0.003, 0, 0)) == Approx(-0.002).margin(kVoxelInterpolation));
 
   sb::MeshSdfOptions finer = coarse();
@@ -37,14 +37,13 @@ TEST_CASE("mesh SDF cache: the same mesh and options share one field, anything e
   CHECK(sb::cached_mesh_sdf(box, finer) != first);
 
   sb::TriMesh moved = box;
-  moved.vertices[0].x() += 1e-6;   // one vertex a micrometre off is another mesh
+  moved.vertices[0].x() += 1e-6;  // one vertex a micrometre off is another mesh
   CHECK(sb::cached_mesh_sdf(moved, coarse()) != first);
   CHECK(sb::mesh_sdf_cache_size() == 3);
   sb::clear_mesh_sdf_cache();
 }
 
-TEST_CASE("mesh SDF cache: holds at most its capacity, dropping the least recently used",
-          "[geometry][sdf][cache]") {
+TEST_CASE("mesh SDF cache: holds at most its capacity, dropping the least recently used", "[geometry][sdf][cache]") {
   sb::clear_mesh_sdf_cache();
   std::vector<sb::TriMesh> boxes;
   for (std::size_t i = 0; i <= sb::kMeshSdfCacheCapacity; ++i)
@@ -56,6 +55,6 @@ TEST_CASE("mesh SDF cache: holds at most its capacity, dropping the least recent
   sb::cached_mesh_sdf(boxes.back(), coarse());
   CHECK(sb::mesh_sdf_cache_size() == sb::kMeshSdfCacheCapacity);
   CHECK(sb::cached_mesh_sdf(boxes[0], coarse()) == fields[0]);
-  CHECK(sb::cached_mesh_sdf(boxes[1], coarse()) != fields[1]);   // rebuilt (the old one lives on in `fields`)
+  CHECK(sb::cached_mesh_sdf(boxes[1], coarse()) != fields[1]);  // rebuilt (the old one lives on in `fields`)
   sb::clear_mesh_sdf_cache();
 }

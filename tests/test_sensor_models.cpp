@@ -20,8 +20,8 @@ using sb::Vec3;
 
 namespace {
 
-constexpr double kExactPx = 1e-9;        // px: values exact in binary, up to a few roundings
-constexpr double kExactMetres = 1e-12;   // m: a round trip through the camera and the sphere
+constexpr double kExactPx = 1e-9;       // px: values exact in binary, up to a few roundings
+constexpr double kExactMetres = 1e-12;  // m: a round trip through the camera and the sphere
 
 // f = 500 px, principal point (320, 240), camera D = 50 mm below the apex.
 Camera pinhole_camera(double k1) {

@@ -12,7 +12,7 @@
 namespace {
 
 namespace fs = std::filesystem;
-constexpr double kPoseTol = 1e-12;   // poses go through JSON doubles (17 significant digits): exact to rounding
+constexpr double kPoseTol = 1e-12;  // poses go through JSON doubles (17 significant digits): exact to rounding
 
 std::string temp_file(const std::string& name, const std::string& text) {
   const fs::path p = fs::temp_directory_path() / ("sb_session_" + std::to_string(::getpid()) + "_" + name);
@@ -38,7 +38,8 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   s.open.tacsl_id = "tacsl-normalized";
   s.open.beside_hydroshear = "hydroshear-layer-stick";
   s.params["hydroshear"] = {{"mu", 0.4}};
-  s.path = {sb::Pose::Identity(), sb::make_pose(sb::Vec3(1e-3, -2e-3, 0.5e-3), sb::Quat(Eigen::AngleAxisd(0.3, sb::Vec3::UnitZ())))};
+  s.path = {sb::Pose::Identity(),
+            sb::make_pose(sb::Vec3(1e-3, -2e-3, 0.5e-3), sb::Quat(Eigen::AngleAxisd(0.3, sb::Vec3::UnitZ())))};
   s.step = 1;
   s.auto_scale = false;
   s.arrow_gain = 150;
@@ -86,7 +87,7 @@ TEST_CASE("bad session files name the file and the JSON pointer", "[session]") {
   CHECK_THAT(message_of(head + R"(, "path_X_EI": [[0, 0, 0, 1, 0, 0, 0]], "step": 3})"), Catch::Contains("/step"));
   CHECK_THAT(message_of(head + R"(, "params": {"tacsl": 3}})"), Catch::Contains("/params/tacsl"));
   CHECK_THAT(message_of(head + R"(, "display": {"arrow_gain": -1}})"), Catch::Contains("/display/arrow_gain"));
-  CHECK_THAT(message_of(head + R"(, "colour": 1})"), Catch::Contains("colour"));   // a typo is not ignored
+  CHECK_THAT(message_of(head + R"(, "colour": 1})"), Catch::Contains("colour"));  // a typo is not ignored
   CHECK_THAT(message_of(R"([1, 2])"), Catch::Contains("s.json"));
   // Version 1 had no residual section: a reader of version 1 rejected it as an unknown key, so a file
   // that has one is version 2, and a version 1 file claiming one is refused.
@@ -110,7 +111,8 @@ TEST_CASE("a session file that is not JSON is reported with its line", "[session
 
 TEST_CASE("a save never overwrites a file that is not a session file", "[session]") {
   // A scene file the user pointed the Session field at (the quit dialog then offered to save over it).
-  const std::string scene_text = "{\n  \"description\": \"press the cow\",\n  \"indenter\": {\"shape\": \"sphere\"}\n}\n";
+  const std::string scene_text =
+      "{\n  \"description\": \"press the cow\",\n  \"indenter\": {\"shape\": \"sphere\"}\n}\n";
   const std::string scene = temp_file("scene.json", scene_text);
   sb::SessionFile s;
   s.step = 0;
@@ -125,7 +127,7 @@ TEST_CASE("a save never overwrites a file that is not a session file", "[session
   }
   std::ifstream in(scene);
   const std::string after((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  CHECK(after == scene_text);   // byte for byte
+  CHECK(after == scene_text);  // byte for byte
   // Not JSON at all, and a folder: refused too.
   const std::string text = temp_file("notes.txt", "my notes\n");
   CHECK_THROWS_AS(sb::save_session_file(text, s), sb::InputError);
@@ -135,7 +137,8 @@ TEST_CASE("a save never overwrites a file that is not a session file", "[session
   CHECK(sb::is_session_file(old_session));
   CHECK_NOTHROW(sb::save_session_file(old_session, s));
   CHECK(sb::load_session_file(old_session).step == 0);
-  const std::string fresh = (fs::temp_directory_path() / ("sb_session_fresh_" + std::to_string(::getpid()) + ".json")).string();
+  const std::string fresh =
+      (fs::temp_directory_path() / ("sb_session_fresh_" + std::to_string(::getpid()) + ".json")).string();
   fs::remove(fresh);
   CHECK_NOTHROW(sb::save_session_file(fresh, s));
   for (const auto& p : {scene, text, old_session, fresh}) fs::remove(p);

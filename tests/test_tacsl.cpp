@@ -11,11 +11,11 @@ using sbtest::kMiniMarkers;
 using namespace sbtest;
 
 namespace {
-constexpr double kForceTol = 1e-12;   // the "force" is metres-scale (kn = 1)
-constexpr double kBox = 8e-3;         // 8 mm box: the 9 markers under it are 1.9 mm from its sides, so
-                                      // for presses up to 1 mm (and 0.6 mm slides) their nearest face is
-                                      // the bottom and n = -z
-}
+constexpr double kForceTol = 1e-12;  // the "force" is metres-scale (kn = 1)
+constexpr double kBox = 8e-3;        // 8 mm box: the 9 markers under it are 1.9 mm from its sides, so
+                                     // for presses up to 1 mm (and 0.6 mm slides) their nearest face is
+                                     // the bottom and n = -z
+}  // namespace
 
 TEST_CASE("TacSL: at rest the shear is zero", "[models][tacsl]") {
   for (const std::string id : {"tacsl", "tacsl-normalized"}) {

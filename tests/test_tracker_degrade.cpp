@@ -47,7 +47,9 @@ TEST_CASE("dropped frames during a fast drag: markers are lost, never moved onto
   const double amplitude = GENERATE(20.0, 24.0);
   INFO("amplitude " << amplitude << " px = " << amplitude / kPitchPx << " pitch");
   const auto rest = grid_7x9();
-  auto truth = [&](const Vec2& p, int t) { return t < 3 ? Vec2::Zero() : bump(p, amplitude + 0.5 * (t - 3), kWidthPx); };
+  auto truth = [&](const Vec2& p, int t) {
+    return t < 3 ? Vec2::Zero() : bump(p, amplitude + 0.5 * (t - 3), kWidthPx);
+  };
   std::mt19937 rng(11);
   constexpr int kFrames = 12, kSettledFrom = 6;
   std::vector<cv::Mat> frames;
@@ -168,8 +170,7 @@ TEST_CASE("a press grows under an occluder: revealed markers are lost until re-a
     std::vector<Vec2> c;
     for (const auto& p : rest) c.push_back(p + truth(p, t));
     cv::Mat img = render(c, rng);
-    if (t >= kCoverFrom && t < kLiftAt)
-      cv::circle(img, cv::Point(160, 120), int(kRadiusPx), cv::mean(img), cv::FILLED);
+    if (t >= kCoverFrom && t < kLiftAt) cv::circle(img, cv::Point(160, 120), int(kRadiusPx), cv::mean(img), cv::FILLED);
     frames.push_back(img);
   }
   const TrackResult r = track_frames(frames, TrackerOptions{});

@@ -1,6 +1,6 @@
 #include <catch2/catch.hpp>
 
-#include "mini_grid.hpp"
+#include <unistd.h>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -8,7 +8,7 @@
 #include <fstream>
 #include <functional>
 #include <sstream>
-#include <unistd.h>
+#include "mini_grid.hpp"
 
 #include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
@@ -79,7 +79,8 @@ Dataset tiny_dataset(const fs::path& dir, std::vector<SampleData>* data) {
     d.t_s.push_back(k * (0.1 + 0.2));
     d.p_EI.emplace_back(1.0 / 3.0 * k, -1e-9 * k, 0.0045 - 1e-4 * k / 7.0);
     d.q_EI.push_back(k == 0 ? Quat::Identity() : q);
-    d.markers_px.push_back({Vec2(0.1 * k, -0.7 / 3.0 * k), Vec2(k == 1 ? std::nan("") : 2.0 / 3.0, k == 1 ? std::nan("") : 1e-300)});
+    d.markers_px.push_back(
+        {Vec2(0.1 * k, -0.7 / 3.0 * k), Vec2(k == 1 ? std::nan("") : 2.0 / 3.0, k == 1 ? std::nan("") : 1e-300)});
     d.forces_n.emplace_back(0.1 * k, 0.2, -1.0 / 7.0);
   }
   data->push_back(d);
@@ -93,8 +94,10 @@ std::string error_after_replacing(const std::string& file, const std::string& te
   std::vector<SampleData> data;
   const Dataset ds = tiny_dataset(t.path, &data);
   write_dataset(t.path.string(), ds, data);
-  if (text.empty()) fs::remove(t.path / file);
-  else put(t.path / file, text);
+  if (text.empty())
+    fs::remove(t.path / file);
+  else
+    put(t.path / file, text);
   try {
     const Dataset back = read_dataset(t.path.string());
     read_sample(back, "shr_00");
@@ -107,7 +110,8 @@ std::string error_after_replacing(const std::string& file, const std::string& te
 const std::string kPosesHeader = "frame,t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
 const std::string kMarkersHeader = "frame,marker,du_px,dv_px\n";
 // Three good pose rows (frames 0, 1, 2).
-const std::string kGoodPoses = kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n1,0.02,0,0,0.004,1,0,0,0\n2,0.04,0,0,0.003,1,0,0,0\n";
+const std::string kGoodPoses = kPosesHeader +
+                               "0,0,0,0,0.005,1,0,0,0\n1,0.02,0,0,0.004,1,0,0,0\n2,0.04,0,0,0.003,1,0,0,0\n";
 
 std::string data_root() {
   const char* env = std::getenv("SHEARBENCH_DATA");
@@ -168,8 +172,9 @@ TEST_CASE("tsd: every malformed input names the file, line and column", "[tsd]")
   }
   SECTION("non-numeric pose value") {
     // Line 3 is frame 1; "1,0.02," is 7 characters, so x_m starts at column 8.
-    CHECK_THAT(error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n1,0.02,abc,0,0.004,1,0,0,0\n"),
-               Contains("poses.csv:3:8: x_m: expected a number"));
+    CHECK_THAT(
+        error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n1,0.02,abc,0,0.004,1,0,0,0\n"),
+        Contains("poses.csv:3:8: x_m: expected a number"));
   }
   SECTION("NaN pose value") {
     // "0,0,0,0," is 8 characters: z_m at column 9.
@@ -182,12 +187,14 @@ TEST_CASE("tsd: every malformed input names the file, line and column", "[tsd]")
                Contains("poses.csv:2:15: quaternion has zero norm"));
   }
   SECTION("frame gap") {
-    CHECK_THAT(error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n2,0.04,0,0,0.004,1,0,0,0\n"),
-               Contains("poses.csv:3:1: frame gap"));
+    CHECK_THAT(
+        error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n2,0.04,0,0,0.004,1,0,0,0\n"),
+        Contains("poses.csv:3:1: frame gap"));
   }
   SECTION("frames out of order") {
-    CHECK_THAT(error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n0,0.04,0,0,0.004,1,0,0,0\n"),
-               Contains("poses.csv:3:1: frame 0 out of order"));
+    CHECK_THAT(
+        error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0,0\n0,0.04,0,0,0.004,1,0,0,0\n"),
+        Contains("poses.csv:3:1: frame 0 out of order"));
   }
   SECTION("wrong number of columns") {
     CHECK_THAT(error_after_replacing("shr_00/poses.csv", kPosesHeader + "0,0,0,0,0.005,1,0,0\n"),
@@ -204,8 +211,9 @@ TEST_CASE("tsd: every malformed input names the file, line and column", "[tsd]")
                Contains("markers.csv:3:1: frame 0 has 1 of 2 marker rows (marker 1 missing"));
   }
   SECTION("markers out of order") {
-    CHECK_THAT(error_after_replacing("shr_00/markers.csv", kMarkersHeader + "0,0,0,0\n0,1,0,0\n1,0,0,0\n1,1,0,0\n0,0,0,0\n"),
-               Contains("markers.csv:6:1: frame 0 out of order"));
+    CHECK_THAT(
+        error_after_replacing("shr_00/markers.csv", kMarkersHeader + "0,0,0,0\n0,1,0,0\n1,0,0,0\n1,1,0,0\n0,0,0,0\n"),
+        Contains("markers.csv:6:1: frame 0 out of order"));
   }
   SECTION("markers end early") {
     CHECK_THAT(error_after_replacing("shr_00/markers.csv", kMarkersHeader + "0,0,0,0\n0,1,0,0\n"),
@@ -223,7 +231,8 @@ TEST_CASE("tsd: every malformed input names the file, line and column", "[tsd]")
     std::string json = slurp(t.path / "dataset.json");
     json.replace(json.find("\"shear\""), 7, "\"shove\"");
     put(t.path / "dataset.json", json);
-    CHECK_THROWS_WITH(read_dataset(t.path.string()), Contains("dataset.json: /samples/0/motion: unknown motion 'shove'"));
+    CHECK_THROWS_WITH(read_dataset(t.path.string()),
+                      Contains("dataset.json: /samples/0/motion: unknown motion 'shove'"));
   }
   SECTION("unknown split") {
     TempDir t;
@@ -241,7 +250,8 @@ TEST_CASE("tsd: every malformed input names the file, line and column", "[tsd]")
     Dataset ds = tiny_dataset(t.path, &data);
     write_dataset(t.path.string(), ds, data);
     fs::remove(t.path / "meshes" / "tiny.obj");
-    CHECK_THROWS_WITH(read_dataset(t.path.string()), Contains("dataset.json: /indenters/tiny/mesh: mesh file 'meshes/tiny.obj' not found"));
+    CHECK_THROWS_WITH(read_dataset(t.path.string()),
+                      Contains("dataset.json: /indenters/tiny/mesh: mesh file 'meshes/tiny.obj' not found"));
   }
   SECTION("JSON syntax error") {
     TempDir t;
@@ -256,7 +266,8 @@ TEST_CASE("tsd: a non-unit quaternion is normalised with a warning", "[tsd]") {
   std::vector<SampleData> data;
   const Dataset ds = tiny_dataset(t.path, &data);
   write_dataset(t.path.string(), ds, data);
-  put(t.path / "shr_00" / "poses.csv", kPosesHeader + "0,0,0,0,0.005,2,0,0,0\n1,0.02,0,0,0.004,1,0,0,0\n2,0.04,0,0,0.003,1,0,0,0\n");
+  put(t.path / "shr_00" / "poses.csv",
+      kPosesHeader + "0,0,0,0,0.005,2,0,0,0\n1,0.02,0,0,0.004,1,0,0,0\n2,0.04,0,0,0.003,1,0,0,0\n");
   Warnings w;
   const SampleData d = read_sample(read_dataset(t.path.string()), "shr_00", &w);
   // (2, 0, 0, 0) / 2 = identity.
@@ -278,7 +289,7 @@ TEST_CASE("tsd: reads twin_sphere35 from the data root", "[tsd]") {
   CHECK(d.p_EI[0] == Vec3(-0.004497363, -0.000634689, 0.017700000));
   CHECK(d.q_EI[0].w() == 1.0);
   CHECK(d.q_EI[0].vec() == Vec3::Zero());
-  CHECK(d.frames() == 41);  // 42 lines with the header
+  CHECK(d.frames() == 41);                            // 42 lines with the header
   CHECK(d.markers_px[0][0] == Vec2(0.1035, 0.0801));  // first row of markers.csv
   CHECK(d.forces_n.size() == 41);
 
@@ -348,31 +359,59 @@ TEST_CASE("tsd: bad camera, cap and depth values name the file and the JSON poin
     s["camera"] = {{"model", "pinhole"}, {"focal_px", 300}, {"principal_px", {320, 240}}, {"distance_m", 0.03}};
   };
   auto capped = [](nlohmann::json& s) {
-    s["gel"] = {{"size_m", {0.04, 0.04}}, {"thickness_m", 0.025}, {"surface", "spherical_cap"}, {"radius_m", 0.02},
+    s["gel"] = {{"size_m", {0.04, 0.04}},
+                {"thickness_m", 0.025},
+                {"surface", "spherical_cap"},
+                {"radius_m", 0.02},
                 {"footprint_radius_m", 0.0175}};
   };
-  CHECK(error_of([&](nlohmann::json& s) { pinhole(s); capped(s); s["markers_depth_m"] = 0.003; }).empty());
+  CHECK(error_of([&](nlohmann::json& s) {
+          pinhole(s);
+          capped(s);
+          s["markers_depth_m"] = 0.003;
+        }).empty());
   CHECK_THAT(error_of([](nlohmann::json& s) { s["camera"]["model"] = "fisheye"; }),
              Contains("x/dataset.json: /sensor/camera/model: unknown camera model 'fisheye'"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"].erase("focal_px"); }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               pinhole(s);
+               s["camera"].erase("focal_px");
+             }),
              Contains("x/dataset.json: /sensor/camera") && Contains("focal_px"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"]["distance_m"] = -1; }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               pinhole(s);
+               s["camera"]["distance_m"] = -1;
+             }),
              Contains("/sensor/camera/distance_m: expected a positive number"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { pinhole(s); s["camera"]["mm_per_px"] = 0.1; }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               pinhole(s);
+               s["camera"]["mm_per_px"] = 0.1;
+             }),
              Contains("/sensor/camera/mm_per_px"));
   CHECK_THAT(error_of([](nlohmann::json& s) { s["camera"]["k1"] = 0.1; }),
              Contains("/sensor/camera/k1: only a pinhole camera has this key"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"]["footprint_radius_m"] = 0.03; }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               capped(s);
+               s["gel"]["footprint_radius_m"] = 0.03;
+             }),
              Contains("/sensor/gel/footprint_radius_m: must not exceed radius_m"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"]["thickness_m"] = 0.001; }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               capped(s);
+               s["gel"]["thickness_m"] = 0.001;
+             }),
              Contains("/sensor/gel/thickness_m: must exceed the cap height"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["gel"].erase("radius_m"); }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               capped(s);
+               s["gel"].erase("radius_m");
+             }),
              Contains("/sensor/gel") && Contains("radius_m"));
   CHECK_THAT(error_of([](nlohmann::json& s) { s["gel"]["radius_m"] = 0.02; }),
              Contains("/sensor/gel/radius_m: only a spherical_cap gel has this key"));
   CHECK_THAT(error_of([](nlohmann::json& s) { s["markers_depth_m"] = -0.001; }),
              Contains("x/dataset.json: /sensor/markers_depth_m: must be >= 0"));
-  CHECK_THAT(error_of([&](nlohmann::json& s) { capped(s); s["markers_depth_m"] = 0.02; }),
+  CHECK_THAT(error_of([&](nlohmann::json& s) {
+               capped(s);
+               s["markers_depth_m"] = 0.02;
+             }),
              Contains("/sensor/markers_depth_m: must be smaller than the gel's radius_m"));
 }
 

@@ -12,7 +12,7 @@ TEST_CASE("dirty follows the document, not the edits", "[session][autosave]") {
   CHECK_FALSE(w.dirty());
   w.observe("B", 1.0);
   CHECK(w.dirty());
-  w.observe("A", 2.0);   // dragged back to where it was saved: nothing to lose
+  w.observe("A", 2.0);  // dragged back to where it was saved: nothing to lose
   CHECK_FALSE(w.dirty());
 }
 
@@ -26,9 +26,9 @@ TEST_CASE("an autosave is due interval seconds after the first unsaved change", 
   w.observe("C", 20.0);
   CHECK(w.autosave_due(31.0));
   w.autosaved();
-  CHECK(w.dirty());                  // autosaved is not saved: closing still asks
+  CHECK(w.dirty());  // autosaved is not saved: closing still asks
   CHECK_FALSE(w.autosave_due(100.0));
-  w.observe("D", 40.0);              // a new change restarts the clock
+  w.observe("D", 40.0);  // a new change restarts the clock
   CHECK_FALSE(w.autosave_due(69.9));
   CHECK(w.autosave_due(70.0));
 }
@@ -51,8 +51,10 @@ TEST_CASE("the autosave path follows SHEARBENCH_AUTOSAVE, then XDG_STATE_HOME", 
   const std::string saved = old ? old : "";
   ::setenv("XDG_STATE_HOME", "/state", 1);
   CHECK(sb::default_autosave_path() == "/state/shearbench/autosave.json");
-  if (old) ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
-  else ::unsetenv("XDG_STATE_HOME");
+  if (old)
+    ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
+  else
+    ::unsetenv("XDG_STATE_HOME");
 }
 
 TEST_CASE("the default session path is in the user's state folder, not the working folder", "[session]") {

@@ -86,9 +86,10 @@ void DisplaySection::draw_scale_controls() {
   ImGui::SameLine();
   if (ImGui::Checkbox("hold colours", &hold_scale_)) held_max_px_ = 0;
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("on: the colour scale only grows (a dataset sample: from its largest measured |d|), so a\n"
-                      "colour means the same from frame to frame; the arrows still follow each frame.\n"
-                      "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
+    ImGui::SetTooltip(
+        "on: the colour scale only grows (a dataset sample: from its largest measured |d|), so a\n"
+        "colour means the same from frame to frame; the arrows still follow each frame.\n"
+        "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
   next_item_leaves_label_room();
   if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
     auto_scale_ = false;

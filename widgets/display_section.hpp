@@ -44,12 +44,12 @@ class DisplaySection {
 
   FieldScale scale_;
   bool auto_scale_ = true;
-  bool hold_scale_ = true;        // the auto scale only grows (colours keep their meaning)
-  double held_max_px_ = 0;        // the largest reference |d| seen since the session opened
-  double sample_max_px_ = 0;      // the replayed sample's largest measured |d| (0: a scene)
+  bool hold_scale_ = true;    // the auto scale only grows (colours keep their meaning)
+  double held_max_px_ = 0;    // the largest reference |d| seen since the session opened
+  double sample_max_px_ = 0;  // the replayed sample's largest measured |d| (0: a scene)
   double marker_pitch_px_ = 33.0;
   int marker_model_ = 0;
-  int screenshot_region_ = 0;     // 0: window, i: regions[i - 1]
+  int screenshot_region_ = 0;  // 0: window, i: regions[i - 1]
 };
 
 }  // namespace sb::ui

@@ -23,7 +23,7 @@ class ExportRow {
  private:
   std::string folder_ = "fields_export";
   FieldExportJob job_;
-  bool reported_ = true;   // the last export's end is in the status bar
+  bool reported_ = true;  // the last export's end is in the status bar
 };
 
 }  // namespace sb::ui

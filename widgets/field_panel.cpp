@@ -10,7 +10,9 @@
 namespace sb::ui {
 
 namespace {
-struct Stop { float t, r, g, b; };
+struct Stop {
+  float t, r, g, b;
+};
 // Viridis-like, readable over a light gel image and a dark background.
 constexpr std::array<Stop, 5> kStops{{{0.00f, 0.27f, 0.00f, 0.33f},
                                       {0.25f, 0.23f, 0.32f, 0.55f},
@@ -88,7 +90,7 @@ void draw_panel_labels(ImDrawList* dl, const FieldPanelInput& in, const FieldSca
               off.empty() ? IM_COL32(255, 255, 255, 255) : IM_COL32(255, 190, 90, 255),
               off.empty() ? IM_COL32(0, 0, 0, 150) : IM_COL32(0, 0, 0, 190), true);
   }
-  if (in.metrics) {   // against the measurement, top right of the image (the title row keeps its width)
+  if (in.metrics) {  // against the measurement, top right of the image (the title row keeps its width)
     char buf[96];
     std::snprintf(buf, sizeof buf, "RMSE %.2f px CS %.2f", in.metrics->rmse_px, in.metrics->cs);
     const ImVec2 ts = ImGui::CalcTextSize(buf);
@@ -129,7 +131,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   else
     dl->AddRectFilled(p0, p1, kGelColour);
   dl->AddRect(p0, p1, kFrameColour);
-  dl->PushClipRect(p0, p1, true);   // nothing drawn for this field leaves its panel
+  dl->PushClipRect(p0, p1, true);  // nothing drawn for this field leaves its panel
 
   const bool hovered = interactive && ImGui::IsWindowHovered() && ImGui::IsMouseHoveringRect(p0, p1);
   if (hovered && mouse_double_clicked()) result.toggle_enlarge = true;
@@ -138,7 +140,9 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   // A marker answers the mouse within about half the default marker pitch (33 image px).
   float best_d2 = std::pow(std::max(8.0f, 16.0f * zoom), 2.0f);
 
-  const auto to_screen = [&](const Vec2& uv) { return ImVec2(p0.x + float(uv.x()) * zoom, p0.y + float(uv.y()) * zoom); };
+  const auto to_screen = [&](const Vec2& uv) {
+    return ImVec2(p0.x + float(uv.x()) * zoom, p0.y + float(uv.y()) * zoom);
+  };
   const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
   const float dot = std::max(1.5f, 2.2f * zoom);
   bool any_cut = false;
@@ -166,7 +170,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
       const ImVec2 tip(r.x + float(a.x()), r.y + float(a.y()));
       const float thickness = std::max(1.5f, 0.9f * zoom);
       draw_arrow(dl, r, tip, col, thickness);
-      if (cut) {   // a second head behind the first: longer than drawn
+      if (cut) {  // a second head behind the first: longer than drawn
         any_cut = true;
         const float back = std::min(7.0f, 0.4f * float(a.norm()));
         const float len = float(a.norm());

@@ -38,7 +38,8 @@ void FitSection::draw_settings(const AppSnapshot& snap) {
   }
   ImGui::Checkbox("joint refinement", &joint_);
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("on (the default): the paper's stages, then every parameter jointly\noff: the paper's stages only");
+    ImGui::SetTooltip(
+        "on (the default): the paper's stages, then every parameter jointly\noff: the paper's stages only");
   ImGui::SetNextItemWidth(-70);
   ImGui::SliderInt("iterations##fit", &iterations_, 1, 100);
 }
@@ -48,8 +49,8 @@ void FitSection::draw_run_row(const AppSnapshot& snap, const FitJobStatus& st) {
   if (st.running()) {
     const float frac = std::min(1.0f, static_cast<float>(st.iteration) / static_cast<float>(std::max(1, iterations_)));
     char label[96];
-    std::snprintf(label, sizeof label, "%s  %s  iter %d", st.phase == FitJobStatus::Phase::Loading ? "loading" : "fitting",
-                  st.stage.c_str(), st.iteration);
+    std::snprintf(label, sizeof label, "%s  %s  iter %d",
+                  st.phase == FitJobStatus::Phase::Loading ? "loading" : "fitting", st.stage.c_str(), st.iteration);
     ImGui::ProgressBar(frac, ImVec2(-70, 0), label);
     ImGui::SameLine();
     if (ImGui::SmallButton("Cancel##fit")) job_.cancel();
@@ -67,7 +68,7 @@ void FitSection::start(const AppSnapshot& snap) {
   req.joint = joint_;
   req.max_iterations = iterations_;
   model_id_ = req.model_id;
-  start_params_ = req.start;   // the table's "start" column: what the fit started from, not the live sliders
+  start_params_ = req.start;  // the table's "start" column: what the fit started from, not the live sliders
   result_handled_ = false;
   job_.start(std::move(req));
 }
@@ -101,7 +102,7 @@ void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const Fit
     ImGui::EndTable();
   }
   if (ImGui::Button("Apply##fit")) {
-    state.request_params(model, after);   // applied at the sync point; the replay re-runs
+    state.request_params(model, after);  // applied at the sync point; the replay re-runs
     result_handled_ = true;
   }
   ImGui::SameLine();

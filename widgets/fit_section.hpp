@@ -27,11 +27,11 @@ class FitSection {
   std::string data_root_;
   std::string dataset_;
   int model_ = 0;
-  bool joint_ = true;    // stages then joint: the best fit; off = the paper's stages only
+  bool joint_ = true;  // stages then joint: the best fit; off = the paper's stages only
   int iterations_ = 30;
-  std::string model_id_;          // the model the shown result belongs to
-  ParamSet start_params_;         // what that fit started from
-  bool result_handled_ = false;   // applied or discarded
+  std::string model_id_;         // the model the shown result belongs to
+  ParamSet start_params_;        // what that fit started from
+  bool result_handled_ = false;  // applied or discarded
 };
 
 }  // namespace sb::ui

@@ -15,9 +15,7 @@
 namespace sb::ui {
 namespace {
 
-double steady_s() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+double steady_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
 // Nearest-rank percentile of a sorted, non-empty sample.
 double percentile(const std::vector<double>& sorted, double q) {
@@ -64,12 +62,15 @@ std::map<std::string, int> gl_object_counts() {
   int programs = 0, shaders = 0;
   for (GLuint name = 1; name <= std::min<GLuint>(probe + 64, 200000); ++name) {
     if (name == probe) continue;
-    if (glIsProgram(name) == GL_TRUE) ++programs;
-    else if (glIsShader(name) == GL_TRUE) ++shaders;
+    if (glIsProgram(name) == GL_TRUE)
+      ++programs;
+    else if (glIsShader(name) == GL_TRUE)
+      ++shaders;
   }
   c["programs"] = programs;
   c["shaders"] = shaders;
-  while (glGetError() != GL_NO_ERROR) {}   // the probes must not leave an error for the next draw
+  while (glGetError() != GL_NO_ERROR) {
+  }  // the probes must not leave an error for the next draw
   return c;
 }
 
@@ -108,12 +109,13 @@ void FrameStats::write_line(double now_s) {
   const ResidentParts parts = resident_parts();
   const HeapUse heap = heap_use();
   char head[720];
-  std::snprintf(head, sizeof head,
-                "{\"t_s\": %.2f, \"window_s\": %.2f, \"frames\": %zu, \"frame_ms_p50\": %.3f, \"frame_ms_p95\": %.3f, "
-                "\"frame_ms_max\": %.3f, \"rss_kb\": %ld, \"rss_anon_kb\": %ld, \"rss_file_kb\": %ld, \"heap_in_use_kb\": %ld, "
-                "\"heap_free_kb\": %ld, \"fds\": %d, \"gl\": {",
-                now_s - start_s_, now_s - window_start_s_, ms_.size(), percentile(ms_, 0.5), percentile(ms_, 0.95),
-                ms_.back(), resident_kb(), parts.anon_kb, parts.file_kb, heap.in_use_kb, heap.free_kb, open_fds());
+  std::snprintf(
+      head, sizeof head,
+      "{\"t_s\": %.2f, \"window_s\": %.2f, \"frames\": %zu, \"frame_ms_p50\": %.3f, \"frame_ms_p95\": %.3f, "
+      "\"frame_ms_max\": %.3f, \"rss_kb\": %ld, \"rss_anon_kb\": %ld, \"rss_file_kb\": %ld, \"heap_in_use_kb\": %ld, "
+      "\"heap_free_kb\": %ld, \"fds\": %d, \"gl\": {",
+      now_s - start_s_, now_s - window_start_s_, ms_.size(), percentile(ms_, 0.5), percentile(ms_, 0.95), ms_.back(),
+      resident_kb(), parts.anon_kb, parts.file_kb, heap.in_use_kb, heap.free_kb, open_fds());
   out_ << head;
   bool first = true;
   for (const auto& [kind, n] : gl) {

@@ -25,7 +25,10 @@ namespace {
 constexpr float kFontSizePx = 15.0f;
 const char* const kFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
 
-void glfw_error(int code, const char* what) { (void)code; (void)what; }
+void glfw_error(int code, const char* what) {
+  (void)code;
+  (void)what;
+}
 }  // namespace
 
 bool display_available() {
@@ -87,7 +90,8 @@ void GlWindow::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 
 void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
   auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
-  if (self != nullptr && self->imgui_key_callback_ != nullptr) self->imgui_key_callback_(window, key, scancode, action, mods);
+  if (self != nullptr && self->imgui_key_callback_ != nullptr)
+    self->imgui_key_callback_(window, key, scancode, action, mods);
   record_key_event(key, action, mods);
 }
 
@@ -103,7 +107,7 @@ void GlWindow::on_mouse_button(GLFWwindow* window, int button, int action, int m
 }
 
 void GlWindow::begin_frame(double wait_s) {
-  clear_key_presses();   // presses of a frame that did not ask for them are not replayed later
+  clear_key_presses();  // presses of a frame that did not ask for them are not replayed later
   begin_mouse_poll(last_poll_s_ > 0 ? glfwGetTime() - last_poll_s_ : 0.0);
   if (wait_s > 0)
     glfwWaitEventsTimeout(wait_s);

@@ -52,9 +52,9 @@ class GlWindow {
   static void on_key(GLFWwindow* window, int key, int scancode, int action, int mods);
   static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
   GLFWwindow* window_ = nullptr;
-  KeyCallback imgui_key_callback_ = nullptr;   // ImGui's GLFW backend; ours forwards to it
+  KeyCallback imgui_key_callback_ = nullptr;  // ImGui's GLFW backend; ours forwards to it
   MouseButtonCallback imgui_mouse_button_callback_ = nullptr;
-  double last_poll_s_ = 0;   // when the last event poll returned (glfwGetTime); the double-click detector's clock
+  double last_poll_s_ = 0;  // when the last event poll returned (glfwGetTime); the double-click detector's clock
 };
 
 // Writes a PNG atomically (temporary file in the same folder, then rename). Throws std::runtime_error.

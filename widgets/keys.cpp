@@ -58,7 +58,7 @@ std::vector<KeyPress>& key_presses() {
 static_assert(HeldModifiers::kShift == GLFW_MOD_SHIFT && HeldModifiers::kCtrl == GLFW_MOD_CONTROL);
 
 HeldModifiers& held_modifiers() {
-  static HeldModifiers held;   // main thread only, as the key presses
+  static HeldModifiers held;  // main thread only, as the key presses
   return held;
 }
 
@@ -74,7 +74,7 @@ bool modifier_key(int key, HeldModifiers::Key* which) {
 }
 
 DoubleClickDetector& double_clicks() {
-  static DoubleClickDetector detector;   // main thread only, as the key presses
+  static DoubleClickDetector detector;  // main thread only, as the key presses
   return detector;
 }
 
@@ -87,8 +87,10 @@ bool mouse_double_clicked() { return double_clicks().double_clicked(); }
 void record_key_event(int key, int action, int mods) {
   HeldModifiers::Key which;
   if (modifier_key(key, &which)) {
-    if (action == GLFW_RELEASE) held_modifiers().release(which);
-    else held_modifiers().press(which);
+    if (action == GLFW_RELEASE)
+      held_modifiers().release(which);
+    else
+      held_modifiers().press(which);
     return;
   }
   if (action == GLFW_PRESS || action == GLFW_REPEAT)
@@ -129,7 +131,8 @@ std::vector<Action> pressed_actions() {
 void draw_help_overlay(bool* open) {
   if (!*open) return;
   const ImGuiViewport* vp = ImGui::GetMainViewport();
-  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x / 2, vp->Pos.y + vp->Size.y / 2), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowPos(ImVec2(vp->Pos.x + vp->Size.x / 2, vp->Pos.y + vp->Size.y / 2), ImGuiCond_Always,
+                          ImVec2(0.5f, 0.5f));
   ImGui::SetNextWindowBgAlpha(0.92f);
   if (ImGui::Begin("Keys and mouse", open, ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoCollapse)) {
     if (ImGui::BeginTable("keys", 2, ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV)) {

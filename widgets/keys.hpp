@@ -7,18 +7,37 @@
 namespace sb::ui {
 
 enum class Action {
-  PlayPause, StepForward, StepBack, Rewind, End,
-  NudgeXPlus, NudgeXMinus, NudgeYPlus, NudgeYMinus, PushIn, PullOut, TwistPlus, TwistMinus,
-  CameraReset, CameraTop, CameraSide, CameraIso,
-  ArrowsLonger, ArrowsShorter, NextMarkerModel,
-  Screenshot, ToggleHelp, SaveSession, Quit,
+  PlayPause,
+  StepForward,
+  StepBack,
+  Rewind,
+  End,
+  NudgeXPlus,
+  NudgeXMinus,
+  NudgeYPlus,
+  NudgeYMinus,
+  PushIn,
+  PullOut,
+  TwistPlus,
+  TwistMinus,
+  CameraReset,
+  CameraTop,
+  CameraSide,
+  CameraIso,
+  ArrowsLonger,
+  ArrowsShorter,
+  NextMarkerModel,
+  Screenshot,
+  ToggleHelp,
+  SaveSession,
+  Quit,
 };
 
 struct KeyBinding {
-  int key;            // GLFW key code
-  bool shift;         // Shift must be held (finer nudges ignore it: see description)
+  int key;     // GLFW key code
+  bool shift;  // Shift must be held (finer nudges ignore it: see description)
   Action action;
-  const char* keys;   // as shown in the help overlay
+  const char* keys;  // as shown in the help overlay
   const char* help;
   bool ctrl = false;  // Ctrl must be held
 };

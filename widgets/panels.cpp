@@ -23,8 +23,7 @@ std::string display_name(const std::string& id) {
   return id;
 }
 
-bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference,
-                 const ParamSet* published) {
+bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference, const ParamSet* published) {
   bool changed = false;
   ImGui::PushID(model_id.c_str());
   // The sliders leave room for the reset button and the longest name of this table (at least half the
@@ -109,9 +108,10 @@ void open_row(ReplayUi& ui, ReplayRequest& req) {
                            ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
     req.open_dataset = true;
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("a tsd/1 dataset folder, a scene (scenes/*.json) or a session file;\n"
-                      "data:twin/twin_sphere35 is under the data root, and so is twin/twin_sphere35\n"
-                      "when the working folder has no such path");
+    ImGui::SetTooltip(
+        "a tsd/1 dataset folder, a scene (scenes/*.json) or a session file;\n"
+        "data:twin/twin_sphere35 is under the data root, and so is twin/twin_sphere35\n"
+        "when the working folder has no such path");
   ImGui::SameLine(0, 2);
   if (ImGui::BeginCombo("##openlist", "", ImGuiComboFlags_NoPreview | ImGuiComboFlags_HeightLarge)) {
     for (const std::string& c : ui.choices)
@@ -131,9 +131,11 @@ ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
   open_row(ui, req);
   if (ui.tracked_markers == 0) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.45f, 0.35f, 1.0f));
-    ImGui::TextWrapped("no marker tracked in this sample (0 of %d): nothing measured to compare with. A TacTip "
-                       "import with fewer than 66 calibration samples (--max-samples) has no pin prior and "
-                       "loses every deep press's pins.", ui.total_markers);
+    ImGui::TextWrapped(
+        "no marker tracked in this sample (0 of %d): nothing measured to compare with. A TacTip "
+        "import with fewer than 66 calibration samples (--max-samples) has no pin prior and "
+        "loses every deep press's pins.",
+        ui.total_markers);
     ImGui::PopStyleColor();
   }
   if (!ui.samples.empty()) {
@@ -177,8 +179,10 @@ ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui) {
 std::string status_text(const AppSnapshot& snap, double frame_ms, bool show_timings, const std::string& message) {
   std::string text = message.empty() ? std::string() : message + "  |  ";
   char buf[128];
-  if (snap.step < 0) std::snprintf(buf, sizeof buf, "before the first step (of %d)", snap.num_steps - 1);
-  else std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
+  if (snap.step < 0)
+    std::snprintf(buf, sizeof buf, "before the first step (of %d)", snap.num_steps - 1);
+  else
+    std::snprintf(buf, sizeof buf, "step %d/%d", snap.step, snap.num_steps - 1);
   text += buf;
   if (show_timings) {
     for (const auto& m : snap.models) {

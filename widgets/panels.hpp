@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "core/workbench/app_state.hpp"
 #include "core/base/params.hpp"
+#include "core/workbench/app_state.hpp"
 
 namespace sb::ui {
 
@@ -23,10 +23,10 @@ Mat3 rotation_from_rpy_deg(const Vec3& rpy_deg);
 
 struct ReplayRequest {
   bool toggle_play = false;
-  int seek_to = -2;          // -2: none
-  double speed = -1;         // < 0: unchanged
-  bool open_sample = false;  // open samples[sample_index] of dataset_dir
-  bool open_dataset = false; // open the folder typed in dataset_input (its first sample)
+  int seek_to = -2;           // -2: none
+  double speed = -1;          // < 0: unchanged
+  bool open_sample = false;   // open samples[sample_index] of dataset_dir
+  bool open_dataset = false;  // open the folder typed in dataset_input (its first sample)
 };
 
 // Dataset/sample chooser (the caller lists the samples), play/pause, speed, step buttons and a timeline.
@@ -34,9 +34,9 @@ struct ReplayUi {
   std::string dataset_dir;
   std::vector<std::string> samples;
   int sample_index = 0;
-  std::string dataset_input;          // the Open field: what is typed or chosen
-  std::vector<std::string> choices;   // the Open list: recent opens, scenes/*.json, the data root's datasets
-  int tracked_markers = -1;           // markers tracked in the sample's last frame (-1: not a dataset)
+  std::string dataset_input;         // the Open field: what is typed or chosen
+  std::vector<std::string> choices;  // the Open list: recent opens, scenes/*.json, the data root's datasets
+  int tracked_markers = -1;          // markers tracked in the sample's last frame (-1: not a dataset)
   int total_markers = 0;
 };
 ReplayRequest replay_panel(const AppSnapshot& snap, ReplayUi& ui);

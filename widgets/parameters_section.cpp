@@ -34,15 +34,19 @@ void ParametersSection::draw(const AppSnapshot& snap, AppState& state, Workbench
 // TacSL: raw | normalised. The choice replaces that panel's model at
 // the sync point (AppState::request_model), which replays the path to the current step.
 void ParametersSection::draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req) {
-  struct Family { const char* label; std::vector<std::string> ids; };
+  struct Family {
+    const char* label;
+    std::vector<std::string> ids;
+  };
   static const std::vector<Family> kFamilies{
-      {"HydroShear", {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"}},
+      {"HydroShear",
+       {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"}},
       {"FOTS", {"fots", "fots-reimpl"}},
       {"TacSL", {"tacsl", "tacsl-normalized"}}};
   const auto in_family = [](const Family& f, const std::string& id) {
     return std::find(f.ids.begin(), f.ids.end(), id) != f.ids.end();
   };
-  std::string beside;   // a second HydroShear slot is the panel beside HydroShear's
+  std::string beside;  // a second HydroShear slot is the panel beside HydroShear's
   for (const Family& f : kFamilies) {
     bool first = true;
     for (int m = 0; m < static_cast<int>(snap.models.size()); ++m) {
@@ -53,7 +57,7 @@ void ParametersSection::draw_variant_switches(const AppSnapshot& snap, Workbench
         continue;
       }
       first = false;
-      ImGui::SetNextItemWidth(-125);   // room for "HydroShear variant"
+      ImGui::SetNextItemWidth(-125);  // room for "HydroShear variant"
       if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
         for (const std::string& v : f.ids)
           if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, v);
@@ -70,8 +74,9 @@ void ParametersSection::draw_variant_switches(const AppSnapshot& snap, Workbench
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("A HydroShear variant in a field panel of its own, to compare a model-form correction\n"
-                      "(docs/effects.md) with HydroShear as it is. Costs one more model per step.");
+    ImGui::SetTooltip(
+        "A HydroShear variant in a field panel of its own, to compare a model-form correction\n"
+        "(docs/effects.md) with HydroShear as it is. Costs one more model per step.");
 }
 
 void ParametersSection::draw_file_row(WorkbenchRequest& req) {
@@ -92,7 +97,7 @@ std::string ParametersSection::param_set_label(const std::string& name) {
     try {
       sensor = load_param_set(name).sensor_model();
     } catch (const std::exception&) {
-      sensor.clear();   // a broken file is reported when chosen, not while listing
+      sensor.clear();  // a broken file is reported when chosen, not while listing
     }
     const bool other = !sensor.empty() && sensor != kDefaultSensorModel;
     it = labels_.emplace(name, other ? name + "  (" + sensor + ")" : name).first;

@@ -37,8 +37,8 @@ class ParametersSection {
   std::string file_ = "params.json";
   std::vector<ParamSet> edit_params_;
   NamedParamSet set_ = published_param_set();
-  std::string mismatch_;   // sensor_mismatch() of the set and the open scene
-  std::map<std::string, std::string> labels_;   // set name -> its combo label
+  std::string mismatch_;                       // sensor_mismatch() of the set and the open scene
+  std::map<std::string, std::string> labels_;  // set name -> its combo label
   bool show_published_ = false;
 };
 

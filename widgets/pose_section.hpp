@@ -13,9 +13,7 @@ class PoseSection {
   // A new session: no drag in progress.
   void reset() { last_drag_.reset(); }
   // The pose to show: the one being dragged while `dragging`, else the snapshot's.
-  Pose shown(const AppSnapshot& snap, bool dragging) const {
-    return last_drag_ && dragging ? *last_drag_ : snap.X_EI;
-  }
+  Pose shown(const AppSnapshot& snap, bool dragging) const { return last_drag_ && dragging ? *last_drag_ : snap.X_EI; }
   // Asks the sync point for `X_EI` (unless it is the pose already asked for, when `skip_same`).
   void drag_to(const Pose& X_EI, AppState& state, bool skip_same = false);
   // A keyboard nudge: translation of `delta_E`, its rotation about the indenter origin when `rotate`.

@@ -41,7 +41,7 @@ bool ResidualSection::apply_base_params(const AppSnapshot& snap, AppState& state
   if (!residual_) return false;
   for (std::size_t m = 0; m < snap.models.size(); ++m)
     if (snap.models[m].id == residual_->model_id) {
-      state.request_params(m, fitted_base_params(*residual_));   // applied at the sync point
+      state.request_params(m, fitted_base_params(*residual_));  // applied at the sync point
       return true;
     }
   return false;
@@ -54,8 +54,7 @@ int ResidualSection::corrected_slot(const AppSnapshot& snap) const {
   return -1;
 }
 
-void ResidualSection::update_corrected(const AppSnapshot& snap, const AppState& state,
-                                       const std::vector<Pose>& poses) {
+void ResidualSection::update_corrected(const AppSnapshot& snap, const AppState& state, const std::vector<Pose>& poses) {
   if (!show_corrected_ || corrected_started_ || corrected_slot(snap) < 0 || poses.empty()) return;
   corrected_job_.start(make_corrected_model(*residual_, state.sensor(), state.indenter()), poses, snap.dt_s);
   corrected_started_ = true;
@@ -66,7 +65,7 @@ const std::vector<Vec2>* ResidualSection::corrected_at_step(const AppSnapshot& s
   const std::vector<std::vector<Vec2>>* series_ptr = nullptr;
   try {
     series_ptr = &corrected_job_.result();
-  } catch (const std::exception& e) {   // the worker failed: say so once, stop showing it
+  } catch (const std::exception& e) {  // the worker failed: say so once, stop showing it
     message = std::string("corrected model: ") + e.what();
     show_corrected_ = false;
     corrected_job_.clear();
@@ -93,10 +92,13 @@ void ResidualSection::draw_contact_frame_tables(const ResidualSummary& r) {
     ImGui::EndCombo();
   }
   const ContactFrameTableView& t = r.contact_frame[contact_table_];
-  constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
+  constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
+                                     ImGuiTableFlags_SizingStretchProp;
   if (ImGui::BeginTable("##contact_frame", 4, kFlags)) {
-    ImGui::TableSetupColumn(t.unit.empty() ? "bin" : ("bin " + t.unit).c_str(), ImGuiTableColumnFlags_WidthStretch, 1.6f);
-    for (const char* c : {"RMS", "radial", "along"}) ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableSetupColumn(t.unit.empty() ? "bin" : ("bin " + t.unit).c_str(), ImGuiTableColumnFlags_WidthStretch,
+                            1.6f);
+    for (const char* c : {"RMS", "radial", "along"})
+      ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
     ImGui::TableHeadersRow();
     for (std::size_t b = 0; b < t.bins.size(); ++b) {
       if (t.count[b] == 0) continue;
@@ -108,7 +110,7 @@ void ResidualSection::draw_contact_frame_tables(const ResidualSummary& r) {
       ImGui::Text("%.2f", t.rms_px[b]);
       for (double v : {t.mean_radial_px[b], t.mean_along_px[b]}) {
         ImGui::TableNextColumn();
-        ImGui::Text("%+.2f", v);   // signed: a bias has a direction
+        ImGui::Text("%+.2f", v);  // signed: a bias has a direction
       }
     }
     ImGui::EndTable();
@@ -141,17 +143,18 @@ void ResidualSection::draw_summary(const ResidualSummary& r) const {
   ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
   ImGui::TextWrapped("answer: %s", r.after_model.c_str());
   if (ImGui::IsItemHovered())
-    wrapped_tooltip("The model the analysis found: the selected model form (" +
-                    (r.model_form.empty() ? std::string("none, so the base") : r.model_form) + ") with the selected effects (" +
-                    (r.selected.empty() ? std::string("none") : join(r.selected, " + ")) +
-                    "), fitted jointly. Load it anywhere as --model " + r.after_model +
-                    " with the report's _params.json file.");
+    wrapped_tooltip(
+        "The model the analysis found: the selected model form (" +
+        (r.model_form.empty() ? std::string("none, so the base") : r.model_form) + ") with the selected effects (" +
+        (r.selected.empty() ? std::string("none") : join(r.selected, " + ")) +
+        "), fitted jointly. Load it anywhere as --model " + r.after_model + " with the report's _params.json file.");
   ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : join(r.selected, " + ").c_str());
 }
 
 // The ranked candidates: gain, its confidence interval and the verdict (the selected ones in green).
 void ResidualSection::draw_candidates(const ResidualSummary& r) const {
-  constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV | ImGuiTableFlags_SizingStretchProp;
+  constexpr ImGuiTableFlags kTable = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
+                                     ImGuiTableFlags_SizingStretchProp;
   if (!ImGui::BeginTable("##candidates", 4, kTable)) return;
   ImGui::TableSetupColumn("effect", ImGuiTableColumnFlags_WidthStretch, 1.7f);
   ImGui::TableSetupColumn("gain%", ImGuiTableColumnFlags_WidthStretch, 0.75f);
@@ -170,11 +173,15 @@ void ResidualSection::draw_candidates(const ResidualSummary& r) const {
     if (selected) ImGui::PopStyleColor();
     if (ImGui::IsItemHovered()) wrapped_tooltip(c.effect + ": " + make_effect(c.effect)->physics() + "\n\n" + c.reason);
     ImGui::TableNextColumn();
-    if (std::isfinite(c.improvement_pct)) ImGui::Text("%+.1f", c.improvement_pct);
-    else ImGui::TextDisabled("-");
+    if (std::isfinite(c.improvement_pct))
+      ImGui::Text("%+.1f", c.improvement_pct);
+    else
+      ImGui::TextDisabled("-");
     ImGui::TableNextColumn();
-    if (std::isfinite(c.ci95_low_pct)) ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
-    else ImGui::TextDisabled("-");
+    if (std::isfinite(c.ci95_low_pct))
+      ImGui::Text("[%.1f, %.1f]", c.ci95_low_pct, c.ci95_high_pct);
+    else
+      ImGui::TextDisabled("-");
     ImGui::TableNextColumn();
     ImGui::PushStyleColor(ImGuiCol_Text, selected ? kSelectedColour : ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
     ImGui::TextWrapped("%s", c.verdict.c_str());
@@ -189,12 +196,12 @@ void ResidualSection::draw_switches(const AppSnapshot& snap, AppState& state, bo
   const ResidualSummary& r = *residual_;
   ImGui::Checkbox("residual fields (measured - model)", &show_residual_fields_);
   if (ImGui::SmallButton("Apply the fitted base parameters")) {
-    if (!apply_base_params(snap, state))
-      message = display_name(r.model_id) + " is not one of the shown models";
+    if (!apply_base_params(snap, state)) message = display_name(r.model_id) + " is not one of the shown models";
   }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("%s's parameters as the analysis fitted them without effects:\nthe fair reference for the corrected model",
-                      display_name(r.model_id).c_str());
+    ImGui::SetTooltip(
+        "%s's parameters as the analysis fitted them without effects:\nthe fair reference for the corrected model",
+        display_name(r.model_id).c_str());
   const int slot = corrected_slot(snap);
   if (r.after_model == r.model_id) {
     ImGui::TextDisabled("nothing selected: no corrected model");
@@ -204,8 +211,10 @@ void ResidualSection::draw_switches(const AppSnapshot& snap, AppState& state, bo
     ImGui::Checkbox(("show " + r.after_model).c_str(), &show_corrected_);
     if (ImGui::IsItemHovered())
       wrapped_tooltip(display_name(r.model_id) + "'s panel shows the loop's answer instead, at its fitted parameters");
-    if (show_corrected_ && !have_poses) ImGui::TextDisabled("(needs a replay with measurements)");
-    else if (show_corrected_ && corrected_job_.running()) ImGui::TextDisabled("computing the corrected fields ...");
+    if (show_corrected_ && !have_poses)
+      ImGui::TextDisabled("(needs a replay with measurements)");
+    else if (show_corrected_ && corrected_job_.running())
+      ImGui::TextDisabled("computing the corrected fields ...");
   }
 }
 

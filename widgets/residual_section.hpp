@@ -58,11 +58,11 @@ class ResidualSection {
   std::optional<ResidualSummary> residual_;
   std::string path_ = "residual.json";
   bool show_residual_fields_ = false;
-  int contact_table_ = 0;   // the contact-frame table shown
+  int contact_table_ = 0;  // the contact-frame table shown
   bool show_corrected_ = true;
   FieldSeriesJob corrected_job_;
   bool corrected_started_ = false;
-  bool open_section_ = false;   // a new analysis opens its section once
+  bool open_section_ = false;  // a new analysis opens its section once
 };
 
 }  // namespace sb::ui

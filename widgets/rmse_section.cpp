@@ -61,7 +61,7 @@ void RmseSection::draw(const AppSnapshot& snap) const {
     const float h = 34.0f;
     ImGui::PlotLines(("##rmse" + std::to_string(m)).c_str(), v.data(), static_cast<int>(v.size()), 0, overlay, 0.0f,
                      FLT_MAX, ImVec2(width, h));
-    if (!v.empty() && snap.step >= 0) {   // the current frame
+    if (!v.empty() && snap.step >= 0) {  // the current frame
       const float x = p0.x + width * (static_cast<float>(std::min<std::size_t>(snap.step, v.size() - 1)) + 0.5f) /
                                  static_cast<float>(v.size());
       ImGui::GetWindowDrawList()->AddLine(ImVec2(x, p0.y), ImVec2(x, p0.y + h), IM_COL32(255, 200, 80, 255), 1.5f);

@@ -22,7 +22,7 @@ class RmseSection {
 
  private:
   RmseSeriesJob job_;
-  std::vector<std::vector<double>> params_;   // the parameter values the running/last job used
+  std::vector<std::vector<double>> params_;  // the parameter values the running/last job used
 };
 
 }  // namespace sb::ui

@@ -25,8 +25,8 @@ class SessionSection {
   void draw(WorkbenchRequest& req);
 
  private:
-  std::string field_;   // the Session field (what Save writes to)
-  std::string file_;    // the adopted session file
+  std::string field_;  // the Session field (what Save writes to)
+  std::string file_;   // the adopted session file
   bool unsaved_ = false;
   bool saved_once_ = false;
 };

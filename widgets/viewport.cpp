@@ -9,7 +9,6 @@
 #include <vtkCellPicker.h>
 #include <vtkCubeSource.h>
 #include <vtkFloatArray.h>
-#include <vtkPlane.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkGenericRenderWindowInteractor.h>
 #include <vtkInteractorStyleTrackballCamera.h>
@@ -18,6 +17,7 @@
 #include <vtkNew.h>
 #include <vtkOpenGLFramebufferObject.h>
 #include <vtkOpenGLState.h>
+#include <vtkPlane.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -137,8 +137,8 @@ std::array<unsigned char, 3> rgb_of(ImU32 c) {
 // The flat pad drawn as a top surface grid that can be dented, and its sides and bottom.
 struct PadSurface {
   int nx = 0, ny = 0;
-  std::vector<Vec3> rest_E;     // grid vertices, z = 0 (metres)
-  std::vector<Vec3> now_E;      // with the dent
+  std::vector<Vec3> rest_E;  // grid vertices, z = 0 (metres)
+  std::vector<Vec3> now_E;   // with the dent
   vtkNew<vtkPolyData> top;
   vtkNew<vtkPoints> points;
   vtkNew<vtkFloatArray> normals;
@@ -159,7 +159,8 @@ void PadSurface::build(const Vec2& size_m, double thickness_m) {
   rest_E.resize(static_cast<std::size_t>(nx) * ny);
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i)
-      rest_E[j * nx + i] = Vec3(size_m.x() * (double(i) / (nx - 1) - 0.5), size_m.y() * (double(j) / (ny - 1) - 0.5), 0);
+      rest_E[j * nx + i] =
+          Vec3(size_m.x() * (double(i) / (nx - 1) - 0.5), size_m.y() * (double(j) / (ny - 1) - 0.5), 0);
   now_E = rest_E;
   vtkNew<vtkCellArray> quads;
   for (int j = 0; j + 1 < ny; ++j)
@@ -174,7 +175,7 @@ void PadSurface::build(const Vec2& size_m, double thickness_m) {
   top->SetPoints(points);
   top->SetPolys(quads);
   top->GetPointData()->SetNormals(normals);
-  dented = true;   // upload the flat state once
+  dented = true;  // upload the flat state once
   upload();
   dented = false;
   vtkNew<vtkPolyDataMapper> top_mapper;
@@ -211,12 +212,13 @@ void PadSurface::build(const Vec2& size_m, double thickness_m) {
     a->GetProperty()->SetDiffuse(0.65);
     a->PickableOff();
   }
-  top_actor->GetProperty()->SetOpacity(1.0);   // opaque: the dent is shaded, and nothing is under it to see
+  top_actor->GetProperty()->SetOpacity(1.0);  // opaque: the dent is shaded, and nothing is under it to see
   sides_actor->GetProperty()->SetOpacity(0.45);
 }
 
-void PadSurface::indent(const Indenter& indenter, const Pose& X_EI, double z_min_E, const Eigen::AlignedBox2d& footprint_E) {
-  if (z_min_E >= 0 && !dented) return;   // not touching, and nothing to undo
+void PadSurface::indent(const Indenter& indenter, const Pose& X_EI, double z_min_E,
+                        const Eigen::AlignedBox2d& footprint_E) {
+  if (z_min_E >= 0 && !dented) return;  // not touching, and nothing to undo
   now_E = rest_E;
   dented = z_min_E < 0;
   if (dented) {
@@ -226,8 +228,7 @@ void PadSurface::indent(const Indenter& indenter, const Pose& X_EI, double z_min
     for (std::size_t k = 0; k < rest_E.size(); ++k)
       if (footprint_E.contains(rest_E[k].head<2>())) idx.push_back(k), q.push_back(rest_E[k]);
     indent_down(*indenter.sdf, X_EI, q);
-    for (std::size_t k = 0; k < idx.size(); ++k)
-      now_E[idx[k]].z() = q[k].z() < 0 ? q[k].z() - kDentClearanceM : 0.0;
+    for (std::size_t k = 0; k < idx.size(); ++k) now_E[idx[k]].z() = q[k].z() < 0 ? q[k].z() - kDentClearanceM : 0.0;
   }
   upload();
   dented = z_min_E < 0;
@@ -262,16 +263,16 @@ constexpr std::array<unsigned char, 3> kIndenterContactRgb{255, 150, 30};
 struct Viewport3D::Impl {
   vtkNew<vtkGenericOpenGLRenderWindow> window;
   vtkNew<vtkRenderer> renderer;
-  vtkNew<vtkRenderer> overlay;   // layer 1, same camera: tracked points drawn over the (opaque) indenter
+  vtkNew<vtkRenderer> overlay;  // layer 1, same camera: tracked points drawn over the (opaque) indenter
   vtkNew<vtkGenericRenderWindowInteractor> interactor;
   vtkNew<vtkInteractorStyleTrackballCamera> style;
   vtkNew<vtkCellPicker> picker;
 
-  vtkNew<vtkActor> pad;          // a mesh gel (domed): drawn as its mesh, not dented
-  PadSurface flat_pad;           // a flat gel: a dentable top surface and its sides
+  vtkNew<vtkActor> pad;  // a mesh gel (domed): drawn as its mesh, not dented
+  PadSurface flat_pad;   // a flat gel: a dentable top surface and its sides
   bool flat = true;
   vtkNew<vtkActor> indenter;
-  vtkNew<vtkActor> indenter_ghost;   // a big indenter above the cut, faint
+  vtkNew<vtkActor> indenter_ghost;  // a big indenter above the cut, faint
   vtkNew<vtkPlane> cut_below, cut_above;
   bool big_indenter = false;
   float colour_max_px = 1.0f;
@@ -495,7 +496,7 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.indenter_ghost->PickableOff();
   s.indenter_ghost->SetVisibility(s.big_indenter);
   if (s.big_indenter) {
-    s.cut_below->SetNormal(0, 0, -1);   // keeps z <= the cut (VTK keeps the side the normal points to)
+    s.cut_below->SetNormal(0, 0, -1);  // keeps z <= the cut (VTK keeps the side the normal points to)
     s.cut_above->SetNormal(0, 0, 1);
     ind_mapper->AddClippingPlane(s.cut_below);
     ghost_mapper->AddClippingPlane(s.cut_above);
@@ -525,8 +526,9 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
   s.shown_model = model_index;
   s.colour_max_px = colour_max_px;
   s.dirty = true;
-  const FieldOutput* out =
-      (model_index >= 0 && model_index < static_cast<int>(snap.models.size())) ? &snap.models[model_index].out : nullptr;
+  const FieldOutput* out = (model_index >= 0 && model_index < static_cast<int>(snap.models.size()))
+                               ? &snap.models[model_index].out
+                               : nullptr;
 
   // Indenter pose and contact patch (vertices inside the gel), recoloured only when the pose moved.
   s.moving = s.have_pose && !snap.X_EI.isApprox(s.X_EI_shown, 1e-12);
@@ -535,7 +537,7 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
     s.indenter->SetUserMatrix(vtk_matrix_mm(snap.X_EI));
     const auto& verts = s.indenter_src->mesh.vertices;
     double z_min = 1e9;
-    Eigen::AlignedBox2d footprint;   // where the indenter is below the surface (E, metres)
+    Eigen::AlignedBox2d footprint;  // where the indenter is below the surface (E, metres)
     for (std::size_t i = 0; i < verts.size(); ++i) {
       const Vec3 p_E = snap.X_EI * verts[i];
       z_min = std::min(z_min, p_E.z());
@@ -548,7 +550,8 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
     if (s.flat) {
       // The mesh's vertices bound the part below the surface only to within a triangle: widen by one.
       const double margin = 2.0 * std::max(s.indenter_src->mesh.bounds().sizes().maxCoeff() / 64.0, 0.2e-3);
-      if (!footprint.isEmpty()) footprint = Eigen::AlignedBox2d(footprint.min().array() - margin, footprint.max().array() + margin);
+      if (!footprint.isEmpty())
+        footprint = Eigen::AlignedBox2d(footprint.min().array() - margin, footprint.max().array() + margin);
       s.flat_pad.indent(*s.indenter_src, snap.X_EI, z_min, footprint);
     }
     if (s.big_indenter) {
@@ -579,7 +582,8 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
     // Lift a hair above the surface so the points are not hidden inside the pad.
     p.z() += 0.05e-3;
     const bool coloured = out != nullptr && !out->disp_px.empty();
-    s.markers.add(p * kMmPerM, coloured ? rgb_of(colour_map(float(marker_px[m] / std::max(1e-6f, colour_max_px)))) : kMarkerRgb);
+    s.markers.add(p * kMmPerM,
+                  coloured ? rgb_of(colour_map(float(marker_px[m] / std::max(1e-6f, colour_max_px)))) : kMarkerRgb);
   }
   s.markers.commit();
 
@@ -652,7 +656,7 @@ std::optional<CameraView> Viewport3D::camera_view() const {
 
 void Viewport3D::set_camera_view(const CameraView& view) {
   Impl& s = *impl_;
-  if (!s.camera_set) set_camera(CameraPreset::Iso);   // the view angle and framing of the presets
+  if (!s.camera_set) set_camera(CameraPreset::Iso);  // the view angle and framing of the presets
   vtkCamera* cam = s.renderer->GetActiveCamera();
   cam->SetPosition(view.position.data());
   cam->SetFocalPoint(view.focal_point.data());
@@ -712,8 +716,8 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
     s.camera_button_down[1] = true;
   }
   if (hovered && io.MouseWheel != 0)
-    s.interactor->InvokeEvent(io.MouseWheel > 0 ? vtkCommand::MouseWheelForwardEvent
-                                                : vtkCommand::MouseWheelBackwardEvent, nullptr);
+    s.interactor->InvokeEvent(
+        io.MouseWheel > 0 ? vtkCommand::MouseWheelForwardEvent : vtkCommand::MouseWheelBackwardEvent, nullptr);
 
   if (s.drag != Mode::None && ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
     const double dx = io.MousePos.x - s.mouse_at_press.x, dy = io.MousePos.y - s.mouse_at_press.y;

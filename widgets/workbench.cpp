@@ -7,11 +7,11 @@
 #include <array>
 #include <cfloat>
 #include <chrono>
-#include <thread>
-#include <utility>
 #include <cmath>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <thread>
+#include <utility>
 
 #include "widgets/keys.hpp"
 #include "widgets/replay_section.hpp"
@@ -24,9 +24,9 @@ constexpr double kNudgeM = 0.1e-3;
 constexpr double kPushM = 0.05e-3;
 constexpr double kTwistRad = 2.0 * M_PI / 180.0;
 constexpr float kPad = 6.0f;
-constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize |
-                                    ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse |
-                                    ImGuiWindowFlags_NoBringToFrontOnFocus | ImGuiWindowFlags_NoSavedSettings;
+constexpr ImGuiWindowFlags kFixed = ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
+                                    ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoBringToFrontOnFocus |
+                                    ImGuiWindowFlags_NoSavedSettings;
 
 GLuint upload_rgba(const cv::Mat& rgba, GLuint tex) {
   if (tex == 0) glGenTextures(1, &tex);
@@ -100,7 +100,7 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   replay_.dataset_input = replay_.dataset_dir;
   snap_ = state_->snapshot();
   parameters_.start_session(snap_);
-  rmse_.reset();   // a new sample: its series is computed afresh
+  rmse_.reset();  // a new sample: its series is computed afresh
   residual_.restart_corrected();
   viewport_.set_scene(*state_->sensor(), *state_->indenter());
   display_.start_session(state_->sensor()->markers_rest_px, measured_.disp_px);
@@ -206,8 +206,7 @@ void Workbench::draw_marker_tooltip(int marker, ImVec2 at) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
       ImGui::TextUnformatted(title.c_str());
-      const bool have = field != nullptr && marker < static_cast<int>(field->size()) &&
-                        (*field)[marker].allFinite();
+      const bool have = field != nullptr && marker < static_cast<int>(field->size()) && (*field)[marker].allFinite();
       if (!have) {
         ImGui::TableNextColumn();
         ImGui::TextDisabled(field == nullptr || field->empty() ? "no field" : "lost");
@@ -232,7 +231,7 @@ FieldGrid Workbench::field_grid(float width, float height) const {
   const auto* sensor = state_->sensor().get();
   const float aspect = float(sensor->camera.height_px) / float(sensor->camera.width_px);
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  const int cells = static_cast<int>(snap_.models.size()) + 2;   // the 3D view, the models, Measured
+  const int cells = static_cast<int>(snap_.models.size()) + 2;  // the 3D view, the models, Measured
   FieldGrid g;
   g.cols = cells <= 4 ? 2 : 3;
   g.rows = (cells + g.cols - 1) / g.cols;
@@ -260,7 +259,7 @@ FieldPanelInput Workbench::panel_input(int i, const std::vector<Vec2>* measured,
     if (i == residual_.corrected_slot(snap_) && residual_.corrected_shown()) {
       if (const auto* c = residual_.corrected_at_step(snap_, message_)) {
         field = c;
-        in.title = residual_.corrected_title();   // the loop's answer: the form and its effects
+        in.title = residual_.corrected_title();  // the loop's answer: the form and its effects
       } else {
         in.title += residual_.correcting() ? " (correcting ...)" : "";
       }
@@ -278,10 +277,10 @@ FieldPanelInput Workbench::panel_input(int i, const std::vector<Vec2>* measured,
   }
   in.title = measured_.label;
   in.disp_px = measured;
-  in.note = measured_.disp_px.empty() ? "no measurement (scene)"
+  in.note = measured_.disp_px.empty()            ? "no measurement (scene)"
             : snap_.step >= snap_.measured_steps ? "path edited: no measurement"
                                                  : "no measurement at this step";
-  if (replay_.tracked_markers == 0) {   // an empty sample is said in words, not drawn as 0.00 px
+  if (replay_.tracked_markers == 0) {  // an empty sample is said in words, not drawn as 0.00 px
     in.disp_px = nullptr;
     in.note = "0 of " + std::to_string(replay_.total_markers) + " markers tracked in this sample";
   }
@@ -308,7 +307,7 @@ void Workbench::draw_fields(float width, float height) {
   const float pw = one ? std::min(width, (height - line - 4 - grid.legend_h) * float(iw) / float(ih)) : grid.cell_w;
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   if (!one) draw_view_cell(origin.x + grid.left, origin.y, grid.cell_w, grid.cell_h - 4);
-  std::vector<std::vector<Vec2>> residuals(n);   // measured - model, when the residual view is on
+  std::vector<std::vector<Vec2>> residuals(n);  // measured - model, when the residual view is on
   shown_fields_.clear();
   int hovered = -1;
   ImVec2 hovered_at;
@@ -318,7 +317,7 @@ void Workbench::draw_fields(float width, float height) {
     in.background = background;
     if (i < n - 1 || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
     if (one && i != enlarged) continue;
-    const int cell = i + 1;   // the grid's cell: the 3D view is cell 0
+    const int cell = i + 1;  // the grid's cell: the 3D view is cell 0
     const int row = cell / grid.cols, col = cell % grid.cols;
     const ImVec2 panel_top = one ? ImVec2(origin.x + (width - pw) / 2, origin.y)
                                  : ImVec2(origin.x + grid.left + static_cast<float>(col) * (grid.cell_w + kPad),
@@ -344,7 +343,8 @@ void Workbench::draw_fields(float width, float height) {
     first_shown = false;
   }
   hovered_marker_ = hovered;
-  const float legend_y = one ? origin.y + line + 4 + pw * float(ih) / float(iw) : origin.y + grid.rows * (grid.cell_h + kPad);
+  const float legend_y = one ? origin.y + line + 4 + pw * float(ih) / float(iw)
+                             : origin.y + grid.rows * (grid.cell_h + kPad);
   ImGui::SetCursorScreenPos(ImVec2(origin.x + (one ? (width - pw) / 2 : grid.left), legend_y));
   draw_field_legend(display_.scale(), pw / float(iw), one ? pw : width - 2 * grid.left);
   if (hovered >= 0) draw_marker_tooltip(hovered, hovered_at);
@@ -362,16 +362,22 @@ void Workbench::draw_view_cell(float x, float y, float w, float h) {
 }
 
 void Workbench::draw_view_legend(ImVec2 at, float width) {
-  const std::string model = snap_.models.empty() ? std::string("-") : display_name(snap_.models[display_.marker_model()].id);
-  struct Item { ImU32 colour; std::string text; bool line; ImVec2 pos; };
-  std::vector<Item> items = {
-      {IM_COL32(230, 230, 120, 255), "markers: |d| of " + model + " (panel colours)", false, {}},
-      {IM_COL32(60, 200, 90, 255), "stick", false, {}}, {IM_COL32(240, 150, 40, 255), "slip", false, {}},
-      {IM_COL32(150, 150, 150, 255), "free (tracked points)", false, {}},
-      {IM_COL32(220, 220, 220, 255), "line: a tracked point to its anchor", true, {}}};
+  const std::string model = snap_.models.empty() ? std::string("-")
+                                                 : display_name(snap_.models[display_.marker_model()].id);
+  struct Item {
+    ImU32 colour;
+    std::string text;
+    bool line;
+    ImVec2 pos;
+  };
+  std::vector<Item> items = {{IM_COL32(230, 230, 120, 255), "markers: |d| of " + model + " (panel colours)", false, {}},
+                             {IM_COL32(60, 200, 90, 255), "stick", false, {}},
+                             {IM_COL32(240, 150, 40, 255), "slip", false, {}},
+                             {IM_COL32(150, 150, 150, 255), "free (tracked points)", false, {}},
+                             {IM_COL32(220, 220, 220, 255), "line: a tracked point to its anchor", true, {}}};
   const float lh = ImGui::GetTextLineHeight();
   float x = 0, y = 0, right = 0;
-  for (std::size_t k = 0; k < items.size(); ++k) {   // rows: the markers, the point states, the lines
+  for (std::size_t k = 0; k < items.size(); ++k) {  // rows: the markers, the point states, the lines
     const float w = ImGui::CalcTextSize(items[k].text.c_str()).x + 14;
     if (k == 1 || k == 4 || (k > 0 && x + w > width - 12)) x = 0, y += lh + 2;
     items[k].pos = ImVec2(at.x + 6 + x, at.y + 4 + y);
@@ -380,11 +386,14 @@ void Workbench::draw_view_legend(ImVec2 at, float width) {
   }
   ImDrawList* dl = ImGui::GetWindowDrawList();
   dl->PushClipRect(at, ImVec2(at.x + width, at.y + y + lh + 12), true);
-  dl->AddRectFilled(ImVec2(at.x + 2, at.y + 2), ImVec2(at.x + 6 + right, at.y + 6 + y + lh), IM_COL32(20, 20, 25, 170), 3.0f);
+  dl->AddRectFilled(ImVec2(at.x + 2, at.y + 2), ImVec2(at.x + 6 + right, at.y + 6 + y + lh), IM_COL32(20, 20, 25, 170),
+                    3.0f);
   for (const Item& it : items) {
     const float cy = it.pos.y + lh / 2;
-    if (it.line) dl->AddLine(ImVec2(it.pos.x + 1, cy), ImVec2(it.pos.x + 10, cy), it.colour, 1.5f);
-    else dl->AddCircleFilled(ImVec2(it.pos.x + 5, cy), 4.0f, it.colour);
+    if (it.line)
+      dl->AddLine(ImVec2(it.pos.x + 1, cy), ImVec2(it.pos.x + 10, cy), it.colour, 1.5f);
+    else
+      dl->AddCircleFilled(ImVec2(it.pos.x + 5, cy), 4.0f, it.colour);
     dl->AddText(ImVec2(it.pos.x + 14, it.pos.y), IM_COL32(240, 240, 240, 255), it.text.c_str());
   }
   dl->PopClipRect();
@@ -423,8 +432,10 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   const float line = ImGui::GetTextLineHeightWithSpacing();
   // As tall as the status text wrapped to the window's width (an error is read whole), at most four lines.
   const float status_text_h = ImGui::CalcTextSize(status_text(snap_, frame_ms, options_.show_timings, message_).c_str(),
-                                                  nullptr, false, W - 2 * ImGui::GetStyle().WindowPadding.x).y;
-  const float status_h = std::min(status_text_h, 4 * ImGui::GetTextLineHeight()) + line + 8 - ImGui::GetTextLineHeight();
+                                                  nullptr, false, W - 2 * ImGui::GetStyle().WindowPadding.x)
+                                  .y;
+  const float status_h = std::min(status_text_h, 4 * ImGui::GetTextLineHeight()) + line + 8 -
+                         ImGui::GetTextLineHeight();
   const float left_w = std::clamp(0.25f * W, 300.0f, 400.0f);
   const float right_w = W - left_w;
 

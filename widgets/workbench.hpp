@@ -15,10 +15,10 @@
 #include <string>
 #include <vector>
 
-#include "core/workbench/app_state.hpp"
-#include "core/workbench/field_export.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/loop/residual_view.hpp"
+#include "core/workbench/app_state.hpp"
+#include "core/workbench/field_export.hpp"
 #include "widgets/dialogs.hpp"
 #include "widgets/display_section.hpp"
 #include "widgets/export_row.hpp"
@@ -38,20 +38,20 @@
 namespace sb::ui {
 
 // Error metrics of a simulated field against a measured one (supplied by the app: core/calibration/metrics.hpp).
-using MetricsFn = std::function<std::optional<FieldMetrics>(const std::vector<Vec2>& sim,
-                                                            const std::vector<Vec2>& measured)>;
+using MetricsFn =
+    std::function<std::optional<FieldMetrics>(const std::vector<Vec2>& sim, const std::vector<Vec2>& measured)>;
 
 struct WorkbenchOptions {
-  bool show_timings = true;   // off in render tests: no timing text in the image
+  bool show_timings = true;  // off in render tests: no timing text in the image
   bool interactive = true;
 };
 
 // Where the right column's grid puts its cells (the 3D view first, then the field panels).
 struct FieldGrid {
   int cols = 3, rows = 2;
-  float cell_w = 0, cell_h = 0;   // a cell's width and height (title row, image, gap)
-  float left = 0;                 // the grid's left margin (centred in the column)
-  float legend_h = 0;             // the shared legend under the grid (field_legend_height, once a frame)
+  float cell_w = 0, cell_h = 0;  // a cell's width and height (title row, image, gap)
+  float left = 0;                // the grid's left margin (centred in the column)
+  float legend_h = 0;            // the shared legend under the grid (field_legend_height, once a frame)
 };
 
 class Workbench {
@@ -159,9 +159,9 @@ class Workbench {
   MetricsFn metrics_;
   Viewport3D viewport_;
   std::unique_ptr<Textures> textures_;
-  AppSnapshot snap_;           // taken once per frame: every section draws from it
+  AppSnapshot snap_;  // taken once per frame: every section draws from it
   std::string data_root_;
-  std::string message_;        // the status bar's message
+  std::string message_;  // the status bar's message
   // The sections, in the order the control column shows them.
   PoseSection pose_;
   DisplaySection display_;
@@ -175,8 +175,8 @@ class Workbench {
   LoadingDialog loading_;
   bool show_help_ = false;
   // The field area (the right column).
-  std::string enlarged_;           // the enlarged field panel's name, "" for none
-  int hovered_marker_ = -1;        // the marker under the mouse in the last frame (ringed in every panel)
+  std::string enlarged_;     // the enlarged field panel's name, "" for none
+  int hovered_marker_ = -1;  // the marker under the mouse in the last frame (ringed in every panel)
   int forced_hover_ = -1;
   // What the field panels drew in this frame (title, field or null), for the marker tooltip.
   std::vector<std::pair<std::string, const std::vector<Vec2>*>> shown_fields_;

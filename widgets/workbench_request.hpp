@@ -9,7 +9,7 @@ namespace sb::ui {
 
 // A part of the window in window pixels (top-left origin), for one-panel screenshots.
 struct ScreenRegion {
-  std::string name;   // "3D view", a model's display name, "Measured"
+  std::string name;  // "3D view", a model's display name, "Measured"
   float x = 0, y = 0, w = 0, h = 0;
 };
 
@@ -24,10 +24,10 @@ struct WorkbenchRequest {
   std::optional<std::string> save_params;
   std::optional<std::string> save_session;  // session file path
   std::optional<std::string> open_session;
-  std::optional<std::string> load_residual;  // a residual JSON (shearbench residual --json)
-  std::optional<std::string> export_fields;  // a folder: every model's field along the path, tsd/1 each
-  std::optional<std::pair<int, std::string>> switch_model;   // (slot, model id): FOTS / TacSL variant
-  std::optional<std::string> beside_hydroshear;   // a HydroShear variant in its own panel ("": remove it)
+  std::optional<std::string> load_residual;                 // a residual JSON (shearbench residual --json)
+  std::optional<std::string> export_fields;                 // a folder: every model's field along the path, tsd/1 each
+  std::optional<std::pair<int, std::string>> switch_model;  // (slot, model id): FOTS / TacSL variant
+  std::optional<std::string> beside_hydroshear;             // a HydroShear variant in its own panel ("": remove it)
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };

@@ -79,9 +79,10 @@ std::string data_path(const std::string& path, const std::string& data_root) {
 
 void require_exists(const std::string& path, const std::string& what) {
   if (!fs::exists(path))
-    throw InputError(path, what + " not found (a path under the data root is written data:twin/twin_sphere35; "
-                                  "data root: set --data or SHEARBENCH_DATA; default ../shared/data beside the "
-                                  "working folder or the source checkout)");
+    throw InputError(path, what +
+                               " not found (a path under the data root is written data:twin/twin_sphere35; "
+                               "data root: set --data or SHEARBENCH_DATA; default ../shared/data beside the "
+                               "working folder or the source checkout)");
 }
 
 }  // namespace sb

@@ -11,7 +11,10 @@ static std::string format_location(const std::string& file, int line, int column
 
 InputError::InputError(std::string file, int line, int column, const std::string& what)
     : std::runtime_error(format_location(file, line, column, what)),
-      file_(std::move(file)), line_(line), column_(column), detail_(what) {}
+      file_(std::move(file)),
+      line_(line),
+      column_(column),
+      detail_(what) {}
 
 std::string printable(std::string_view text, std::size_t max_chars) {
   static constexpr char kHex[] = "0123456789abcdef";

@@ -66,9 +66,10 @@ std::string home_dir() {
   const std::string how = "set SHEARBENCH_HOME or pass --home to the folder holding scenes/ and assets/params";
   if (home.empty()) {
     const fs::path dir = fs::path(exe).parent_path();
-    throw InputError(exe.empty() ? "shearbench" : exe,
-                     "shearbench's own files not found: looked for " + (dir.parent_path() / "share/shearbench").string() +
-                         " (installed) and " + (dir / kBuildHomeFile).string() + " (a build folder); " + how);
+    throw InputError(exe.empty() ? "shearbench" : exe, "shearbench's own files not found: looked for " +
+                                                           (dir.parent_path() / "share/shearbench").string() +
+                                                           " (installed) and " + (dir / kBuildHomeFile).string() +
+                                                           " (a build folder); " + how);
   }
   if (!holds_marker(home))
     throw InputError(home, std::string("not a shearbench home (no ") + kHomeMarker + " in it; from " +

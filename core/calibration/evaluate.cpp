@@ -1,5 +1,5 @@
-#include "core/base/reproducible.hpp"
 #include "core/calibration/evaluate.hpp"
+#include "core/base/reproducible.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -8,8 +8,8 @@
 #include <cstdio>
 #include <mutex>
 
-#include "core/data/json_read.hpp"
 #include "core/base/format.hpp"
+#include "core/data/json_read.hpp"
 
 namespace sb {
 
@@ -82,8 +82,9 @@ nlohmann::json params_for_model(const nlohmann::json& params_file, const std::st
   }
   if (all_numbers) {
     if (!flat_allowed)
-      jsonin::fail(where, "", "a flat parameter table is for one model; key it by model id ({\"" + model_id +
-                                  "\": {...}}) when running several");
+      jsonin::fail(where, "",
+                   "a flat parameter table is for one model; key it by model id ({\"" + model_id +
+                       "\": {...}}) when running several");
     return params_file;
   }
   jsonin::fail(where, "", "expected {model id: {name: number}} or a flat {name: number} table");
@@ -158,7 +159,8 @@ std::string evaluation_to_markdown(const std::vector<EvaluationResult>& results,
       s += " " + format_number(m.rmse_px, "%.3f", "–") + " | " + format_number(m.cs, "%.3f", "–") + " |";
     }
     const MetricsResult o = r.metrics.overall.result();
-    s += " " + format_number(o.rmse_px, "%.3f", "–") + " | " + format_number(o.cs, "%.3f", "–") + " | " + std::to_string(o.n) + " |\n";
+    s += " " + format_number(o.rmse_px, "%.3f", "–") + " | " + format_number(o.cs, "%.3f", "–") + " | " +
+         std::to_string(o.n) + " |\n";
   }
   return s;
 }

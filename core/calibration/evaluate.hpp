@@ -14,8 +14,8 @@
 #include <vector>
 
 #include "core/calibration/metrics.hpp"
-#include "core/models/model.hpp"
 #include "core/data/tsd.hpp"
+#include "core/models/model.hpp"
 
 namespace sb {
 
@@ -26,14 +26,14 @@ using ModelFactory = std::function<std::unique_ptr<ShearModel>(const TsdSampleIn
 // One scored frame's field (kept when asked: `evaluate --predictions`).
 struct ScoredFrame {
   int frame = 0;
-  std::vector<Vec2> pred_px, meas_px;   // per marker; NaN where the tracker lost a marker
+  std::vector<Vec2> pred_px, meas_px;  // per marker; NaN where the tracker lost a marker
 };
 
 struct SampleEvaluation {
   std::string sample_id;
   std::string motion;
   MetricsAccumulator metrics;
-  std::vector<ScoredFrame> fields;      // empty unless keep_fields
+  std::vector<ScoredFrame> fields;  // empty unless keep_fields
 };
 
 struct EvaluationResult {

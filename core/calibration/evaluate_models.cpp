@@ -4,8 +4,8 @@
 #include <map>
 #include <mutex>
 
-#include "core/effects/model_spec.hpp"
 #include "core/calibration/evaluate.hpp"
+#include "core/effects/model_spec.hpp"
 
 namespace sb {
 
@@ -36,8 +36,7 @@ std::shared_ptr<const Indenter> cached_dataset_indenter(const Dataset& ds, const
 }  // namespace
 
 ModelFactory dataset_model_factory(const Dataset& ds, const std::string& model_id, const nlohmann::json& params,
-                                   const std::string& data_root, const std::string& params_where,
-                                   Warnings* warnings) {
+                                   const std::string& data_root, const std::string& params_where, Warnings* warnings) {
   ParamSet param_set = model_spec_params(model_id);
   param_set.update_from_json(params, params_where);
   std::shared_ptr<const Sensor> sensor;

@@ -1,15 +1,15 @@
 // Staged least-squares calibration (see fit.hpp for the objective).
-#include "core/base/reproducible.hpp"
 #include "core/calibration/fit.hpp"
+#include "core/base/reproducible.hpp"
 
 #include <ceres/ceres.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <atomic>
-#include <limits>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -28,7 +28,7 @@ namespace {
 // the value. Deliberately coarse so the difference steps over the models' small non-smooth features
 // (stick/slip switches of single points, FOTS's integer-pixel truncation) instead of reading zero.
 constexpr double kDiffStepLog = 1e-3;
-constexpr double kDiffStepLinear = 1e-3;       // relative to max(|x|, 1 % of the range)
+constexpr double kDiffStepLinear = 1e-3;  // relative to max(|x|, 1 % of the range)
 // Coarse scan: default * 10^(k * step) for k = -n..n, i.e. two decades either side of the default.
 constexpr double kScanDecades = 2.0;
 constexpr int kScanPoints1d = 9;
@@ -40,7 +40,7 @@ constexpr double kRescaleMinNorm2 = 1e-12;
 struct ParamMap {
   std::vector<int> index;
   std::vector<bool> log;
-  std::vector<bool> field_only;   // the model's own table says so (its finite differences replay less)
+  std::vector<bool> field_only;  // the model's own table says so (its finite differences replay less)
   std::vector<double> lo, hi;
 
   ParamMap(const ParamSet& p, const std::vector<std::string>& names, const std::string& model_id) {
@@ -93,7 +93,7 @@ struct SampleSlot {
   const FitSample* sample;
   ShearModel* model;
   const std::vector<int>* active;
-  int offset;                                  // first scored marker-frame of this sample
+  int offset;  // first scored marker-frame of this sample
 };
 
 // A model with a single-precision option (hydroshear-contact's "float32") runs in double while fitted: its
@@ -108,8 +108,13 @@ class StageEvaluator {
  public:
   StageEvaluator(std::vector<SampleSlot> slots, const ParamSet& base, const ParamMap& map, bool rescale,
                  RobustLoss robust, double robust_scale, const std::atomic<bool>* cancel)
-      : slots_(std::move(slots)), base_(base), map_(map), rescale_(rescale), robust_(robust),
-        robust_scale_(robust_scale), cancel_(cancel) {
+      : slots_(std::move(slots)),
+        base_(base),
+        map_(map),
+        rescale_(rescale),
+        robust_(robust),
+        robust_scale_(robust_scale),
+        cancel_(cancel) {
     for (const auto& s : slots_) n_ += static_cast<int>(s.active->size());
     pred_.resize(n_);
     meas_.resize(n_);
@@ -210,7 +215,7 @@ class StageEvaluator {
   int n_ = 0;
   int evaluations_ = 0;
   std::vector<Vec2> pred_, meas_;
-  std::vector<std::unique_ptr<ShearModel>> scored_start_;   // per slot, the last Central run's state
+  std::vector<std::unique_ptr<ShearModel>> scored_start_;  // per slot, the last Central run's state
 };
 
 // Central differences, one-sided at a bound.
@@ -232,7 +237,8 @@ class StageCost final : public ceres::CostFunction {
       return true;
     };
     const bool columns = jacobians && jacobians[0];
-    if (!ev_->residuals(x, residuals, nullptr, nullptr, columns ? StageEvaluator::Run::Central : StageEvaluator::Run::Full))
+    if (!ev_->residuals(x, residuals, nullptr, nullptr,
+                        columns ? StageEvaluator::Run::Central : StageEvaluator::Run::Full))
       return cancelled();
     if (!columns) return true;
     std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
@@ -375,7 +381,9 @@ const std::vector<FitStage>& form_fit_stages(const std::string& id) {
         {"friction", {"mu"}, {"slip"}, false, {"shear"}},
         {"layer-stick",
          {"lambda_d", "kappa_d", "lambda_s", "beta_s", "lambda_s2", "stick_sat", "kappa_s", "mu"},
-         {"dilation", "shear", "twist", "roll", "slip"}, false, {}},
+         {"dilation", "shear", "twist", "roll", "slip"},
+         false,
+         {}},
         {"contact", {"beta_s3", "lambda_s3", "follow", "aniso_s3"}, {"shear", "twist", "roll", "slip"}, false, {}}}},
       // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
       // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
@@ -390,15 +398,13 @@ const std::vector<FitStage>& form_fit_stages(const std::string& id) {
       // TacSL: gain_px * k_n is one factor, so k_n stays at 1 and the gain is fitted on presses; the
       // tangential law (k_t, mu) on slides.
       {"tacsl",
-       {{"normal-gain", {"gain_px"}, {"dilation"}, false, {}},
-        {"tangential", {"kt", "mu"}, {"shear"}, false, {}}}},
+       {{"normal-gain", {"gain_px"}, {"dilation"}, false, {}}, {"tangential", {"kt", "mu"}, {"shear"}, false, {}}}},
       // Normalised TacSL outputs gain * unit direction: the gain sets every magnitude, k_t / k_n turns the
       // direction between the normal push and the tangential drag. mu only acts where the drag saturates
       // and is close to unidentifiable from directions (a test fit from its own data put it at the bound
       // with 0.04 px RMSE left), so it keeps its default.
       {"tacsl-normalized",
-       {{"gain", {"gain_px"}, {"dilation", "shear"}, false, {}},
-        {"direction", {"kt"}, {"shear"}, false, {}}}},
+       {{"gain", {"gain_px"}, {"dilation", "shear"}, false, {}}, {"direction", {"kt"}, {"shear"}, false, {}}}},
   };
   const auto it = table.find(id);
   if (it == table.end()) throw std::invalid_argument("fit: no stage table for model '" + id + "'");
@@ -459,8 +465,8 @@ std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSampl
   return out;
 }
 
-void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first,
-                     std::vector<std::vector<Vec2>>* out, const std::function<void(std::size_t)>& before_frame) {
+void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first, std::vector<std::vector<Vec2>>* out,
+                     const std::function<void(std::size_t)>& before_frame) {
   FieldOutput field;
   for (std::size_t k = first; k < sample.X_EI.size(); ++k) {
     if (before_frame) before_frame(k);
@@ -479,13 +485,19 @@ void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t fir
 nlohmann::json CalibrationResult::report_json() const {
   nlohmann::json st = nlohmann::json::array();
   for (const auto& s : stages) {
-    nlohmann::json j = {{"name", s.name},       {"params", s.params},
-                        {"motions", s.motions}, {"samples", s.samples},
-                        {"marker_frames", s.residuals}, {"loss_before", s.loss_before},
-                        {"loss_after", s.loss_after},   {"rmse_before_px", s.rmse_before_px},
-                        {"rmse_after_px", s.rmse_after_px}, {"iterations", s.iterations},
+    nlohmann::json j = {{"name", s.name},
+                        {"params", s.params},
+                        {"motions", s.motions},
+                        {"samples", s.samples},
+                        {"marker_frames", s.residuals},
+                        {"loss_before", s.loss_before},
+                        {"loss_after", s.loss_after},
+                        {"rmse_before_px", s.rmse_before_px},
+                        {"rmse_after_px", s.rmse_after_px},
+                        {"iterations", s.iterations},
                         {"model_runs", s.evaluations},
-                        {"termination", s.termination}, {"skipped", s.skipped}};
+                        {"termination", s.termination},
+                        {"skipped", s.skipped}};
     if (timings_in_outputs()) j["time_s"] = s.time_s;
     if (s.scale != 1.0) j["rescale"] = s.scale;
     if (!s.note.empty()) j["note"] = s.note;
@@ -496,8 +508,9 @@ nlohmann::json CalibrationResult::report_json() const {
   return out;
 }
 
-CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
-                         const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
+CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make,
+                                 const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
+                                 const ParamSet& start, const FitOptions& o) {
   // One model per sample, cloned from one prototype per indenter (building one can be costly).
   std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
   const FitSampleModelFactory per_sample = [&](const FitSample& s, std::size_t) {
@@ -581,14 +594,14 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
     so.function_tolerance = 1e-10;
     so.parameter_tolerance = 1e-10;
     so.gradient_tolerance = 1e-14;
-    so.num_threads = 1;                        // the samples already run in parallel
+    so.num_threads = 1;  // the samples already run in parallel
     so.logging_type = ceres::SILENT;
     ProgressCallback cb(stage.name, o);
     so.callbacks.push_back(&cb);
     ceres::Solver::Summary summary;
     ceres::Solve(so, &problem, &summary);
 
-    if (ev.cancelled()) {                      // discard the partial stage: keep the last good parameters
+    if (ev.cancelled()) {  // discard the partial stage: keep the last good parameters
       result.cancelled = true;
       break;
     }
@@ -620,7 +633,7 @@ void hold_after_first_stage(const std::vector<std::string>& hold, std::vector<Fi
 }
 
 CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
-                    const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
+                            const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& o) {
   const auto& table = fit_stages(model_id);
   std::vector<FitStage> stages;
   for (const auto& name : o.stages) {
@@ -629,8 +642,8 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
     if (!known) {
       std::vector<std::string> names;
       for (const auto& s : table) names.push_back(s.name);
-      throw std::invalid_argument("fit: model '" + model_id + "' has no stage '" + name + "' (stages: " +
-                                  join(names, ", ") + ", joint)");
+      throw std::invalid_argument("fit: model '" + model_id + "' has no stage '" + name +
+                                  "' (stages: " + join(names, ", ") + ", joint)");
     }
   }
   const auto wanted = [&](const std::string& n) {
@@ -640,7 +653,9 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
     if (wanted(s.name)) stages.push_back(s);
   if (o.joint || (!o.stages.empty() && wanted("joint"))) stages.push_back(joint_stage(model_id, o.fit_px_scale));
   hold_after_first_stage(o.hold, &stages);
-  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_spec_model(model_id, sensor, ind); };
+  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
+    return make_spec_model(model_id, sensor, ind);
+  };
   return run_fit_stages(model_id, make, stages, samples, start, o);
 }
 
@@ -653,7 +668,8 @@ double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> se
   // One model per indenter, cloned per sample (building one indexes the indenter's points).
   std::map<const Indenter*, std::unique_ptr<ShearModel>> prototypes;
   for (const auto& s : samples)
-    if (!prototypes.count(s.indenter.get())) prototypes[s.indenter.get()] = make_spec_model(model_id, sensor, s.indenter);
+    if (!prototypes.count(s.indenter.get()))
+      prototypes[s.indenter.get()] = make_spec_model(model_id, sensor, s.indenter);
   tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
     auto model = prototypes.at(samples[i].indenter.get())->clone();
     model->set_params(params);

@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "core/geometry/indenter.hpp"
 #include "core/calibration/metrics.hpp"
+#include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
 #include "core/sensor/sensor.hpp"
 
@@ -34,11 +34,11 @@ inline constexpr double kActiveFramePx = kMotionThresholdPx;
 // frame and marker (NaN where the tracker lost the marker).
 struct FitSample {
   std::string id;
-  std::string motion;                          // dilation | shear | twist | roll | slip | free
+  std::string motion;  // dilation | shear | twist | roll | slip | free
   std::string split = "calibration";
   double dt_s = 0.02;
-  std::vector<Pose> X_EI;                      // [frame]
-  std::vector<std::vector<Vec2>> meas_px;      // [frame][marker]
+  std::vector<Pose> X_EI;                  // [frame]
+  std::vector<std::vector<Vec2>> meas_px;  // [frame][marker]
   std::shared_ptr<const Indenter> indenter;
 };
 
@@ -49,10 +49,10 @@ std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas
 // One stage of a model's calibration procedure.
 struct FitStage {
   std::string name;
-  std::vector<std::string> params;             // names in the model's ParamSet
-  std::vector<std::string> motions;            // samples used
-  bool rescale = false;                        // fit the shape with a free per-fit scale
-  std::vector<std::string> fallback_motions;   // used (and reported) when no sample has `motions`
+  std::vector<std::string> params;            // names in the model's ParamSet
+  std::vector<std::string> motions;           // samples used
+  bool rescale = false;                       // fit the shape with a free per-fit scale
+  std::vector<std::string> fallback_motions;  // used (and reported) when no sample has `motions`
 };
 
 // The stage table of a model id (throws std::invalid_argument for an unknown id). A form with effects
@@ -73,23 +73,24 @@ std::string to_string(RobustLoss loss);
 struct FitProgress {
   std::string stage;
   int iteration = 0;
-  double loss = 0;        // Ceres cost 1/2 sum rho
+  double loss = 0;  // Ceres cost 1/2 sum rho
 };
 
 struct StageReport;
 struct CalibrationResult;
 
 struct FitOptions {
-  std::vector<std::string> stages;     // names to run, in table order; empty: all
-  bool joint = false;                  // append the joint refinement
-  bool fit_px_scale = false;           // joint also fits the image scale (fots: px_per_mm; the others' px/m gains are stage params)
+  std::vector<std::string> stages;  // names to run, in table order; empty: all
+  bool joint = false;               // append the joint refinement
+  bool fit_px_scale =
+      false;  // joint also fits the image scale (fots: px_per_mm; the others' px/m gains are stage params)
   // Parameters fitted only in the first stage that lists them: later stages and the joint refinement keep
   // them (a stage left with none is skipped). E.g. {lambda_d, kappa_d}: the dilation kernel as the presses
   // fit it, not moved to serve the shear frames.
   std::vector<std::string> hold;
   RobustLoss robust = RobustLoss::None;
-  double robust_scale_px = 1.0;        // where the robust loss bends
-  int max_iterations = 50;             // per stage
+  double robust_scale_px = 1.0;  // where the robust loss bends
+  int max_iterations = 50;       // per stage
   bool coarse_scan = true;
   std::function<void(const FitProgress&)> progress;
   // Checked between iterations (and between model runs); a cancelled stage is discarded, so the
@@ -102,17 +103,17 @@ struct FitOptions {
 struct StageReport {
   std::string name;
   std::vector<std::string> params;
-  std::vector<std::string> motions;    // motions actually used
+  std::vector<std::string> motions;  // motions actually used
   int samples = 0;
-  int residuals = 0;                   // scored marker-frames
-  double loss_before = 0, loss_after = 0;   // Ceres cost at the stage's start and end
-  double rmse_before_px = 0, rmse_after_px = 0;   // sqrt(mean |s pred - meas|^2) over the scored set
-  double scale = 1;                    // the rescale factor s (rescale stages)
+  int residuals = 0;                             // scored marker-frames
+  double loss_before = 0, loss_after = 0;        // Ceres cost at the stage's start and end
+  double rmse_before_px = 0, rmse_after_px = 0;  // sqrt(mean |s pred - meas|^2) over the scored set
+  double scale = 1;                              // the rescale factor s (rescale stages)
   int iterations = 0;
-  int evaluations = 0;                 // model runs over the stage's samples
+  int evaluations = 0;  // model runs over the stage's samples
   double time_s = 0;
   std::string termination;
-  std::string note;                    // e.g. "no slip samples: fitted on shear"
+  std::string note;  // e.g. "no slip samples: fitted on shear"
   bool skipped = false;
 };
 
@@ -133,8 +134,9 @@ using FitModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_pt
 
 // The engine: runs `stages` in order from `start` (options.stages / joint are ignored here). Usable with
 // any ShearModel, which is how the Ceres part is tested on its own.
-CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make, const std::vector<FitStage>& stages,
-                         const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
+CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make,
+                                 const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
+                                 const ParamSet& start, const FitOptions& options);
 // Makes the model of samples[index] (a model that may depend on the sample, e.g. one replaying a
 // recorded base-model field while only effect parameters are fitted, core/loop/residual.cpp).
 using FitSampleModelFactory = std::function<std::unique_ptr<ShearModel>(const FitSample&, std::size_t index)>;
@@ -142,10 +144,10 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
                                             const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
                                             const ParamSet& start, const FitOptions& options);
 
-// Runs the stages of `model_id` from `start` (the table, filtered by options.stages, plus the joint stage). Throws std::invalid_argument for unknown stage names or
-// parameters, and when a sample is not from the calibration split.
+// Runs the stages of `model_id` from `start` (the table, filtered by options.stages, plus the joint stage). Throws
+// std::invalid_argument for unknown stage names or parameters, and when a sample is not from the calibration split.
 CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
-                    const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
+                            const std::vector<FitSample>& samples, const ParamSet& start, const FitOptions& options);
 
 // The model's prediction for every frame of a sample (the model is reset first). A frame whose measured
 // markers are all NaN (recorded, nothing tracked: the TacTip's slide frames before its one image) is stepped
@@ -154,8 +156,8 @@ bool frame_unmeasured(const FitSample& sample, std::size_t k);
 std::vector<std::vector<Vec2>> simulate_sample(ShearModel& model, const FitSample& sample);
 // Steps `model` (not reset) through frames first.. of `sample` into (*out)[k] (sized to the sample's frames), as
 // simulate_sample does; before_frame(k), when given, is called before each step.
-void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first,
-                     std::vector<std::vector<Vec2>>* out, const std::function<void(std::size_t)>& before_frame = {});
+void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t first, std::vector<std::vector<Vec2>>* out,
+                     const std::function<void(std::size_t)>& before_frame = {});
 
 // RMSE (px) of `params` over the scored marker-frames of `samples` (no robust loss, no rescale).
 double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> sensor,

@@ -14,14 +14,15 @@ namespace sb {
 
 struct FitData {
   std::shared_ptr<const Sensor> sensor;
-  std::map<std::string, std::shared_ptr<const Indenter>> indenters;   // by dataset indenter name
-  std::vector<FitSample> samples;                                     // calibration only, dataset order
+  std::map<std::string, std::shared_ptr<const Indenter>> indenters;  // by dataset indenter name
+  std::vector<FitSample> samples;                                    // calibration only, dataset order
 };
 
 // The dataset's sensor (flat pad or its gel mesh) with its marker layout.
 std::shared_ptr<const Sensor> dataset_sensor(const Dataset& ds);
 // Builds each indenter the samples with `split` use (all samples when split is empty) from its mesh.
-std::map<std::string, std::shared_ptr<const Indenter>> dataset_indenters(const Dataset& ds, const std::string& data_root,
+std::map<std::string, std::shared_ptr<const Indenter>> dataset_indenters(const Dataset& ds,
+                                                                         const std::string& data_root,
                                                                          const std::string& split = "",
                                                                          Warnings* warnings = nullptr);
 // Reads the calibration samples of `ds` (and nothing else). Throws InputError when it has none.

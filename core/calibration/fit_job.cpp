@@ -12,9 +12,8 @@ namespace sb {
 void FitJob::start(FitJobRequest request) {
   FitJobStatus loading;
   loading.phase = FitJobStatus::Phase::Loading;
-  job_.start(std::move(loading), [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) {
-    run(req, cancel, job);
-  });
+  job_.start(std::move(loading),
+             [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) { run(req, cancel, job); });
 }
 
 void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job& job) {
@@ -52,7 +51,7 @@ void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job&
       s.error = e.what();
     });
   }
-  return_free_memory_to_os();   // the dataset and the fit's buffers are gone by here
+  return_free_memory_to_os();  // the dataset and the fit's buffers are gone by here
 }
 
 }  // namespace sb

@@ -7,38 +7,38 @@
 #include <string>
 #include <vector>
 
-#include "core/calibration/fit.hpp"
 #include "core/base/status_job.hpp"
+#include "core/calibration/fit.hpp"
 
 namespace sb {
 
 struct FitJobRequest {
-  std::string dataset_dir;              // tsd/1 folder (its calibration split is fitted)
+  std::string dataset_dir;  // tsd/1 folder (its calibration split is fitted)
   std::string data_root;
   std::string model_id;
-  ParamSet start;                       // the parameters the user has now
-  std::vector<std::string> stages;      // empty: the model's whole table
-  bool joint = true;   // stages, then the joint refinement: the best fit (false: the paper's stages only)
+  ParamSet start;                   // the parameters the user has now
+  std::vector<std::string> stages;  // empty: the model's whole table
+  bool joint = true;                // stages, then the joint refinement: the best fit (false: the paper's stages only)
   int max_iterations = 30;
 };
 
 struct FitJobStatus {
   enum class Phase { Idle, Loading, Fitting, Done, Cancelled, Failed } phase = Phase::Idle;
-  std::string stage;                    // current stage
+  std::string stage;  // current stage
   int iteration = 0;
-  std::vector<float> losses;            // Ceres cost after every iteration reported, all stages
-  std::string error;                    // Failed: why
-  std::optional<CalibrationResult> result;   // Done (and Cancelled: the completed stages)
-  double calibration_rmse_before_px = 0, calibration_rmse_after_px = 0;   // RMSE over the calibration split
+  std::vector<float> losses;                // Ceres cost after every iteration reported, all stages
+  std::string error;                        // Failed: why
+  std::optional<CalibrationResult> result;  // Done (and Cancelled: the completed stages)
+  double calibration_rmse_before_px = 0, calibration_rmse_after_px = 0;  // RMSE over the calibration split
   bool running() const { return phase == Phase::Loading || phase == Phase::Fitting; }
 };
 
 class FitJob {
  public:
-  void start(FitJobRequest request);    // cancels a running fit first
+  void start(FitJobRequest request);  // cancels a running fit first
   void cancel() { job_.cancel(); }
-  FitJobStatus status() const { return job_.status(); }   // a copy
-  void wait() const { job_.wait(); }    // blocks until not running (tests, headless)
+  FitJobStatus status() const { return job_.status(); }  // a copy
+  void wait() const { job_.wait(); }                     // blocks until not running (tests, headless)
 
  private:
   using Job = StatusJob<FitJobStatus>;

@@ -5,12 +5,12 @@
 #include <filesystem>
 
 #include "core/base/atomic_write.hpp"
+#include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/base/install_paths.hpp"
 #include "core/data/importers.hpp"
 #include "core/data/json_read.hpp"
-#include "core/base/data_root.hpp"
-#include "core/base/install_paths.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/models/model.hpp"
 
@@ -49,7 +49,8 @@ std::string NamedParamSet::summary() const {
 
 std::string NamedParamSet::sensor_model() const {
   if (name == kPublishedParamSet && file.empty()) return "";
-  return provenance.is_object() ? provenance.value("sensor_model", std::string(kDefaultSensorModel)) : kDefaultSensorModel;
+  return provenance.is_object() ? provenance.value("sensor_model", std::string(kDefaultSensorModel))
+                                : kDefaultSensorModel;
 }
 
 std::string param_sets_dir() { return (fs::path(home_dir()) / "assets" / "params").string(); }
@@ -58,7 +59,8 @@ std::vector<std::string> param_set_names() {
   std::vector<std::string> names{kPublishedParamSet};
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(param_sets_dir(), ec))
-    if (e.path().extension() == ".json" && e.path().stem() != kPublishedParamSet) names.push_back(e.path().stem().string());
+    if (e.path().extension() == ".json" && e.path().stem() != kPublishedParamSet)
+      names.push_back(e.path().stem().string());
   std::sort(names.begin() + 1, names.end());
   return names;
 }
@@ -66,8 +68,9 @@ std::vector<std::string> param_set_names() {
 NamedParamSet published_param_set() {
   NamedParamSet s;
   s.name = kPublishedParamSet;
-  s.provenance = {{"description", "the authors' values as their code sets them (BASELINES.md), tuned for their "
-                                  "cameras and units, not fitted to our data"}};
+  s.provenance = {{"description",
+                   "the authors' values as their code sets them (BASELINES.md), tuned for their "
+                   "cameras and units, not fitted to our data"}};
   return s;
 }
 
@@ -115,7 +118,7 @@ NamedParamSet load_param_set(const std::string& name_or_file) {
       jsonin::fail(file, ptr, "unknown model '" + id + "'");
     jsonin::require_object(table, file, ptr);
     s.tables[id] = table;
-    s.params(id);   // every name known and every value in range, reported here rather than at first use
+    s.params(id);  // every name known and every value in range, reported here rather than at first use
   }
   return s;
 }
@@ -135,7 +138,8 @@ void save_param_set(const std::string& path, const NamedParamSet& set) {
   write_file_atomic(path, param_set_to_json(set).dump(2) + "\n");
 }
 
-ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root, const std::string& work_dir) {
+ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root,
+                            const std::string& work_dir) {
   const std::string where = "parameter set provenance";
   if (!provenance.is_object() || !provenance.contains("dataset") || !provenance["dataset"].is_string())
     throw InputError(where, "no \"dataset\"");
@@ -147,8 +151,10 @@ ParamSetData param_set_data(const nlohmann::json& provenance, const std::string&
       throw InputError(where + ": /import", "unknown importer '" + source + "' (known: fots, tactip_shear)");
     const std::string out = (fs::path(work_dir) / "imported").string();
     fs::remove_all(out);
-    if (source == "fots") import_fots(d.dir, out);
-    else import_tactip_shear(d.dir, out);
+    if (source == "fots")
+      import_fots(d.dir, out);
+    else
+      import_tactip_shear(d.dir, out);
     d.dir = out;
   }
   if (provenance.contains("calibration_samples"))

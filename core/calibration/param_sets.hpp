@@ -19,9 +19,9 @@ inline constexpr const char* kPublishedParamSet = "published";
 
 struct NamedParamSet {
   std::string name;
-  std::string file;                       // where it was read from (empty: built in memory)
-  nlohmann::json provenance;              // free-form: dataset, split, command, validation per model
-  std::map<std::string, nlohmann::json> tables;   // model id -> {name: value} (absent: published values)
+  std::string file;                              // where it was read from (empty: built in memory)
+  nlohmann::json provenance;                     // free-form: dataset, split, command, validation per model
+  std::map<std::string, nlohmann::json> tables;  // model id -> {name: value} (absent: published values)
 
   // The model's parameters: the published values with this set's table on top.
   ParamSet params(const std::string& model_id) const;
@@ -57,11 +57,12 @@ nlohmann::ordered_json param_set_to_json(const NamedParamSet& set);
 // "calibration_samples" (the samples that calibrate; the others validate).
 // With "validation_samples" too, only the listed samples are kept (a fixed subset of a large set).
 struct ParamSetData {
-  std::string dir;                              // a tsd/1 dataset folder
-  std::vector<std::string> calibration_ids;     // empty: the dataset's own splits
-  std::vector<std::string> validation_ids;      // non-empty: these validate, samples in neither list are dropped
+  std::string dir;                           // a tsd/1 dataset folder
+  std::vector<std::string> calibration_ids;  // empty: the dataset's own splits
+  std::vector<std::string> validation_ids;   // non-empty: these validate, samples in neither list are dropped
 };
-ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root, const std::string& work_dir);
+ParamSetData param_set_data(const nlohmann::json& provenance, const std::string& data_root,
+                            const std::string& work_dir);
 // That dataset read, with its splits as the set's fit used them.
 Dataset read_param_set_dataset(const ParamSetData& data);
 void save_param_set(const std::string& path, const NamedParamSet& set);

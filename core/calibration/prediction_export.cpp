@@ -3,10 +3,10 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/data/tsd.hpp"
 #include "core/geometry/indenter.hpp"
 #include "core/geometry/mesh.hpp"
 #include "core/sensor/sensor.hpp"
-#include "core/data/tsd.hpp"
 
 namespace fs = std::filesystem;
 

@@ -8,23 +8,23 @@
 #include <string>
 #include <vector>
 
-#include "core/models/model.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/models/model.hpp"
 
 namespace sb {
 
 struct PredictionExport {
-  std::string name;                 // dataset name
+  std::string name;  // dataset name
   std::string sample_id;
   std::string motion = "free";
-  std::string provenance;           // what produced it (model, parameters, source), in words
-  nlohmann::json shearbench;        // machine-readable provenance: {"model", "params", ...}
+  std::string provenance;     // what produced it (model, parameters, source), in words
+  nlohmann::json shearbench;  // machine-readable provenance: {"model", "params", ...}
   std::shared_ptr<const Sensor> sensor;
   std::shared_ptr<const Indenter> indenter;
   double dt_s = 0.02;
-  std::vector<double> t_s;          // per frame; empty: k dt
-  std::vector<Pose> X_EI;           // per frame
-  std::vector<std::vector<Vec2>> disp_px;   // per frame, per marker
+  std::vector<double> t_s;                 // per frame; empty: k dt
+  std::vector<Pose> X_EI;                  // per frame
+  std::vector<std::vector<Vec2>> disp_px;  // per frame, per marker
 };
 
 // Writes the dataset into `dir` (meshes first, then the sample, then dataset.json: a reader never sees a

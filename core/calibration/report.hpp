@@ -1,7 +1,7 @@
 #pragma once
 // The fidelity table (docs/fidelity.md): every model fitted on a dataset's calibration split
-// (core/calibration/fit.hpp) and scored on its validation split (core/calibration/evaluate.hpp), for each dataset, beside the
-// HydroShear paper's own table for scale, with a reading generated from the numbers.
+// (core/calibration/fit.hpp) and scored on its validation split (core/calibration/evaluate.hpp), for each dataset,
+// beside the HydroShear paper's own table for scale, with a reading generated from the numbers.
 #include <string>
 #include <vector>
 
@@ -11,20 +11,20 @@
 namespace sb {
 
 struct DatasetFidelity {
-  std::string dataset;                       // name
+  std::string dataset;  // name
   std::string dir;
-  std::vector<CalibrationResult> fits;       // per model, in model order
-  std::vector<EvaluationResult> fitted;      // validation, fitted parameters
-  std::vector<EvaluationResult> defaults;    // validation, default parameters
+  std::vector<CalibrationResult> fits;     // per model, in model order
+  std::vector<EvaluationResult> fitted;    // validation, fitted parameters
+  std::vector<EvaluationResult> defaults;  // validation, default parameters
   double seconds = 0;
 };
 
 struct FidelityOptions {
   std::vector<std::string> dataset_dirs;
-  std::vector<std::string> models;           // empty: all
+  std::vector<std::string> models;  // empty: all
   FitOptions fit;
-  std::vector<std::string> calibration_ids;   // non-empty: these samples calibrate, the others validate
-  std::vector<std::string> validation_ids;    // non-empty (with calibration_ids): only these validate
+  std::vector<std::string> calibration_ids;  // non-empty: these samples calibrate, the others validate
+  std::vector<std::string> validation_ids;   // non-empty (with calibration_ids): only these validate
   std::string data_root;
   std::function<void(const std::string&)> log;
 };

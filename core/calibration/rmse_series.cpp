@@ -3,8 +3,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/effects/model_spec.hpp"
 #include "core/calibration/metrics.hpp"
+#include "core/effects/model_spec.hpp"
 
 namespace sb {
 
@@ -45,7 +45,7 @@ void RmseSeriesJob::start(RmseSeriesRequest request) {
         series.push_back(rmse_over_time(*model, req.path, req.dt_s, req.measured_px, &cancel_));
       }
     } catch (const std::exception&) {
-      series.clear();   // a pose the model refuses: no plot rather than a wrong one
+      series.clear();  // a pose the model refuses: no plot rather than a wrong one
     }
     if (!cancel_) {
       std::lock_guard<std::mutex> lock(mutex_);

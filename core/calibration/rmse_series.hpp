@@ -23,7 +23,7 @@ std::vector<double> rmse_over_time(ShearModel& model, const std::vector<Pose>& p
 
 struct RmseSeriesRequest {
   std::vector<std::string> model_ids;
-  std::vector<ParamSet> params;                  // per model
+  std::vector<ParamSet> params;  // per model
   std::shared_ptr<const Sensor> sensor;
   std::shared_ptr<const Indenter> indenter;
   std::vector<Pose> path;
@@ -34,7 +34,7 @@ struct RmseSeriesRequest {
 class RmseSeriesJob {
  public:
   ~RmseSeriesJob();
-  void start(RmseSeriesRequest request);   // cancels and replaces a running job
+  void start(RmseSeriesRequest request);  // cancels and replaces a running job
   bool running() const { return running_.load(); }
   // The finished series (one per model) and the generation it belongs to; empty until the first finishes.
   std::vector<std::vector<double>> result(std::uint64_t* generation = nullptr) const;

@@ -12,10 +12,10 @@
 #include <opencv2/videoio.hpp>
 #include <sstream>
 
-#include "core/sensor/camera.hpp"
-#include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/sensor/camera.hpp"
+#include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/tracking/lattice_check.hpp"
 #include "core/tracking/pin_field_prior.hpp"
 
@@ -26,7 +26,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDefaultFps = 25.0;
-constexpr const char* kUnknownContact = "unknown_contact";  // GelSight Mini recordings (SOURCE.md), used when the file has none
+constexpr const char* kUnknownContact =
+    "unknown_contact";  // GelSight Mini recordings (SOURCE.md), used when the file has none
 const char* kAxisNote =
     "Axes: the camera looks along +z_E from inside the gel, so image u (right), v (down) are x_E, y_E of a "
     "right-handed E with +z out of the gel; no mirroring applied.";
@@ -44,17 +45,19 @@ double video_dt_s(const std::string& path) {
 std::string track_summary(const TrackResult& r) {
   std::ostringstream o;
   o << r.frames() << " frames, " << r.markers() << " markers";
-  if (r.grid_rows) o << " (grid " << r.grid_rows << " rows x " << r.grid_cols << " cols)";
-  else o << " (irregular grid at rest)";
+  if (r.grid_rows)
+    o << " (grid " << r.grid_rows << " rows x " << r.grid_cols << " cols)";
+  else
+    o << " (irregular grid at rest)";
   o << ", pitch " << format_number(r.pitch_px, "%.2f") << " px, lost " << format_number(r.lost_fraction(), "%.4f")
     << " of marker-frames";
   return o.str();
 }
 
 // Tracks one video into its own dataset directory; a video that cannot be read is reported, not fatal.
-void import_video(const std::string& video, const std::string& out, const std::string& name,
-                  const TrackerOptions& opts, double mm_per_px, const std::string& origin, const std::string& license,
-                  nlohmann::json extra, ImportReport& report, bool keep_frames) {
+void import_video(const std::string& video, const std::string& out, const std::string& name, const TrackerOptions& opts,
+                  double mm_per_px, const std::string& origin, const std::string& license, nlohmann::json extra,
+                  ImportReport& report, bool keep_frames) {
   TrackResult r;
   try {
     r = track_video(video, opts);
@@ -64,8 +67,8 @@ void import_video(const std::string& video, const std::string& out, const std::s
   }
   std::string note = origin + " Tracked with shearbench's marker tracker (rest = median of the first " +
                      std::to_string(opts.rest_frames) + " frames, grid auto-detected: " + track_summary(r) +
-                     "). Scale " + format_number(mm_per_px, "%.4f") + " mm/px (vendor README), principal point the image centre. " +
-                     kAxisNote + " " + kPoseNote;
+                     "). Scale " + format_number(mm_per_px, "%.4f") +
+                     " mm/px (vendor README), principal point the image centre. " + kAxisNote + " " + kPoseNote;
   for (const auto& w : r.warnings) note += " Tracker warning: " + w + ".";
   TsdDatasetOut ds = dataset_from_track(r, name, name, video_dt_s(video), mm_per_px, note);
   ds.license = license;
@@ -73,9 +76,11 @@ void import_video(const std::string& video, const std::string& out, const std::s
   if (keep_frames) {
     std::vector<cv::Mat> frames = read_video_frames(video);
     frames.resize(std::min<std::size_t>(frames.size(), static_cast<std::size_t>(r.frames())));
-    if (frames.size() == static_cast<std::size_t>(r.frames())) ds.samples.front().frames = std::move(frames);
-    else report.lines.push_back(name + ": frames not stored (decoded " + std::to_string(frames.size()) + " of " +
-                                std::to_string(r.frames()) + ")");
+    if (frames.size() == static_cast<std::size_t>(r.frames()))
+      ds.samples.front().frames = std::move(frames);
+    else
+      report.lines.push_back(name + ": frames not stored (decoded " + std::to_string(frames.size()) + " of " +
+                             std::to_string(r.frames()) + ")");
   }
   write_tsd_dataset(ds, out);
   report.datasets.push_back(out);
@@ -147,8 +152,9 @@ TsdDatasetOut dataset_from_track(const TrackResult& track, const std::string& na
   // clearly labelled proxy (a 1 mm sphere), never to be used as the real geometry.
   ds.indenters = {{kUnknownContact,
                    {{"mesh", "meshes/unknown_contact.obj"},
-                    {"proxy", "contact geometry unknown (fingertip, grasped object or unmodelled indenter); "
-                              "this 1 mm sphere only satisfies the format"}}}};
+                    {"proxy",
+                     "contact geometry unknown (fingertip, grasped object or unmodelled indenter); "
+                     "this 1 mm sphere only satisfies the format"}}}};
   ds.mesh_files = {{"meshes/unknown_contact.obj", sphere_obj(0.001)}};
   TsdSampleOut s;
   s.id = sample_id;
@@ -176,7 +182,8 @@ ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out
                                " from gelsightinc/gsrobotics (GPL-3.0), see raw/gsrobotics_tracking/SOURCE.md; contact "
                                "is a human fingertip (no indenter geometry, pose or force)." +
                                (stem.rfind("video_", 0) == 0 ? " The video carries the vendor tracker's red arrows; "
-                                                               "the tracker masks and fills them before detecting." : "");
+                                                               "the tracker masks and fills them before detecting."
+                                                             : "");
     import_video(v.string(), (fs::path(out_dir) / stem).string(), "gsrobotics_" + stem, opts, mm_per_px, origin,
                  "GPL-3.0", nlohmann::json::object(), report, keep_frames);
   }
@@ -205,8 +212,8 @@ ImportReport import_incipient_slip(const std::string& in_dir, const std::string&
           "Mini fingertip of a Franka gripper grasping, lifting and shaking a household object. Sample field "
           "slip_label: true when the experiment folder holds slip.txt (the authors labelled the run as containing "
           "slip), false otherwise (no slip label).";
-      import_video(clip.string(), (fs::path(out_dir) / name).string(), name, opts, mm_per_px, origin,
-                   "BSD-2-Clause", nlohmann::json{{"slip_label", slip}}, report, keep_frames);
+      import_video(clip.string(), (fs::path(out_dir) / name).string(), name, opts, mm_per_px, origin, "BSD-2-Clause",
+                   nlohmann::json{{"slip_label", slip}}, report, keep_frames);
     }
   }
   if (report.lines.empty()) throw InputError(in_dir, "no experiment folders with .avi clips");
@@ -218,9 +225,8 @@ double sphere_depth_from_contact_radius(double R, double a) {
   return R - std::sqrt(R * R - a * a);
 }
 
-SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2>& rest,
-                                                          const std::vector<Vec2>& disp, const Vec2& centre_px,
-                                                          double a_px, double a_sigma_px) {
+SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2>& rest, const std::vector<Vec2>& disp,
+                                                          const Vec2& centre_px, double a_px, double a_sigma_px) {
   SphereContactEstimate e;
   std::vector<double> dx, dy;
   for (const auto& d : disp) dx.push_back(d.x()), dy.push_back(d.y());
@@ -298,7 +304,8 @@ std::string sphere_obj(double r, int slices, int stacks) {
       o << "f " << ring(i, j) << " " << ring(i + 1, j) << " " << ring(i + 1, j + 1) << "\n";
       o << "f " << ring(i, j) << " " << ring(i + 1, j + 1) << " " << ring(i, j + 1) << "\n";
     }
-  for (int j = 0; j < slices; ++j) o << "f " << ring(stacks - 1, j) << " " << south << " " << ring(stacks - 1, j + 1) << "\n";
+  for (int j = 0; j < slices; ++j)
+    o << "f " << ring(stacks - 1, j) << " " << south << " " << ring(stacks - 1, j + 1) << "\n";
   return o.str();
 }
 
@@ -310,7 +317,8 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
     throw InputError((fs::path(in_dir) / "shear.csv").string(), "marker count differs from press.csv");
   for (std::size_t i = 0; i < press.rest.size(); ++i)
     if ((press.rest[i] - shear.rest[i]).norm() > 0.5)
-      throw InputError((fs::path(in_dir) / "shear.csv").string(), int(i) + 2, 1, "rest position differs from press.csv");
+      throw InputError((fs::path(in_dir) / "shear.csv").string(), int(i) + 2, 1,
+                       "rest position differs from press.csv");
 
   // Scale: marker_calib.py uses 0.0266 mm/px on images downsampled by 2 (ball_r = 3 / (0.0266*2)), i.e.
   // 0.0532 mm/px; params.py's 19.58 px/mm is 0.0511 mm/px. We write 0.0532 and carry the 4 % spread.
@@ -337,29 +345,34 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
           "field only: far-field drift = median displacement (removed); contact centre = |d|-weighted centroid of "
           "markers above half the peak |d|; contact radius a = radius of the peak mean radial displacement "
           "(ring width pitch/2), uncertainty +-pitch/2; depth d = R - sqrt(R^2 - a^2); tangential travel = mean "
-          "displacement inside a (a lower bound if the contact slipped). The shear image's radial ring is swamped by the "
+          "displacement inside a (a lower bound if the contact slipped). The shear image's radial ring is swamped by "
+          "the "
           "tangential field, so its contact radius is taken from the press estimate (same press, then a sideways "
           "move). ";
   auto describe = [&](const char* what, const SphereContactEstimate& e) {
-    prov << what << ": centre (" << format_number(e.centre_px.x(), "%.1f") << ", " << format_number(e.centre_px.y(), "%.1f")
-         << ") px, drift (" << format_number(e.drift_px.x(), "%.2f") << ", " << format_number(e.drift_px.y(), "%.2f") << ") px, a = "
-         << format_number(e.a_px, "%.1f") << " +- " << format_number(e.a_sigma_px, "%.1f") << " px = " << format_number(e.a_px * kMmPerPx, "%.2f")
-         << " +- " << format_number(e.a_sigma_px * kMmPerPx, "%.2f") << " mm";
+    prov << what << ": centre (" << format_number(e.centre_px.x(), "%.1f") << ", "
+         << format_number(e.centre_px.y(), "%.1f") << ") px, drift (" << format_number(e.drift_px.x(), "%.2f") << ", "
+         << format_number(e.drift_px.y(), "%.2f") << ") px, a = " << format_number(e.a_px, "%.1f") << " +- "
+         << format_number(e.a_sigma_px, "%.1f") << " px = " << format_number(e.a_px * kMmPerPx, "%.2f") << " +- "
+         << format_number(e.a_sigma_px * kMmPerPx, "%.2f") << " mm";
     for (double R : radii_mm) {
       const double a = e.a_px * kMmPerPx, s = e.a_sigma_px * kMmPerPx;
-      prov << "; R = " << R << " mm: d = " << format_number(sphere_depth_from_contact_radius(R, a), "%.3f") << " mm (range "
-           << format_number(sphere_depth_from_contact_radius(R, std::max(0.0, a - s)), "%.3f") << " .. "
-           << format_number(sphere_depth_from_contact_radius(R, a + s), "%.3f") << ", nan = a exceeds R)";
+      prov << "; R = " << R << " mm: d = " << format_number(sphere_depth_from_contact_radius(R, a), "%.3f")
+           << " mm (range " << format_number(sphere_depth_from_contact_radius(R, std::max(0.0, a - s)), "%.3f")
+           << " .. " << format_number(sphere_depth_from_contact_radius(R, a + s), "%.3f") << ", nan = a exceeds R)";
     }
-    prov << "; travel (" << format_number(e.travel_px.x(), "%.2f") << ", " << format_number(e.travel_px.y(), "%.2f") << ") +- "
-         << format_number(e.travel_sigma_px, "%.2f") << " px = (" << format_number(e.travel_px.x() * kMmPerPx, "%.3f") << ", "
+    prov << "; travel (" << format_number(e.travel_px.x(), "%.2f") << ", " << format_number(e.travel_px.y(), "%.2f")
+         << ") +- " << format_number(e.travel_sigma_px, "%.2f") << " px = ("
+         << format_number(e.travel_px.x() * kMmPerPx, "%.3f") << ", "
          << format_number(e.travel_px.y() * kMmPerPx, "%.3f") << ") mm over " << e.markers_inside << " markers. ";
   };
   describe("press", ep);
   describe("shear", es);
   prov << "poses.csv: the sphere (indenter sphere_r3, R = 3 mm, marker_calib.py) centred over the estimated "
           "contact centre, frame 0 touching the surface (z = R), frame 1 at z = R - d; for shear, frame 1 is also "
-          "moved by the estimated travel. Scale alternative " << format_number(kMmPerPxAlt, "%.4f") << " mm/px changes "
+          "moved by the estimated travel. Scale alternative "
+       << format_number(kMmPerPxAlt, "%.4f")
+       << " mm/px changes "
           "lengths by 4 %.";
 
   TsdDatasetOut ds;
@@ -403,8 +416,9 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
   write_tsd_dataset(ds, out_dir);
   ImportReport report;
   report.datasets.push_back(out_dir);
-  report.lines.push_back("fots: press a = " + format_number(ep.a_px, "%.1f") + " px, shear a = " + format_number(es.a_px, "%.1f") +
-                         " px, shear travel (" + format_number(es.travel_px.x(), "%.2f") + ", " + format_number(es.travel_px.y(), "%.2f") +
+  report.lines.push_back("fots: press a = " + format_number(ep.a_px, "%.1f") +
+                         " px, shear a = " + format_number(es.a_px, "%.1f") + " px, shear travel (" +
+                         format_number(es.travel_px.x(), "%.2f") + ", " + format_number(es.travel_px.y(), "%.2f") +
                          ") px");
   return report;
 }
@@ -419,8 +433,7 @@ ImportReport import_feats(const std::string& in_dir, const std::string& out_dir)
     if (img.empty()) throw InputError(p, "cannot read image");
     frames.push_back(img);
   }
-  if (frames[0].size() != frames[1].size())
-    throw InputError(contact_path, "size differs from nocontact.png");
+  if (frames[0].size() != frames[1].size()) throw InputError(contact_path, "size differs from nocontact.png");
   TrackerOptions opts;
   opts.rest_frames = 1;  // the no-contact frame is the rest
   opts.grid_rows = 7;
@@ -431,9 +444,12 @@ ImportReport import_feats(const std::string& in_dir, const std::string& out_dir)
   std::string prov =
       "FEATS sample from feats-ai/feats (MIT), see raw/feats/SOURCE.md: frame 0 = nocontact.png (rest), frame 1 = "
       "cuboid_10mm_contact.png (alpha dropped), a 10 mm cuboid pressed into a GelSight Mini. Markers tracked by "
-      "shearbench's tracker (rest = frame 0, expected grid 7 rows x 9 cols): " + track_summary(r) +
-      ". The real indenter is a 10 mm cuboid; its pose is unknown. Scale " + format_number(kMmPerPx, "%.4f") + " mm/px from the authors' point_correspondences.yaml (10 mm = 140 px); "
-      "their world axes are rotated 90 degrees against the image, we keep image axes. " + kAxisNote + " " + kPoseNote +
+      "shearbench's tracker (rest = frame 0, expected grid 7 rows x 9 cols): " +
+      track_summary(r) + ". The real indenter is a 10 mm cuboid; its pose is unknown. Scale " +
+      format_number(kMmPerPx, "%.4f") +
+      " mm/px from the authors' point_correspondences.yaml (10 mm = 140 px); "
+      "their world axes are rotated 90 degrees against the image, we keep image axes. " +
+      kAxisNote + " " + kPoseNote +
       " The gel is domed (4.0 mm at the centre, 2.75 mm at the edge); written as flat 4.0 mm here.";
   for (const auto& w : r.warnings) prov += " Tracker warning: " + w + ".";
   TsdDatasetOut ds = dataset_from_track(r, "feats_cuboid", "cuboid_contact", 1.0, kMmPerPx, prov);
@@ -454,7 +470,7 @@ ImportReport import_feats(const std::string& in_dir, const std::string& out_dir)
 namespace sb {
 namespace {
 
-constexpr double kTactipAboveM = 0.005;       // clearance of the "above" frame: more than a 25 deg tilted dome needs
+constexpr double kTactipAboveM = 0.005;  // clearance of the "above" frame: more than a 25 deg tilted dome needs
 // The TacTip (midi/standard) as the public descriptions give it (docs/sensors.md has the sources):
 //  - skin: a hemispherical tip of 40 mm diameter (radius 20 mm; "a 1 mm thick silicone rubber hemisphere",
 //    Lepora group, J. Robot. Biomim. 2017, fig. 2), so the cap's footprint radius is the radius itself;
@@ -485,7 +501,8 @@ std::string box_obj(double sx, double sy, double sz) {
       << '\n';
   // Faces as quads split in two, counter-clockwise seen from outside (1-based vertex indices).
   const int quads[6][4] = {{1, 3, 4, 2}, {5, 6, 8, 7}, {1, 2, 6, 5}, {3, 7, 8, 4}, {1, 5, 7, 3}, {2, 4, 8, 6}};
-  for (const auto& q : quads) o << "f " << q[0] << ' ' << q[1] << ' ' << q[2] << "\nf " << q[0] << ' ' << q[2] << ' ' << q[3] << '\n';
+  for (const auto& q : quads)
+    o << "f " << q[0] << ' ' << q[1] << ' ' << q[2] << "\nf " << q[0] << ' ' << q[2] << ' ' << q[3] << '\n';
   return o.str();
 }
 
@@ -522,7 +539,8 @@ std::vector<TactipTarget> read_tactip_targets(const std::string& path) {
     std::stringstream ss(line);
     for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
     if (cells.size() != header.size())
-      throw InputError(path, lineno, 1, "expected " + std::to_string(header.size()) + " columns, got " + std::to_string(cells.size()));
+      throw InputError(path, lineno, 1,
+                       "expected " + std::to_string(header.size()) + " columns, got " + std::to_string(cells.size()));
     auto num = [&](std::size_t c) {
       char* end = nullptr;
       const double v = std::strtod(cells[c].c_str(), &end);
@@ -565,8 +583,8 @@ cv::Mat read_grey(const std::string& path) {
 // contact across the dome) alone and times d, the slide (sx, sy) and twist w alone and times d and the
 // tilt (the stick region's size, hence how much of the slide the skin follows, grows with the press).
 Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
-  const double d = t.depth_mm / 5.0, a = t.rx_deg / 25.0, b = t.ry_deg / 25.0, sx = t.sx_mm / 5.0,
-               sy = t.sy_mm / 5.0, w = t.twist_deg / 5.0;
+  const double d = t.depth_mm / 5.0, a = t.rx_deg / 25.0, b = t.ry_deg / 25.0, sx = t.sx_mm / 5.0, sy = t.sy_mm / 5.0,
+               w = t.twist_deg / 5.0;
   std::vector<double> f{1.0, d, d * d};
   for (double x : {a, b, a * a, a * b, b * b, a * a * a, a * a * b, a * b * b, b * b * b}) {
     f.push_back(x);
@@ -583,9 +601,7 @@ Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
 
 }  // namespace
 
-int tactip_prior_min_calibration_samples() {
-  return 2 * static_cast<int>(tactip_covariates(TactipTarget{}).size());
-}
+int tactip_prior_min_calibration_samples() { return 2 * static_cast<int>(tactip_covariates(TactipTarget{}).size()); }
 
 namespace {
 
@@ -619,7 +635,8 @@ TactipSplit read_tactip_split(const fs::path& in, const std::string& name, const
 }
 
 // The prior of every sample's pin field, fitted on the calibration split alone by continuation in depth.
-ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& cal, const TactipImportOptions& options) {
+ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& cal,
+                                    const TactipImportOptions& options) {
   std::vector<Eigen::VectorXd> x;
   std::vector<double> depth;
   for (const auto& t : cal.targets) {
@@ -638,12 +655,12 @@ void report_prior(const ContinuationResult& fit, std::size_t calibration_samples
                            ") for the per-pin regression; every image tracked without a prior (deep presses "
                            "lose pins rather than guess)");
   for (const auto& st : fit.stages)
-    report.lines.push_back(std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
-                           (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") +
-                           ": " + std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
-                           " calibration samples accepted; |tracked - prior| median " +
-                           format_number(st.miss_median_px, "%.2f") + " px, p95 " +
-                           format_number(st.miss_p95_px, "%.2f") + " px");
+    report.lines.push_back(
+        std::string(st.refine ? "prior refinement pass" : "prior stage") + ", depth " +
+        (std::isinf(st.limit) ? std::string("all") : "<= " + format_number(st.limit, "%.2f") + " mm") + ": " +
+        std::to_string(st.accepted) + " of " + std::to_string(st.candidates) +
+        " calibration samples accepted; |tracked - prior| median " + format_number(st.miss_median_px, "%.2f") +
+        " px, p95 " + format_number(st.miss_p95_px, "%.2f") + " px");
 }
 
 // One image's pins: tracked against the prior, then checked; the pins the check doubts are lost, not
@@ -671,14 +688,20 @@ CheckedPins track_checked(const PinReference& ref, const std::vector<PinDetectio
 
 nlohmann::json lattice_check_json(const CheckedPins& p, std::size_t detections, bool dropped) {
   const LatticeCheckResult& c = p.check;
-  return {{"slipped_pairs", c.slipped_pairs}, {"flipped_triangles", c.flipped_triangles},
-          {"skipped_sites", c.skipped_sites}, {"prior_misses", c.prior_misses},
-          {"median_prior_miss_px", c.median_prior_miss_px}, {"coherent_prior_miss_px", c.coherent_prior_miss_px},
-          {"registration_margin", c.registration_margin}, {"field_shifted", c.field_shifted},
-          {"worst_relative_step", c.worst_relative_step}, {"detached_pins", c.detached_pins},
-          {"pins_dropped", dropped ? p.suspect : 0}, {"pins_suspect", p.suspect}, {"detections", detections}};
+  return {{"slipped_pairs", c.slipped_pairs},
+          {"flipped_triangles", c.flipped_triangles},
+          {"skipped_sites", c.skipped_sites},
+          {"prior_misses", c.prior_misses},
+          {"median_prior_miss_px", c.median_prior_miss_px},
+          {"coherent_prior_miss_px", c.coherent_prior_miss_px},
+          {"registration_margin", c.registration_margin},
+          {"field_shifted", c.field_shifted},
+          {"worst_relative_step", c.worst_relative_step},
+          {"detached_pins", c.detached_pins},
+          {"pins_dropped", dropped ? p.suspect : 0},
+          {"pins_suspect", p.suspect},
+          {"detections", detections}};
 }
-
 
 // The tsd/1 sample of one TacTip image: the pose path of the collection procedure (in E), the markers
 // (frame 0 the reference, the last frame `disp`, NaN between: not imaged) and, with `ref_img` given, the
@@ -826,14 +849,16 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   ds.markers_rest_px = ref.rest_px;
   ds.sensor_extra["tactip"] = {
       {"skin", "hemispherical dome, pins on its inner surface below the contact surface (gel: spherical_cap)"},
-      {"camera", "pinhole from inside along +z_E; principal point and distance fitted to the reference's pin rings, "
-                 "focal length, k1, dome radius and pin depth fixed at public starting values (docs/sensors.md)"},
+      {"camera",
+       "pinhole from inside along +z_E; principal point and distance fitted to the reference's pin rings, "
+       "focal length, k1, dome radius and pin depth fixed at public starting values (docs/sensors.md)"},
       {"pin_pitch_px", ref.pitch_px},
       {"pin_area_px", ref.area_px},
       {"geometry_fit", geometry_fit_json(geometry)}};
-  ds.indenters = {{kTactipSurface,
-                   {{"mesh", "meshes/flat_surface.obj"},
-                    {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
+  ds.indenters = {
+      {kTactipSurface,
+       {{"mesh", "meshes/flat_surface.obj"},
+        {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
   ds.mesh_files = {{"meshes/flat_surface.obj", box_obj(0.08, 0.08, 0.01)}};
   ImportReport report;
   report.lines.push_back(geometry_fit_line(geometry));
@@ -867,53 +892,66 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
       s.extra = {{"image", sp.name + "/images/" + t.image},
                  {"pins_tracked", found},
                  {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
-                 {"targets", {{"depth_mm", t.depth_mm}, {"tilt_deg", {t.rx_deg, t.ry_deg}},
-                              {"shear_mm", {t.sx_mm, t.sy_mm}}, {"twist_deg", t.twist_deg}}}};
+                 {"targets",
+                  {{"depth_mm", t.depth_mm},
+                   {"tilt_deg", {t.rx_deg, t.ry_deg}},
+                   {"shear_mm", {t.sx_mm, t.sy_mm}},
+                   {"twist_deg", t.twist_deg}}}};
       ds.samples.push_back(std::move(s));
     }
     std::sort(kept.begin(), kept.end());
     const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-    report.lines.push_back(sp.name + ": " + std::to_string(kept.size()) + " images, " +
-                           std::to_string(ref.rest_px.size()) + " pins; kept fraction min " +
-                           format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
-                           "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
-                           format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " +
-                           std::to_string(below) + "; images not clean under the lattice check: " +
-                           std::to_string(slipped_samples));
+    report.lines.push_back(
+        sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(ref.rest_px.size()) +
+        " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
+        "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
+        format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " + std::to_string(below) +
+        "; images not clean under the lattice check: " + std::to_string(slipped_samples));
     if (empty_samples > 0)
-      report.lines.push_back("WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " +
-                             std::to_string(kept.size()) + " samples have no pin tracked (0 of " +
-                             std::to_string(ref.rest_px.size()) + ")" +
-                             (prior.empty() && options.use_prior
-                                  ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
-                                        " calibration samples (--max-samples " +
-                                        std::to_string(tactip_prior_min_calibration_samples()) + " or more, or 0 for all)"
-                                  : std::string()));
+      report.lines.push_back(
+          "WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " + std::to_string(kept.size()) +
+          " samples have no pin tracked (0 of " + std::to_string(ref.rest_px.size()) + ")" +
+          (prior.empty() && options.use_prior
+               ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
+                     " calibration samples (--max-samples " + std::to_string(tactip_prior_min_calibration_samples()) +
+                     " or more, or 0 for all)"
+               : std::string()));
   }
   ds.provenance =
       "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "
       "raw/tactip_shear/SOURCE.md): a flat surface pressed 1-5 mm at a tilt up to 25 deg, slid up to 5 mm and "
       "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
-      "(identical in validation/), " + std::to_string(ref.rest_px.size()) + " pins, pitch " +
-      format_number(ref.pitch_px, "%.2f") + " px. Pins tracked by shearbench's pin tracker (blob detection, global "
+      "(identical in validation/), " +
+      std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
+      " px. Pins tracked by shearbench's pin tracker (blob detection, global "
       "affine then local nearest-neighbour correspondence, lost pins NaN)" +
       std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
                                       "regression fitted on the calibration split alone (continuation from "
-                                      "shallow to deep presses)" : "") +
+                                      "shallow to deep presses)"
+                                    : "") +
       std::string(options.lattice_check ? "; pins the lattice-slip check doubts (a skipped lattice site, a "
                                           "crossing, a jump between neighbours, a detached island, a whole-field "
-                                          "shift) are lost: see 'lattice_check' per sample" : "") + ". poses.csv is the collection procedure: "
-      "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." + std::to_string(options.slide_steps + 1) +
+                                          "shift) are lost: see 'lattice_check' per sample"
+                                        : "") +
+      ". poses.csv is the collection procedure: "
+      "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." +
+      std::to_string(options.slide_steps + 1) +
       " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
       "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "
-      "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) Ry(pose_Ry) Rx(pose_Rx) "
-      "static Euler as the robot library's sxyz; E = Rz(" + format_number(kTactipImageFromToolDeg, "%.1f") + " deg) S so that "
+      "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) Ry(pose_Ry) "
+      "Rx(pose_Rx) "
+      "static Euler as the robot library's sxyz; E = Rz(" +
+      format_number(kTactipImageFromToolDeg, "%.1f") +
+      " deg) S so that "
       "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per mm "
       "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
-      format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " + format_number(kTactipPinDepthM * 1e3, "%.0f") +
-      " mm below the contact surface, seen by a pinhole camera (focal length from a " + format_number(kTactipFieldOfViewDeg, "%.0f") +
+      format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " +
+      format_number(kTactipPinDepthM * 1e3, "%.0f") +
+      " mm below the contact surface, seen by a pinhole camera (focal length from a " +
+      format_number(kTactipFieldOfViewDeg, "%.0f") +
       " deg field of view, no distortion) whose distance and principal point are fitted to the reference image's "
-      "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the larger normalised magnitude "
+      "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the larger "
+      "normalised magnitude "
       "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
       "under 'targets' (mm, deg).";
   write_tsd_dataset(ds, out_dir);

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "core/data/tsd_out.hpp"
 #include "core/tracking/pin_tracker.hpp"
 #include "core/tracking/tracker.hpp"
-#include "core/data/tsd_out.hpp"
 
 namespace sb {
 
@@ -30,8 +30,8 @@ ImportReport import_gsrobotics(const std::string& in_dir, const std::string& out
                                double mm_per_px, bool keep_frames = false);
 // raw/incipient_slip: one dataset per clip under out_dir/<experiment>_<camera>/, sample field
 // "slip_label" = true when the experiment folder holds slip.txt.
-ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir,
-                                   const TrackerOptions& opts, double mm_per_px, bool keep_frames = false);
+ImportReport import_incipient_slip(const std::string& in_dir, const std::string& out_dir, const TrackerOptions& opts,
+                                   double mm_per_px, bool keep_frames = false);
 // raw/fots_marker_calib: one dataset, samples "press" and "shear" (frame 0 rest, frame 1 the CSV field),
 // indenter pose estimated from the marker field (see SphereContactEstimate).
 ImportReport import_fots(const std::string& in_dir, const std::string& out_dir);
@@ -67,8 +67,8 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
 // samples with 0 of 327 pins tracked).
 int tactip_prior_min_calibration_samples();
 
-// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units): depth d, tilt (rx, ry) and twist w in
-// radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
+// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units):
+// depth d, tilt (rx, ry) and twist w in radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
                                    int slide_steps);
 

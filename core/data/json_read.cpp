@@ -55,9 +55,7 @@ void fail(const std::string& file, const std::string& pointer, const std::string
 }
 
 std::string child(const std::string& pointer, const std::string& key) { return pointer + "/" + key; }
-std::string child(const std::string& pointer, std::size_t index) {
-  return pointer + "/" + std::to_string(index);
-}
+std::string child(const std::string& pointer, std::size_t index) { return pointer + "/" + std::to_string(index); }
 
 const nlohmann::json* find(const nlohmann::json& obj, const char* key) {
   if (!obj.is_object()) return nullptr;
@@ -69,8 +67,8 @@ void require_object(const nlohmann::json& obj, const std::string& file, const st
   if (!obj.is_object()) fail(file, pointer, "expected an object, got " + type_name(obj));
 }
 
-void reject_unknown_keys(const nlohmann::json& obj, std::initializer_list<const char*> allowed,
-                         const std::string& file, const std::string& pointer) {
+void reject_unknown_keys(const nlohmann::json& obj, std::initializer_list<const char*> allowed, const std::string& file,
+                         const std::string& pointer) {
   require_object(obj, file, pointer);
   for (const auto& [key, value] : obj.items()) {
     bool known = false;
@@ -120,8 +118,7 @@ bool boolean(const nlohmann::json& j, const std::string& file, const std::string
 }
 
 template <int N>
-static Eigen::Matrix<double, N, 1> vecn(const nlohmann::json& j, const std::string& file,
-                                        const std::string& pointer) {
+static Eigen::Matrix<double, N, 1> vecn(const nlohmann::json& j, const std::string& file, const std::string& pointer) {
   const std::string expected = "expected " + std::to_string(N) + " numbers";
   if (!j.is_array() || j.size() != N) fail(file, pointer, expected);
   Eigen::Matrix<double, N, 1> v;

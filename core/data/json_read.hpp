@@ -23,8 +23,8 @@ std::string child(const std::string& pointer, std::size_t index);
 const nlohmann::json* find(const nlohmann::json& obj, const char* key);
 // Throws unless `obj` is an object whose keys are all in `allowed` (a typo should not pass silently).
 void require_object(const nlohmann::json& obj, const std::string& file, const std::string& pointer);
-void reject_unknown_keys(const nlohmann::json& obj, std::initializer_list<const char*> allowed,
-                         const std::string& file, const std::string& pointer);
+void reject_unknown_keys(const nlohmann::json& obj, std::initializer_list<const char*> allowed, const std::string& file,
+                         const std::string& pointer);
 
 double finite_number(const nlohmann::json& j, const std::string& file, const std::string& pointer);
 double positive_number(const nlohmann::json& j, const std::string& file, const std::string& pointer);

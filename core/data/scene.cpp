@@ -78,8 +78,8 @@ std::vector<Pose> sample_trajectory(const std::vector<Keyframe>& keyframes, doub
 IndenterSpec parse_indenter_spec(const nlohmann::json& j, const std::string& where, const std::string& ptr,
                                  const std::string& data_root, const std::string& base_dir) {
   jsonin::reject_unknown_keys(j,
-                              {"shape", "radius_m", "minor_radius_m", "length_m", "fillet_m", "size_m", "mesh",
-                               "scale", "allow_open", "sample_spacing_m", "analytic_sdf"},
+                              {"shape", "radius_m", "minor_radius_m", "length_m", "fillet_m", "size_m", "mesh", "scale",
+                               "allow_open", "sample_spacing_m", "analytic_sdf"},
                               where, ptr);
   IndenterSpec s;
   if (auto* v = jsonin::find(j, "shape")) s.shape = jsonin::string(*v, where, child(ptr, "shape"));
@@ -104,32 +104,36 @@ IndenterSpec parse_indenter_spec(const nlohmann::json& j, const std::string& whe
     if (!(s.size_m.array() > 0).all()) jsonin::fail(where, child(ptr, "size_m"), "expected 3 positive numbers");
   }
   if (auto* v = jsonin::find(j, "allow_open")) s.allow_open = jsonin::boolean(*v, where, child(ptr, "allow_open"));
-  if (auto* v = jsonin::find(j, "analytic_sdf")) s.analytic_sdf = jsonin::boolean(*v, where, child(ptr, "analytic_sdf"));
+  if (auto* v = jsonin::find(j, "analytic_sdf"))
+    s.analytic_sdf = jsonin::boolean(*v, where, child(ptr, "analytic_sdf"));
   if (s.shape == "torus" && !(s.minor_radius_m < s.radius_m))
     jsonin::fail(where, child(ptr, "minor_radius_m"), "must be smaller than radius_m (the major radius)");
   if (s.shape == "mesh") {
     const std::string given = jsonin::string(jsonin::member(j, "mesh", where, ptr), where, child(ptr, "mesh"));
     s.mesh_path = resolve_at(given, data_root, base_dir, where, child(ptr, "mesh"));
     if (!fs::exists(s.mesh_path))
-      jsonin::fail(where, child(ptr, "mesh"), "mesh file '" + s.mesh_path + "' not found (data root: " + data_root + ")");
+      jsonin::fail(where, child(ptr, "mesh"),
+                   "mesh file '" + s.mesh_path + "' not found (data root: " + data_root + ")");
   }
   return s;
 }
 
 namespace {
 
-std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::string& where, const std::string& data_root,
-                                           const std::string& base_dir) {
+std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::string& where,
+                                           const std::string& data_root, const std::string& base_dir) {
   const std::string ptr = "/sensor";
   jsonin::reject_unknown_keys(j, {"gel", "markers", "camera", "markers_depth_m"}, where, ptr);
   Camera camera;
   if (auto* c = jsonin::find(j, "camera")) {
     const std::string cptr = child(ptr, "camera");
-    jsonin::reject_unknown_keys(*c, {"model", "mm_per_px", "principal_px", "image_size_px", "focal_px", "distance_m", "k1"},
-                                where, cptr);
+    jsonin::reject_unknown_keys(
+        *c, {"model", "mm_per_px", "principal_px", "image_size_px", "focal_px", "distance_m", "k1"}, where, cptr);
     parse_camera_model(*c, where, cptr, &camera);
-    if (auto* v = jsonin::find(*c, "mm_per_px")) camera.mm_per_px = jsonin::positive_number(*v, where, child(cptr, "mm_per_px"));
-    if (auto* v = jsonin::find(*c, "principal_px")) camera.principal_px = jsonin::vec2(*v, where, child(cptr, "principal_px"));
+    if (auto* v = jsonin::find(*c, "mm_per_px"))
+      camera.mm_per_px = jsonin::positive_number(*v, where, child(cptr, "mm_per_px"));
+    if (auto* v = jsonin::find(*c, "principal_px"))
+      camera.principal_px = jsonin::vec2(*v, where, child(cptr, "principal_px"));
     if (auto* v = jsonin::find(*c, "image_size_px")) {
       const Vec2 size = jsonin::vec2(*v, where, child(cptr, "image_size_px"));
       if (size.x() < 1 || size.y() < 1 || size != size.array().round().matrix())
@@ -158,8 +162,10 @@ std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::s
     jsonin::reject_unknown_keys(*g, {"surface", "radius_m", "footprint_radius_m", "thickness_m"}, where, gptr);
     gel.surface = jsonin::string(jsonin::member(*g, "surface", where, gptr), where, child(gptr, "surface"));
     if (gel.surface != "spherical_cap")
-      jsonin::fail(where, child(gptr, "surface"), "a gel object describes a spherical_cap (give \"flat\" or a mesh path as a string)");
-    gel.thickness_m = jsonin::positive_number(jsonin::member(*g, "thickness_m", where, gptr), where, child(gptr, "thickness_m"));
+      jsonin::fail(where, child(gptr, "surface"),
+                   "a gel object describes a spherical_cap (give \"flat\" or a mesh path as a string)");
+    gel.thickness_m =
+        jsonin::positive_number(jsonin::member(*g, "thickness_m", where, gptr), where, child(gptr, "thickness_m"));
     parse_spherical_cap(*g, where, gptr, &gel);
   }
   if (auto* v = jsonin::find(j, "markers_depth_m"))
@@ -242,8 +248,8 @@ void parse_dataset_replay(const nlohmann::json& d, const std::string& where, con
 
 Scene parse_scene(const nlohmann::json& j, const std::string& where, const std::string& data_root,
                   const std::string& base_dir) {
-  jsonin::reject_unknown_keys(j, {"name", "motion", "sensor", "indenter", "params", "trajectory", "dataset", "description"},
-                              where, "");
+  jsonin::reject_unknown_keys(
+      j, {"name", "motion", "sensor", "indenter", "params", "trajectory", "dataset", "description"}, where, "");
   Scene scene;
   scene.path = where;
   scene.name = fs::path(where).stem().string();
@@ -251,7 +257,8 @@ Scene parse_scene(const nlohmann::json& j, const std::string& where, const std::
   if (auto* v = jsonin::find(j, "motion")) {
     scene.motion = jsonin::string(*v, where, "/motion");
     if (!is_tsd_motion(scene.motion))
-      jsonin::fail(where, "/motion", "unknown motion '" + scene.motion + "' (expected dilation, shear, twist, roll, slip or free)");
+      jsonin::fail(where, "/motion",
+                   "unknown motion '" + scene.motion + "' (expected dilation, shear, twist, roll, slip or free)");
   }
   if (auto* p = jsonin::find(j, "params")) {
     jsonin::require_object(*p, where, "/params");
@@ -266,22 +273,28 @@ Scene parse_scene(const nlohmann::json& j, const std::string& where, const std::
   if ((trajectory != nullptr) == (dataset != nullptr))
     jsonin::fail(where, "", "a scene needs exactly one of \"trajectory\" and \"dataset\"");
   const auto* indenter = jsonin::find(j, "indenter");
-  if (indenter) scene.indenter_spec = parse_indenter_spec(*indenter, where, "/indenter", data_root, base_dir);
-  else if (trajectory) jsonin::fail(where, "/indenter", "missing");
+  if (indenter)
+    scene.indenter_spec = parse_indenter_spec(*indenter, where, "/indenter", data_root, base_dir);
+  else if (trajectory)
+    jsonin::fail(where, "/indenter", "missing");
 
   if (trajectory) {
     const std::string ptr = "/trajectory";
     jsonin::reject_unknown_keys(*trajectory, {"dt_s", "substeps", "keyframes"}, where, ptr);
-    if (auto* v = jsonin::find(*trajectory, "dt_s")) scene.dt_s = jsonin::positive_number(*v, where, child(ptr, "dt_s"));
+    if (auto* v = jsonin::find(*trajectory, "dt_s"))
+      scene.dt_s = jsonin::positive_number(*v, where, child(ptr, "dt_s"));
     if (auto* v = jsonin::find(*trajectory, "substeps")) {
       scene.substeps = jsonin::integer(*v, where, child(ptr, "substeps"));
       if (scene.substeps < 1) jsonin::fail(where, child(ptr, "substeps"), "must be >= 1");
     }
-    scene.keyframes = parse_keyframes(jsonin::member(*trajectory, "keyframes", where, ptr), where, child(ptr, "keyframes"));
+    scene.keyframes =
+        parse_keyframes(jsonin::member(*trajectory, "keyframes", where, ptr), where, child(ptr, "keyframes"));
     scene.X_EI = sample_trajectory(scene.keyframes, scene.dt_s);
     scene.t_s = trajectory_times(scene.keyframes, scene.dt_s);
-    if (auto* s = jsonin::find(j, "sensor")) scene.sensor = parse_sensor(*s, where, data_root, base_dir);
-    else scene.sensor = std::make_shared<const Sensor>(make_default_sensor());
+    if (auto* s = jsonin::find(j, "sensor"))
+      scene.sensor = parse_sensor(*s, where, data_root, base_dir);
+    else
+      scene.sensor = std::make_shared<const Sensor>(make_default_sensor());
   } else {
     if (jsonin::find(j, "sensor")) jsonin::fail(where, "/sensor", "a dataset replay takes its sensor from the dataset");
     parse_dataset_replay(*dataset, where, data_root, base_dir, indenter != nullptr, &scene);

@@ -42,18 +42,18 @@ struct Keyframe {
 
 struct Scene {
   std::string name;
-  std::string path;                         // the file it was read from
-  std::string motion = "free";              // tsd/1 motion label (simulate writes it into the dataset)
+  std::string path;             // the file it was read from
+  std::string motion = "free";  // tsd/1 motion label (simulate writes it into the dataset)
   int substeps = 1;
   std::shared_ptr<const Sensor> sensor;
-  std::string sensor_model = kDefaultSensorModel;   // a dataset replay's sensor (picks the default parameter set)
+  std::string sensor_model = kDefaultSensorModel;  // a dataset replay's sensor (picks the default parameter set)
   IndenterSpec indenter_spec;
-  std::map<std::string, nlohmann::json> params;   // model id -> {name: value}
+  std::map<std::string, nlohmann::json> params;  // model id -> {name: value}
   double dt_s = 0.02;
   std::vector<Keyframe> keyframes;
-  std::vector<Pose> X_EI;                   // sampled trajectory, one pose per step
-  std::vector<double> t_s;                  // the time of each pose
-  std::string dataset_dir;                  // when replaying a dataset
+  std::vector<Pose> X_EI;   // sampled trajectory, one pose per step
+  std::vector<double> t_s;  // the time of each pose
+  std::string dataset_dir;  // when replaying a dataset
   std::string sample_id;
 };
 

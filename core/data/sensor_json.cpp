@@ -19,10 +19,12 @@ void parse_camera_model(const nlohmann::json& cam, const std::string& file, cons
       if (jsonin::find(cam, key)) jsonin::fail(file, child(ptr, key), "only a pinhole camera has this key");
     return;
   }
-  if (model != "pinhole") jsonin::fail(file, child(ptr, "model"), "unknown camera model '" + model + "' (expected orthographic or pinhole)");
+  if (model != "pinhole")
+    jsonin::fail(file, child(ptr, "model"), "unknown camera model '" + model + "' (expected orthographic or pinhole)");
   camera->model = CameraModel::Pinhole;
   camera->focal_px = jsonin::positive_number(jsonin::member(cam, "focal_px", file, ptr), file, child(ptr, "focal_px"));
-  camera->distance_m = jsonin::positive_number(jsonin::member(cam, "distance_m", file, ptr), file, child(ptr, "distance_m"));
+  camera->distance_m =
+      jsonin::positive_number(jsonin::member(cam, "distance_m", file, ptr), file, child(ptr, "distance_m"));
   if (auto* v = jsonin::find(cam, "k1")) camera->k1 = jsonin::finite_number(*v, file, child(ptr, "k1"));
   if (jsonin::find(cam, "mm_per_px"))
     jsonin::fail(file, child(ptr, "mm_per_px"), "a pinhole camera's scale is distance_m / focal_px; drop mm_per_px");
@@ -30,8 +32,8 @@ void parse_camera_model(const nlohmann::json& cam, const std::string& file, cons
 
 void parse_spherical_cap(const nlohmann::json& g, const std::string& file, const std::string& ptr, GelSpec* gel) {
   gel->radius_m = jsonin::positive_number(jsonin::member(g, "radius_m", file, ptr), file, child(ptr, "radius_m"));
-  gel->footprint_radius_m =
-      jsonin::positive_number(jsonin::member(g, "footprint_radius_m", file, ptr), file, child(ptr, "footprint_radius_m"));
+  gel->footprint_radius_m = jsonin::positive_number(jsonin::member(g, "footprint_radius_m", file, ptr), file,
+                                                    child(ptr, "footprint_radius_m"));
   if (gel->footprint_radius_m > gel->radius_m)
     jsonin::fail(file, child(ptr, "footprint_radius_m"), "must not exceed radius_m (a cap is at most a hemisphere)");
   const double R = gel->radius_m, rho = gel->footprint_radius_m;
@@ -41,10 +43,12 @@ void parse_spherical_cap(const nlohmann::json& g, const std::string& file, const
                  "must exceed the cap height " + std::to_string(cap_height) + " m (radius_m and footprint_radius_m)");
 }
 
-double parse_markers_depth(const nlohmann::json& v, const GelSpec& gel, const std::string& file, const std::string& ptr) {
+double parse_markers_depth(const nlohmann::json& v, const GelSpec& gel, const std::string& file,
+                           const std::string& ptr) {
   const double depth = jsonin::finite_number(v, file, ptr);
   if (depth < 0.0) jsonin::fail(file, ptr, "must be >= 0 (metres below the contact surface)");
-  if (gel.surface == "spherical_cap" && depth >= gel.radius_m) jsonin::fail(file, ptr, "must be smaller than the gel's radius_m");
+  if (gel.surface == "spherical_cap" && depth >= gel.radius_m)
+    jsonin::fail(file, ptr, "must be smaller than the gel's radius_m");
   return depth;
 }
 

@@ -86,8 +86,7 @@ class CsvReader {
     if (!next_row()) fail(1, 1, "empty file (expected header '" + std::string(header) + "')");
     std::string_view h = line_;
     if (h.size() >= 3 && h.substr(0, 3) == "\xEF\xBB\xBF") h.remove_prefix(3);  // UTF-8 BOM
-    if (h != header)
-      fail(line_no_, 1, "wrong header '" + printable(h) + "' (expected '" + std::string(header) + "')");
+    if (h != header) fail(line_no_, 1, "wrong header '" + printable(h) + "' (expected '" + std::string(header) + "')");
   }
 
   // Advances to the next non-empty line and splits it; false at the end of the file.
@@ -113,9 +112,7 @@ class CsvReader {
   int column(std::size_t i) const { return static_cast<int>(starts_[i]) + 1; }
   const std::string& path() const { return path_; }
 
-  [[noreturn]] void fail(int line, int col, const std::string& what) const {
-    throw InputError(path_, line, col, what);
-  }
+  [[noreturn]] void fail(int line, int col, const std::string& what) const { throw InputError(path_, line, col, what); }
   [[noreturn]] void fail_at(std::size_t i, const std::string& what) const { fail(line_no_, column(i), what); }
 
   // A number, NaN/inf included (the caller decides what is allowed).
@@ -129,7 +126,8 @@ class CsvReader {
   }
   double finite(std::size_t i, const char* name) const {
     const double v = real(i, name);
-    if (!std::isfinite(v)) fail_at(i, std::string(name) + ": value must be finite, got '" + printable(fields_[i]) + "'");
+    if (!std::isfinite(v))
+      fail_at(i, std::string(name) + ": value must be finite, got '" + printable(fields_[i]) + "'");
     return v;
   }
   long long index(std::size_t i, const char* name) const {
@@ -183,8 +181,8 @@ void expect_frame(const CsvReader& csv, long long frame, std::size_t expected) {
   if (frame < static_cast<long long>(expected))
     csv.fail_at(0, "frame " + std::to_string(frame) + " out of order (expected " + std::to_string(expected) + ")");
   csv.fail_at(0, "frame gap: frame " + std::to_string(frame) + " follows frame " +
-                     std::to_string(static_cast<long long>(expected) - 1) + " (expected " +
-                     std::to_string(expected) + ")");
+                     std::to_string(static_cast<long long>(expected) - 1) + " (expected " + std::to_string(expected) +
+                     ")");
 }
 
 }  // namespace
@@ -231,28 +229,30 @@ void read_markers_csv(const std::string& path, std::size_t n_frames, std::size_t
   auto finish_frame = [&](int line, int col) {
     if (current < 0 || seen_count == n_markers) return;
     const auto missing = std::find(seen.begin(), seen.end(), 0) - seen.begin();
-    csv.fail(line, col, "frame " + std::to_string(current) + " has " + std::to_string(seen_count) + " of " +
-                            std::to_string(n_markers) + " marker rows (marker " + std::to_string(missing) +
-                            " missing; write nan,nan for a lost marker)");
+    csv.fail(line, col,
+             "frame " + std::to_string(current) + " has " + std::to_string(seen_count) + " of " +
+                 std::to_string(n_markers) + " marker rows (marker " + std::to_string(missing) +
+                 " missing; write nan,nan for a lost marker)");
   };
   while (csv.next_row()) {
     const long long frame = csv.index(0, "frame");
     if (frame != current) {
-      if (frame < current) csv.fail_at(0, "frame " + std::to_string(frame) + " out of order (after " + std::to_string(current) + ")");
+      if (frame < current)
+        csv.fail_at(0, "frame " + std::to_string(frame) + " out of order (after " + std::to_string(current) + ")");
       finish_frame(csv.line(), csv.column(0));
       if (frame != current + 1)
         csv.fail_at(0, "frame gap: frame " + std::to_string(frame) + " follows frame " + std::to_string(current));
       if (frame >= static_cast<long long>(n_frames))
-        csv.fail_at(0, "frame " + std::to_string(frame) + " beyond the " + std::to_string(n_frames) +
-                           " frames of poses.csv");
+        csv.fail_at(
+            0, "frame " + std::to_string(frame) + " beyond the " + std::to_string(n_frames) + " frames of poses.csv");
       current = frame;
       std::fill(seen.begin(), seen.end(), 0);
       seen_count = 0;
     }
     const long long m = csv.index(1, "marker");
     if (m >= static_cast<long long>(n_markers))
-      csv.fail_at(1, "marker index " + std::to_string(m) + " out of range (dataset has " +
-                         std::to_string(n_markers) + " markers)");
+      csv.fail_at(1, "marker index " + std::to_string(m) + " out of range (dataset has " + std::to_string(n_markers) +
+                         " markers)");
     if (seen[m]) csv.fail_at(1, "duplicate row for marker " + std::to_string(m) + " in frame " + std::to_string(frame));
     const double du = csv.real(2, "du_px"), dv = csv.real(3, "dv_px");
     if (std::isinf(du)) csv.fail_at(2, "du_px: infinite value");
@@ -264,8 +264,9 @@ void read_markers_csv(const std::string& path, std::size_t n_frames, std::size_t
   }
   finish_frame(csv.line(), 1);
   if (current + 1 != static_cast<long long>(n_frames))
-    csv.fail(csv.line(), 1, "markers end at frame " + std::to_string(current) + " but poses.csv has " +
-                                std::to_string(n_frames) + " frames");
+    csv.fail(csv.line(), 1,
+             "markers end at frame " + std::to_string(current) + " but poses.csv has " + std::to_string(n_frames) +
+                 " frames");
 }
 
 void read_forces_csv(const std::string& path, std::size_t n_frames, SampleData* out) {
@@ -278,8 +279,9 @@ void read_forces_csv(const std::string& path, std::size_t n_frames, SampleData* 
     out->forces_n.emplace_back(csv.finite(1, "fx_n"), csv.finite(2, "fy_n"), csv.finite(3, "fz_n"));
   }
   if (out->forces_n.size() != n_frames)
-    csv.fail(csv.line(), 1, "forces end after " + std::to_string(out->forces_n.size()) + " frames but poses.csv has " +
-                                std::to_string(n_frames));
+    csv.fail(csv.line(), 1,
+             "forces end after " + std::to_string(out->forces_n.size()) + " frames but poses.csv has " +
+                 std::to_string(n_frames));
 }
 
 SampleData read_sample(const Dataset& ds, const std::string& sample_id, Warnings* warnings) {
@@ -350,14 +352,17 @@ void parse_sensor(const nlohmann::json& j, const std::string& file, Dataset* ds)
   const auto& cam = jsonin::member(j, "camera", file, ptr);
   parse_camera_model(cam, file, cptr, &ds->camera);
   if (!ds->camera.pinhole())
-    ds->camera.mm_per_px = jsonin::positive_number(jsonin::member(cam, "mm_per_px", file, cptr), file, child(cptr, "mm_per_px"));
-  ds->camera.principal_px = jsonin::vec2(jsonin::member(cam, "principal_px", file, cptr), file, child(cptr, "principal_px"));
+    ds->camera.mm_per_px =
+        jsonin::positive_number(jsonin::member(cam, "mm_per_px", file, cptr), file, child(cptr, "mm_per_px"));
+  ds->camera.principal_px =
+      jsonin::vec2(jsonin::member(cam, "principal_px", file, cptr), file, child(cptr, "principal_px"));
 
   const std::string gptr = child(ptr, "gel");
   const auto& gel = jsonin::member(j, "gel", file, ptr);
   ds->gel.size_m = jsonin::vec2(jsonin::member(gel, "size_m", file, gptr), file, child(gptr, "size_m"));
   if (!(ds->gel.size_m.array() > 0).all()) jsonin::fail(file, child(gptr, "size_m"), "expected two positive numbers");
-  ds->gel.thickness_m = jsonin::positive_number(jsonin::member(gel, "thickness_m", file, gptr), file, child(gptr, "thickness_m"));
+  ds->gel.thickness_m =
+      jsonin::positive_number(jsonin::member(gel, "thickness_m", file, gptr), file, child(gptr, "thickness_m"));
   if (auto* v = jsonin::find(gel, "surface")) ds->gel.surface = jsonin::string(*v, file, child(gptr, "surface"));
   if (ds->gel.surface == "spherical_cap") {
     parse_spherical_cap(gel, file, gptr, &ds->gel);
@@ -441,9 +446,10 @@ void assign_calibration_split(Dataset& ds, const std::vector<std::string>& calib
       if (std::none_of(ds.samples.begin(), ds.samples.end(), [&](const auto& s) { return s.id == id; }))
         throw InputError(flag, "no sample '" + id + "' in " + ds.json_path());
   if (!validation_ids.empty())
-    ds.samples.erase(std::remove_if(ds.samples.begin(), ds.samples.end(),
-                                    [&](const auto& s) { return !listed(calibration_ids, s.id) && !listed(validation_ids, s.id); }),
-                     ds.samples.end());
+    ds.samples.erase(
+        std::remove_if(ds.samples.begin(), ds.samples.end(),
+                       [&](const auto& s) { return !listed(calibration_ids, s.id) && !listed(validation_ids, s.id); }),
+        ds.samples.end());
   for (auto& info : ds.samples) info.split = listed(calibration_ids, info.id) ? "calibration" : "validation";
 }
 
@@ -454,7 +460,6 @@ Dataset read_dataset(const std::string& dir, Warnings* /*warnings*/) {
 }
 
 // ------------------------------------------------------------------------------------------ writing
-
 
 namespace {
 
@@ -564,9 +569,9 @@ nlohmann::ordered_json dataset_to_json(const Dataset& ds) {
   j["indenters"] = indenters;
   nlohmann::ordered_json samples = nlohmann::ordered_json::array();
   for (const auto& s : ds.samples) {
-    nlohmann::ordered_json e{{"id", s.id},         {"motion", s.motion},         {"indenter", s.indenter},
-                             {"split", s.split},   {"dt_s", s.dt_s},             {"pose_known", s.pose_known},
-                             {"has_forces", s.has_forces}, {"has_frames", s.has_frames}};
+    nlohmann::ordered_json e{
+        {"id", s.id},     {"motion", s.motion},         {"indenter", s.indenter},     {"split", s.split},
+        {"dt_s", s.dt_s}, {"pose_known", s.pose_known}, {"has_forces", s.has_forces}, {"has_frames", s.has_frames}};
     for (const auto& [k, v] : s.extra.items()) e[k] = v;
     samples.push_back(e);
   }
@@ -584,7 +589,8 @@ void write_dataset(const std::string& dir, const Dataset& ds, const std::vector<
   if (samples.size() != ds.samples.size())
     throw std::invalid_argument("write_dataset: " + std::to_string(samples.size()) + " sample data for " +
                                 std::to_string(ds.samples.size()) + " samples");
-  for (std::size_t i = 0; i < samples.size(); ++i) write_sample(dir, ds.samples[i], samples[i], ds.markers_rest_px.size());
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    write_sample(dir, ds.samples[i], samples[i], ds.markers_rest_px.size());
   write_dataset_json(dir, ds);
 }
 

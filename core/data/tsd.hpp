@@ -9,51 +9,51 @@
 #include <string>
 #include <vector>
 
-#include "core/sensor/camera.hpp"
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/sensor/camera.hpp"
 #include "core/sensor/sensor.hpp"
 
 namespace sb {
 
 // The motion labels and splits tsd/1 allows, in display order.
-const std::vector<std::string>& tsd_motions();   // dilation shear twist roll slip free
-const std::vector<std::string>& tsd_splits();    // calibration validation
+const std::vector<std::string>& tsd_motions();  // dilation shear twist roll slip free
+const std::vector<std::string>& tsd_splits();   // calibration validation
 bool is_tsd_motion(const std::string& s);
 bool is_tsd_split(const std::string& s);
 
 struct TsdSampleInfo {
   std::string id;
   std::string motion = "free";
-  std::string indenter;            // key into Dataset::indenters
+  std::string indenter;  // key into Dataset::indenters
   std::string split = "calibration";
   double dt_s = 0.02;
   bool pose_known = true;
   bool has_forces = false;
   bool has_frames = false;
-  nlohmann::json extra = nlohmann::json::object();   // unknown fields, preserved on write
+  nlohmann::json extra = nlohmann::json::object();  // unknown fields, preserved on write
 };
 
 struct TsdIndenter {
-  std::string mesh;                // path relative to the dataset folder, e.g. meshes/sphere_r4.obj
+  std::string mesh;  // path relative to the dataset folder, e.g. meshes/sphere_r4.obj
   nlohmann::json extra = nlohmann::json::object();
 };
 
 struct Dataset {
-  std::string dir;                 // folder it was read from (empty when built in memory)
+  std::string dir;  // folder it was read from (empty when built in memory)
   std::string name;
   std::string kind = "synthetic";  // real | synthetic
   std::string provenance;
   std::string license;
   std::string sensor_model = kDefaultSensorModel;
-  Camera camera;                   // includes image_size_px (width_px, height_px)
+  Camera camera;  // includes image_size_px (width_px, height_px)
   GelSpec gel;
   std::vector<Vec2> markers_rest_px;
   std::map<std::string, TsdIndenter> indenters;
   std::vector<TsdSampleInfo> samples;
-  nlohmann::json extra = nlohmann::json::object();          // unknown top-level fields
-  nlohmann::json sensor_extra = nlohmann::json::object();   // unknown fields of "sensor"
+  nlohmann::json extra = nlohmann::json::object();         // unknown top-level fields
+  nlohmann::json sensor_extra = nlohmann::json::object();  // unknown fields of "sensor"
 
   // Throws InputError(dataset.json) for an unknown id.
   const TsdSampleInfo& sample(const std::string& id) const;
@@ -68,14 +68,14 @@ struct SampleData {
   std::vector<double> t_s;
   std::vector<Vec3> p_EI;
   std::vector<Quat> q_EI;
-  std::vector<std::vector<Vec2>> markers_px;   // [frame][marker] displacement; NaN where lost
-  std::vector<Vec3> forces_n;                  // [frame]; empty when the sample has none
-  std::vector<std::string> frame_paths;        // [frame]; empty when the sample has none
+  std::vector<std::vector<Vec2>> markers_px;  // [frame][marker] displacement; NaN where lost
+  std::vector<Vec3> forces_n;                 // [frame]; empty when the sample has none
+  std::vector<std::string> frame_paths;       // [frame]; empty when the sample has none
 
   std::size_t frames() const { return t_s.size(); }
   Pose X_EI(std::size_t k) const { return make_pose(p_EI[k], q_EI[k]); }
   std::vector<Pose> poses() const;
-  void push_pose(double t, const Pose& X);     // appends a frame's time and pose (markers separately)
+  void push_pose(double t, const Pose& X);  // appends a frame's time and pose (markers separately)
 };
 
 // Reassigns the splits of a dataset published without them (e.g. the FOTS press/shear pair): the listed
@@ -103,9 +103,8 @@ void read_forces_csv(const std::string& path, std::size_t n_frames, SampleData* 
 // atomically; it does not copy frame images or meshes. write_dataset_json writes dataset.json
 // atomically. write_dataset writes every sample, then dataset.json, so a reader never sees a
 // dataset.json that lists samples not yet written. `samples[i]` belongs to `ds.samples[i]`.
-void write_sample(const std::string& dir, const TsdSampleInfo& info, const SampleData& data,
-                  std::size_t n_markers);
-nlohmann::ordered_json dataset_to_json(const Dataset& ds);   // FORMAT.md field order
+void write_sample(const std::string& dir, const TsdSampleInfo& info, const SampleData& data, std::size_t n_markers);
+nlohmann::ordered_json dataset_to_json(const Dataset& ds);  // FORMAT.md field order
 void write_dataset_json(const std::string& dir, const Dataset& ds);
 void write_dataset(const std::string& dir, const Dataset& ds, const std::vector<SampleData>& samples);
 

@@ -91,8 +91,8 @@ void write_tsd_dataset(const TsdDatasetOut& out, const std::string& dir) {
     char name[32];
     for (std::size_t f = 0; f < s.frames.size(); ++f) {
       if (s.frames[f].empty()) {  // not imaged: then nothing may be tracked in it (read_sample's rule)
-        if (f < s.disp_px.size() && std::any_of(s.disp_px[f].begin(), s.disp_px[f].end(),
-                                                [](const Vec2& d) { return d.allFinite(); }))
+        if (f < s.disp_px.size() &&
+            std::any_of(s.disp_px[f].begin(), s.disp_px[f].end(), [](const Vec2& d) { return d.allFinite(); }))
           throw std::invalid_argument("write_tsd_dataset: sample " + s.id + " frame " + std::to_string(f) +
                                       " has tracked markers but no image");
         continue;
@@ -102,7 +102,7 @@ void write_tsd_dataset(const TsdDatasetOut& out, const std::string& dir) {
     }
     data.push_back(as_sample_data(s));
   }
-  write_dataset(dir, ds, data);   // the samples' CSVs, then dataset.json last
+  write_dataset(dir, ds, data);  // the samples' CSVs, then dataset.json last
 }
 
 }  // namespace sb

@@ -18,14 +18,15 @@ namespace sb {
 struct TsdSampleOut {
   std::string id;
   std::string motion = "free";
-  std::string indenter;  // a key of TsdDatasetOut::indenters (tsd/1 requires one; see importers.cpp for unknown contacts)
+  std::string
+      indenter;  // a key of TsdDatasetOut::indenters (tsd/1 requires one; see importers.cpp for unknown contacts)
   std::string split = "validation";
   double dt_s = 0.04;
   bool pose_known = false;
-  std::vector<Pose> X_EI;                        // one per frame (placeholders when !pose_known)
-  std::vector<std::vector<Vec2>> disp_px;        // [frame][marker], NaN = lost
-  std::vector<cv::Mat> frames;                   // empty, or one image per frame (an empty Mat: a frame
-                                                 // not imaged, every marker NaN; no file is written)
+  std::vector<Pose> X_EI;                           // one per frame (placeholders when !pose_known)
+  std::vector<std::vector<Vec2>> disp_px;           // [frame][marker], NaN = lost
+  std::vector<cv::Mat> frames;                      // empty, or one image per frame (an empty Mat: a frame
+                                                    // not imaged, every marker NaN; no file is written)
   nlohmann::json extra = nlohmann::json::object();  // extra keys of the sample entry (e.g. slip_label)
 };
 
@@ -42,10 +43,10 @@ struct TsdDatasetOut {
   double gel_thickness_m = 0.0045;
   // A camera that replaces the orthographic one above (width_px .. principal_px), e.g. the TacTip's pinhole.
   std::optional<Camera> camera;
-  std::string gel_surface = "flat";        // or "spherical_cap" (a mesh file is not written by importers)
-  double gel_radius_m = 0.0;               // spherical_cap only
-  double gel_footprint_radius_m = 0.0;     // spherical_cap only
-  double markers_depth_m = 0.0;            // pins below the contact surface
+  std::string gel_surface = "flat";     // or "spherical_cap" (a mesh file is not written by importers)
+  double gel_radius_m = 0.0;            // spherical_cap only
+  double gel_footprint_radius_m = 0.0;  // spherical_cap only
+  double markers_depth_m = 0.0;         // pins below the contact surface
   std::vector<Vec2> markers_rest_px;
   nlohmann::json sensor_extra = nlohmann::json::object();  // further keys of "sensor" (e.g. a TacTip's description)
   nlohmann::json indenters = nlohmann::json::object();

@@ -11,7 +11,8 @@ class SubsurfaceMarkers final : public Effect {
  public:
   SubsurfaceMarkers()
       : Effect({{"depth_m", "m", 0.0, 0.0, 0.005, "marker depth below the surface = Gaussian smoothing width"},
-                {"attenuation", "", 1.0, 0.0, 1.0, "amplitude factor of the field at the marker depth (a field at depth is not stronger)"}}) {}
+                {"attenuation", "", 1.0, 0.0, 1.0,
+                 "amplitude factor of the field at the marker depth (a field at depth is not stronger)"}}) {}
 
   std::string id() const override { return "subsurface_markers"; }
   std::string physics() const override {

@@ -19,8 +19,7 @@ void Effect::set_params(const ParamSet& params) {
   ParamSet next = params_;
   for (std::size_t i = 0; i < params.size(); ++i) {
     const std::string& name = params.specs()[i].name;
-    if (next.index_of(name) < 0)
-      throw std::invalid_argument("effect '" + id() + "' has no parameter '" + name + "'");
+    if (next.index_of(name) < 0) throw std::invalid_argument("effect '" + id() + "' has no parameter '" + name + "'");
     next.set(name, params[i]);
   }
   params_ = std::move(next);
@@ -75,8 +74,7 @@ Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter,
 
 EffectModel::EffectModel(std::unique_ptr<ShearModel> base, std::vector<std::unique_ptr<Effect>> effects,
                          std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter)
-    : base_(std::move(base)), effects_(std::move(effects)), sensor_(std::move(sensor)),
-      indenter_(std::move(indenter)) {
+    : base_(std::move(base)), effects_(std::move(effects)), sensor_(std::move(sensor)), indenter_(std::move(indenter)) {
   if (!base_) throw std::invalid_argument("EffectModel: null base model");
   if (!sensor_ || !sensor_->gel_sdf) throw std::invalid_argument("EffectModel: a sensor with a gel SDF is required");
   if (!indenter_) throw std::invalid_argument("EffectModel: null indenter");
@@ -195,8 +193,7 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   // The penetration depends on the pose alone and costs more than the base model for a finely sampled
   // indenter; fits replay the same pose sequence from reset() hundreds of times, so it is remembered per
   // step and reused when the pose is bit-identical (the result is then identical too).
-  if (step_index_ < penetration_cache_.size() &&
-      penetration_cache_[step_index_].first.matrix() == X_EI_seen.matrix()) {
+  if (step_index_ < penetration_cache_.size() && penetration_cache_[step_index_].first.matrix() == X_EI_seen.matrix()) {
     last_penetration_ = penetration_cache_[step_index_].second;
   } else {
     last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI_seen);
@@ -217,8 +214,8 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   ctx.depth_m = last_penetration_.depth_m;
   ctx.contact_centre_E = last_penetration_.centre_E;
   ctx.marker_in_contact = &out->marker_in_contact;
-  const bool any_marker = std::any_of(out->marker_in_contact.begin(), out->marker_in_contact.end(),
-                                      [](std::uint8_t c) { return c != 0; });
+  const bool any_marker =
+      std::any_of(out->marker_in_contact.begin(), out->marker_in_contact.end(), [](std::uint8_t c) { return c != 0; });
   ctx.in_contact = last_penetration_.penetrating || any_marker;
   ctx.loading = ctx.depth_m > previous_depth_m_;
   previous_depth_m_ = ctx.depth_m;
@@ -284,14 +281,12 @@ std::unique_ptr<Effect> make_effect(const std::string& id) {
   throw std::invalid_argument("unknown effect '" + id + "' (known: " + known + ")");
 }
 
-std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
-                                               const std::vector<std::string>& ids,
+std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base, const std::vector<std::string>& ids,
                                                std::shared_ptr<const Sensor> sensor,
                                                std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<Effect>> effects;
   for (const auto& id : ids) effects.push_back(make_effect(id));
-  return std::make_unique<EffectModel>(std::move(base), std::move(effects), std::move(sensor),
-                                       std::move(indenter));
+  return std::make_unique<EffectModel>(std::move(base), std::move(effects), std::move(sensor), std::move(indenter));
 }
 
 }  // namespace sb

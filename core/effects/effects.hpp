@@ -10,21 +10,21 @@
 #include <utility>
 #include <vector>
 
+#include "core/base/params.hpp"
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
-#include "core/base/params.hpp"
 #include "core/sensor/sensor.hpp"
 
 namespace sb {
 
 // How deep the indenter is in the gel and where, for one pose.
 struct Penetration {
-  double depth_m = 0.0;            // max over the indenter of -phi_E (>= 0; 0 when not touching)
-  bool penetrating = false;        // depth_m > 0
-  Vec2 centre_E{0.0, 0.0};         // xy in E: penetration-weighted centre of the touching points;
-                                   // the xy of the lowest point when not touching
-  double radius_m = 0.0;           // largest xy distance of a touching point from centre_E (the contact edge
-                                   // of a round contact; 0 when not touching)
+  double depth_m = 0.0;      // max over the indenter of -phi_E (>= 0; 0 when not touching)
+  bool penetrating = false;  // depth_m > 0
+  Vec2 centre_E{0.0, 0.0};   // xy in E: penetration-weighted centre of the touching points;
+                             // the xy of the lowest point when not touching
+  double radius_m = 0.0;     // largest xy distance of a touching point from centre_E (the contact edge
+                             // of a round contact; 0 when not touching)
 };
 
 // Evaluates the gel SDF phi_E at the indenter's surface samples and mesh vertices placed by X_EI
@@ -34,14 +34,14 @@ Penetration indenter_penetration(const Sdf& gel_sdf_E, const Indenter& indenter,
 
 // What an effect may look at during one step. Pointers stay valid for the duration of apply().
 struct EffectContext {
-  const Sensor* sensor = nullptr;                          // markers (px and p_EM), camera, gel size
-  double dt_s = 0.0;                                       // this step's duration
-  double time_s = 0.0;                                     // time since reset, including this step
+  const Sensor* sensor = nullptr;  // markers (px and p_EM), camera, gel size
+  double dt_s = 0.0;               // this step's duration
+  double time_s = 0.0;             // time since reset, including this step
   Pose X_EI = Pose::Identity();
-  double depth_m = 0.0;                                    // indenter penetration (Penetration)
-  bool in_contact = false;                                 // depth > 0 or any marker in contact
-  Vec2 contact_centre_E{0.0, 0.0};                         // xy in E (metres)
-  bool loading = false;                                    // depth increased this step (else held/unloading)
+  double depth_m = 0.0;                                          // indenter penetration (Penetration)
+  bool in_contact = false;                                       // depth > 0 or any marker in contact
+  Vec2 contact_centre_E{0.0, 0.0};                               // xy in E (metres)
+  bool loading = false;                                          // depth increased this step (else held/unloading)
   const std::vector<std::uint8_t>* marker_in_contact = nullptr;  // the base model's flags; may be empty
 };
 
@@ -91,8 +91,9 @@ class EffectModel final : public ShearModel {
   const ParamSet& params() const override { return params_; }
   void set_params(const ParamSet& params) override;
   void reset() override;
-  // The pose effects' corrections, then the base step at the corrected pose, then the effects in order. Throws std::invalid_argument for a negative or non-finite dt.
-  // out == nullptr: the base steps without a field unless an effect is stateful (then into a scratch field).
+  // The pose effects' corrections, then the base step at the corrected pose, then the effects in order. Throws
+  // std::invalid_argument for a negative or non-finite dt. out == nullptr: the base steps without a field unless an
+  // effect is stateful (then into a scratch field).
   void step(const Pose& X_EI, double dt, FieldOutput* out) override;
   std::unique_ptr<ShearModel> clone() const override;
 
@@ -114,9 +115,9 @@ class EffectModel final : public ShearModel {
   double time_s_ = 0.0;
   double previous_depth_m_ = 0.0;
   Penetration last_penetration_;
-  std::size_t step_index_ = 0;                                     // steps since reset()
-  std::vector<std::pair<Pose, Penetration>> penetration_cache_;   // per step index: pose and its penetration
-  FieldOutput scratch_field_;                                      // a stateful effect's field when none is wanted
+  std::size_t step_index_ = 0;                                   // steps since reset()
+  std::vector<std::pair<Pose, Penetration>> penetration_cache_;  // per step index: pose and its penetration
+  FieldOutput scratch_field_;                                    // a stateful effect's field when none is wanted
 };
 
 // True when one of `effect_ids` corrects the pose (Effect::acts_on_pose): the base must run under it, a
@@ -137,8 +138,7 @@ ParamSet combined_param_table(const ParamSet& base, const std::vector<std::strin
 // at their defaults.
 std::vector<std::string> effect_fit_params(const ParamSet& table, const std::string& effect_id);
 // Convenience: wraps `base` with the effects named by `ids`, in that order.
-std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
-                                               const std::vector<std::string>& ids,
+std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base, const std::vector<std::string>& ids,
                                                std::shared_ptr<const Sensor> sensor,
                                                std::shared_ptr<const Indenter> indenter);
 

@@ -23,9 +23,9 @@ ModelSpec parse_model_spec(const std::string& id) {
   for (const auto& p : parts)
     if (p.empty()) throw std::invalid_argument("model '" + id + "': an empty name between '+' signs");
   ModelSpec spec{parts.front(), {parts.begin() + 1, parts.end()}};
-  default_params(spec.form);   // throws, naming the known forms
+  default_params(spec.form);  // throws, naming the known forms
   for (std::size_t i = 0; i < spec.effects.size(); ++i) {
-    make_effect(spec.effects[i]);   // throws, naming the known effects
+    make_effect(spec.effects[i]);  // throws, naming the known effects
     if (std::find(spec.effects.begin(), spec.effects.begin() + i, spec.effects[i]) != spec.effects.begin() + i)
       throw std::invalid_argument("model '" + id + "': effect '" + spec.effects[i] + "' named twice");
   }

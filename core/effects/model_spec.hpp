@@ -13,8 +13,8 @@
 namespace sb {
 
 struct ModelSpec {
-  std::string form;                    // a model_ids() entry
-  std::vector<std::string> effects;    // effect_ids() entries, in the order they apply
+  std::string form;                  // a model_ids() entry
+  std::vector<std::string> effects;  // effect_ids() entries, in the order they apply
   // "<form>+<effect>+..." (the form alone without effects).
   std::string id() const;
 };

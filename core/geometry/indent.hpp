@@ -11,8 +11,8 @@
 namespace sb {
 
 struct IndentOptions {
-  double tolerance_m = 2e-6;   // stop once this close to the indenter's surface
-  int max_steps = 32;          // per point; a clamped narrow-band field (mesh SDF) needs a few more
+  double tolerance_m = 2e-6;  // stop once this close to the indenter's surface
+  int max_steps = 32;         // per point; a clamped narrow-band field (mesh SDF) needs a few more
 };
 
 // Moves each of `p_E` (points of a surface, in E) that lies inside the indenter (phi_I < 0 at

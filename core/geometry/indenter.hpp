@@ -17,18 +17,17 @@ struct SurfaceSamples {
 
 // Poisson-disk sampling with minimum spacing `spacing_m` (default 0.75 mm as in HydroShear).
 // Deterministic for a given seed.
-SurfaceSamples poisson_disk_samples(const TriMesh& mesh, double spacing_m = 0.75e-3,
-                                    unsigned seed = 1);
+SurfaceSamples poisson_disk_samples(const TriMesh& mesh, double spacing_m = 0.75e-3, unsigned seed = 1);
 
 struct Indenter {
   std::string name;
-  TriMesh mesh;                 // in I
-  SdfPtr sdf;                   // phi_I, in I
+  TriMesh mesh;  // in I
+  SdfPtr sdf;    // phi_I, in I
   SurfaceSamples samples;
 };
 
 // ---- procedural meshes (written to assets/ by `shearbench assets`), all centred at the origin of I
-TriMesh make_sphere_mesh(double radius, int subdivisions = 5);                 // icosphere
+TriMesh make_sphere_mesh(double radius, int subdivisions = 5);  // icosphere
 TriMesh make_torus_mesh(double major_radius, double minor_radius, int n_major = 96, int n_minor = 48);
 // Flat-ended cylinder along z, radius r, length L, the two rim edges rounded with a fillet radius.
 TriMesh make_cylinder_mesh(double radius, double length, double fillet, int n_around = 96);
@@ -38,7 +37,7 @@ TriMesh make_box_mesh(const Vec3& size);
 // {"mesh": "data:meshes/cow.obj", "scale": 0.01, "transform": ...}. "data:" paths resolve through the
 // data root; other relative paths against `base_dir`.
 struct IndenterSpec {
-  std::string shape;            // sphere | torus | cylinder | box | mesh
+  std::string shape;  // sphere | torus | cylinder | box | mesh
   double radius_m = 0.004;
   double minor_radius_m = 0.0015;
   double length_m = 0.04;
@@ -48,7 +47,7 @@ struct IndenterSpec {
   double scale = 1.0;
   bool allow_open = false;
   double sample_spacing_m = 0.75e-3;
-  bool analytic_sdf = true;     // use the exact SDF where one exists (sphere, torus, box)
+  bool analytic_sdf = true;  // use the exact SDF where one exists (sphere, torus, box)
 };
 
 // The two halves of build_indenter, usable alone (they need no mesh SDF):

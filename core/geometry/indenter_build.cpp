@@ -9,9 +9,9 @@
 namespace sb {
 
 namespace {
-constexpr double kIndenterSdfBand = 0.003;       // metres
-constexpr double kIndenterSdfMinVoxel = 0.1e-3;  // metres
-constexpr double kIndenterSdfMaxVoxel = 0.25e-3; // metres
+constexpr double kIndenterSdfBand = 0.003;        // metres
+constexpr double kIndenterSdfMinVoxel = 0.1e-3;   // metres
+constexpr double kIndenterSdfMaxVoxel = 0.25e-3;  // metres
 }  // namespace
 
 Indenter build_indenter(const IndenterSpec& spec, const std::string& data_root, const std::string& base_dir,
@@ -31,7 +31,7 @@ Indenter build_indenter(const IndenterSpec& spec, const std::string& data_root, 
     options.band_width = kIndenterSdfBand;
     const double diagonal = ind.mesh.bounds().diagonal().norm();
     options.voxel_size = std::clamp(diagonal / 200.0, kIndenterSdfMinVoxel, kIndenterSdfMaxVoxel);
-    ind.sdf = cached_mesh_sdf(ind.mesh, options);   // a fit reloads its dataset: built once (sdf_cache.hpp)
+    ind.sdf = cached_mesh_sdf(ind.mesh, options);  // a fit reloads its dataset: built once (sdf_cache.hpp)
   }
   return ind;
 }

@@ -13,15 +13,17 @@ namespace {
 
 constexpr double kBoxMeshTolerance = 1e-9;  // relative to the box's diagonal (vertices) or volume
 
-bool is_mesh_file(const IndenterSpec& spec) { return spec.shape == "mesh" || (spec.shape.empty() && !spec.mesh_path.empty()); }
+bool is_mesh_file(const IndenterSpec& spec) {
+  return spec.shape == "mesh" || (spec.shape.empty() && !spec.mesh_path.empty());
+}
 
 TriMesh procedural_mesh(const IndenterSpec& spec) {
   if (spec.shape == "sphere") return make_sphere_mesh(spec.radius_m);
   if (spec.shape == "torus") return make_torus_mesh(spec.radius_m, spec.minor_radius_m);
   if (spec.shape == "cylinder") return make_cylinder_mesh(spec.radius_m, spec.length_m, spec.fillet_m);
   if (spec.shape == "box") return make_box_mesh(spec.size_m);
-  throw InputError("indenter", "unknown indenter shape '" + spec.shape +
-                                   "' (expected sphere, torus, cylinder, box or mesh)");
+  throw InputError("indenter",
+                   "unknown indenter shape '" + spec.shape + "' (expected sphere, torus, cylinder, box or mesh)");
 }
 
 }  // namespace

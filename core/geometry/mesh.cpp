@@ -10,8 +10,8 @@
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 
-#include "core/geometry/mesh.hpp"
 #include "core/base/atomic_write.hpp"
+#include "core/geometry/mesh.hpp"
 
 #include <algorithm>
 #include <array>
@@ -63,8 +63,8 @@ TriMesh TriMesh::transformed(const Pose& X) const {
 std::string MeshReport::summary() const {
   std::ostringstream s;
   s << (closed() ? "closed" : "open") << ", "
-    << (consistently_oriented() ? "consistently oriented" : "inconsistently oriented")
-    << ", Euler characteristic " << euler_characteristic;
+    << (consistently_oriented() ? "consistently oriented" : "inconsistently oriented") << ", Euler characteristic "
+    << euler_characteristic;
   if (boundary_edges) s << ", " << boundary_edges << " boundary edges";
   if (nonmanifold_edges) s << ", " << nonmanifold_edges << " non-manifold edges";
   if (inconsistent_edges) s << ", " << inconsistent_edges << " inconsistently oriented edges";
@@ -133,8 +133,8 @@ MeshReport validate_mesh(const TriMesh& mesh) {
   std::size_t n_referenced = 0;
   for (char c : referenced) n_referenced += c;
   r.unreferenced_vertices = mesh.vertices.size() - n_referenced;
-  r.euler_characteristic =
-      static_cast<int>(n_referenced) - static_cast<int>(n_edges) + static_cast<int>(mesh.faces.size());
+  r.euler_characteristic = static_cast<int>(n_referenced) - static_cast<int>(n_edges) +
+                           static_cast<int>(mesh.faces.size());
   return r;
 }
 
@@ -336,8 +336,9 @@ ExpectedCounts scan_off(const std::string& path) {
   // reserve (size_t)-4 faces): the counts must be the next record, three whole integers.
   std::string extra;
   if (s >> extra)
-    throw InputError(path, 1, 0, "OFF header: '" + extra + "' after '" + magic +
-                                     "'; write the vertex, face and edge counts on the next line");
+    throw InputError(
+        path, 1, 0,
+        "OFF header: '" + extra + "' after '" + magic + "'; write the vertex, face and edge counts on the next line");
   if (!next_record(s)) throw InputError(path, line_no, 0, "OFF header without vertex, face and edge counts");
   ExpectedCounts c;
   long counts[3] = {0, 0, 0};
@@ -347,19 +348,21 @@ ExpectedCounts scan_off(const std::string& path) {
     const auto [end, ec] = have ? std::from_chars(tok.data(), tok.data() + tok.size(), counts[k])
                                 : std::from_chars_result{tok.data(), std::errc::invalid_argument};
     if (!have || ec != std::errc() || end != tok.data() + tok.size())
-      throw InputError(path, line_no, 0, "OFF header: expected three whole counts 'vertices faces edges'" +
-                                             (have ? " (found '" + tok + "')" : std::string()));
+      throw InputError(path, line_no, 0,
+                       "OFF header: expected three whole counts 'vertices faces edges'" +
+                           (have ? " (found '" + tok + "')" : std::string()));
   }
   if (s >> extra) throw InputError(path, line_no, 0, "OFF header: '" + extra + "' after the three counts");
   c.vertices = counts[0];
   c.faces = counts[1];
-  if (c.vertices < 0 || c.faces < 0 || counts[2] < 0)   // OpenMesh would reserve (size_t)-4 records (fuzz_mesh)
+  if (c.vertices < 0 || c.faces < 0 || counts[2] < 0)  // OpenMesh would reserve (size_t)-4 records (fuzz_mesh)
     throw InputError(path, line_no, 0, "negative vertex, face or edge count in the OFF header");
   for (long i = 0; i < c.vertices; ++i) {
     double v[3];
     if (!next_record(s))
-      throw InputError(path, line_no, 0, "file ends after " + std::to_string(i) + " of " +
-                                             std::to_string(c.vertices) + " declared vertices (truncated)");
+      throw InputError(path, line_no, 0,
+                       "file ends after " + std::to_string(i) + " of " + std::to_string(c.vertices) +
+                           " declared vertices (truncated)");
     if (!parse_doubles(s, 3, v)) throw InputError(path, line_no, 0, "vertex record without three numbers");
     check_finite_at(v, path, line_no, i);
     // OpenMesh reads the records as one stream of numbers, not line by line: a value left over on a
@@ -370,28 +373,31 @@ ExpectedCounts scan_off(const std::string& path) {
   }
   for (long i = 0; i < c.faces; ++i) {
     if (!next_record(s))
-      throw InputError(path, line_no, 0, "file ends after " + std::to_string(i) + " of " +
-                                             std::to_string(c.faces) + " declared faces (truncated)");
+      throw InputError(
+          path, line_no, 0,
+          "file ends after " + std::to_string(i) + " of " + std::to_string(c.faces) + " declared faces (truncated)");
     long n = 0;
     // A face record starts with its vertex count (>= 3). A record that does not parse must be an error
     // here: OpenMesh reads a garbage count and appends vertex handles until memory runs out (fuzz_mesh).
     if (!(s >> n) || n < 3 || n > c.vertices)
-      throw InputError(path, line_no, 0, "face record must start with its vertex count (3 to " +
-                                             std::to_string(c.vertices) + ")");
+      throw InputError(path, line_no, 0,
+                       "face record must start with its vertex count (3 to " + std::to_string(c.vertices) + ")");
     for (long k = 0; k < n; ++k) {
       long idx = -1;
       if (!(s >> idx))
         throw InputError(path, line_no, 0, "face record shorter than its declared " + std::to_string(n) + " vertices");
       if (idx < 0 || idx >= c.vertices)
-        throw InputError(path, line_no, 0, "face refers to vertex " + std::to_string(idx) + " but the file declares " +
-                                               std::to_string(c.vertices) + " vertices");
+        throw InputError(path, line_no, 0,
+                         "face refers to vertex " + std::to_string(idx) + " but the file declares " +
+                             std::to_string(c.vertices) + " vertices");
     }
     // A leftover value would be read by OpenMesh as the next face's count (fuzz_mesh: a 90-digit number
     // there made it append vertex handles until out of memory).
     std::string extra;
     if (s >> extra)
-      throw InputError(path, line_no, 0, "face record has '" + extra.substr(0, 20) + "' after its " +
-                                             std::to_string(n) + " vertex indices (face colours are not supported)");
+      throw InputError(path, line_no, 0,
+                       "face record has '" + extra.substr(0, 20) + "' after its " + std::to_string(n) +
+                           " vertex indices (face colours are not supported)");
   }
   return c;
 }
@@ -408,16 +414,19 @@ ExpectedCounts scan_stl(const std::string& path) {
     if (size == 84 + 50ull * n) return {-1, static_cast<long>(n)};
   }
   if (head.rfind("solid", 0) != 0)
-    throw InputError(path, "truncated binary STL: " + std::to_string(size) +
-                               " bytes is not 84 + 50 x (declared triangle count)");
+    throw InputError(
+        path, "truncated binary STL: " + std::to_string(size) + " bytes is not 84 + 50 x (declared triangle count)");
   in.seekg(0);
   std::string tok;
   long facets = 0, endfacets = 0;
   bool endsolid = false;
   while (in >> tok) {
-    if (tok == "facet") ++facets;
-    else if (tok == "endfacet") ++endfacets;
-    else if (tok.rfind("endsolid", 0) == 0) endsolid = true;
+    if (tok == "facet")
+      ++facets;
+    else if (tok == "endfacet")
+      ++endfacets;
+    else if (tok.rfind("endsolid", 0) == 0)
+      endsolid = true;
   }
   if (!endsolid || facets != endfacets)
     throw InputError(path, "truncated ASCII STL: " + std::to_string(facets) + " facets opened, " +
@@ -439,7 +448,9 @@ struct PlyElement {
 // reader hangs on a negative or huge count instead of failing).
 constexpr long kMaxPlyListCount = 1 << 16;
 
-bool ply_integer_type(const std::string& t) { return t != "float" && t != "double" && t != "float32" && t != "float64"; }
+bool ply_integer_type(const std::string& t) {
+  return t != "float" && t != "double" && t != "float32" && t != "float64";
+}
 
 int ply_type_size(const std::string& t) {
   if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
@@ -463,9 +474,9 @@ void check_ply_list_count(long count, const PlyElement& e, long record, const Pl
                           const std::string& path, const std::string& where) {
   const long lowest = e.name == "face" ? 3 : 0;
   if (count < lowest || count > kMaxPlyListCount)
-    throw InputError(path, where + ": " + e.name + " " + std::to_string(record) + " declares " +
-                               std::to_string(count) + " entries in list '" + prop.name + "' (expected " +
-                               std::to_string(lowest) + ".." + std::to_string(kMaxPlyListCount) + ")");
+    throw InputError(path, where + ": " + e.name + " " + std::to_string(record) + " declares " + std::to_string(count) +
+                               " entries in list '" + prop.name + "' (expected " + std::to_string(lowest) + ".." +
+                               std::to_string(kMaxPlyListCount) + ")");
 }
 
 // Walks a binary body record by record: every list count in range and every record inside the file.
@@ -524,8 +535,8 @@ void check_ply_ascii_body(std::istream& in, const std::vector<PlyElement>& layou
       std::size_t k = 0;
       auto next = [&](const PlyProperty& prop) -> const std::string& {
         if (k >= tok.size())
-          throw InputError(path, line_no, 0, e.name + " " + std::to_string(r) + " ends before property '" +
-                                                 prop.name + "'");
+          throw InputError(path, line_no, 0,
+                           e.name + " " + std::to_string(r) + " ends before property '" + prop.name + "'");
         return tok[k++];
       };
       for (const PlyProperty& prop : e.properties) {
@@ -539,10 +550,9 @@ void check_ply_ascii_body(std::istream& in, const std::vector<PlyElement>& layou
         check_ply_list_count(static_cast<long>(std::clamp(count, -1e12, 1e12)), e, r, prop, path,
                              "line " + std::to_string(line_no));
         if (tok.size() - k < static_cast<std::size_t>(count))
-          throw InputError(path, line_no, static_cast<int>(k), e.name + " " + std::to_string(r) + ": list '" +
-                                                                   prop.name + "' declares " + tok[k - 1] +
-                                                                   " values, the line holds " +
-                                                                   std::to_string(tok.size() - k));
+          throw InputError(path, line_no, static_cast<int>(k),
+                           e.name + " " + std::to_string(r) + ": list '" + prop.name + "' declares " + tok[k - 1] +
+                               " values, the line holds " + std::to_string(tok.size() - k));
         for (long i = 0; i < static_cast<long>(count); ++i) number(next(prop), static_cast<int>(k) + 1);
       }
       if (k != tok.size())
@@ -553,9 +563,10 @@ void check_ply_ascii_body(std::istream& in, const std::vector<PlyElement>& layou
 }
 
 bool ply_known_type(const std::string& t) {
-  static const char* types[] = {"char", "uchar", "short", "ushort", "int", "uint", "float", "double", "int8", "uint8",
-                                "int16", "uint16", "int32", "uint32", "float32", "float64"};
-  for (const char* k : types) if (t == k) return true;
+  static const char* types[] = {"char", "uchar", "short", "ushort", "int",   "uint",   "float",   "double",
+                                "int8", "uint8", "int16", "uint16", "int32", "uint32", "float32", "float64"};
+  for (const char* k : types)
+    if (t == k) return true;
   return false;
 }
 
@@ -580,7 +591,7 @@ std::uintmax_t parse_ply_property(std::istringstream& s, bool face, PlyElement& 
     if (!ply_known_type(count_type) || !ply_known_type(item_type))
       throw InputError(path, line_no, 0, "PLY header: unknown list types '" + count_type + " " + item_type + "'");
     std::string name, extra;
-    if (!(s >> name) || (s >> extra))   // OpenMesh loops on a property without a name (fuzz_mesh)
+    if (!(s >> name) || (s >> extra))  // OpenMesh loops on a property without a name (fuzz_mesh)
       throw InputError(path, line_no, 0, "PLY header: expected 'property list <type> <type> <name>'");
     if (!ply_integer_type(count_type))
       throw InputError(path, line_no, 0, "PLY header: list count type '" + count_type + "' is not an integer");
@@ -589,8 +600,7 @@ std::uintmax_t parse_ply_property(std::istringstream& s, bool face, PlyElement& 
   }
   if (!ply_known_type(type)) throw InputError(path, line_no, 0, "PLY header: unknown property type '" + type + "'");
   std::string name, extra;
-  if (!(s >> name) || (s >> extra))
-    throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
+  if (!(s >> name) || (s >> extra)) throw InputError(path, line_no, 0, "PLY header: expected 'property <type> <name>'");
   element.properties.push_back({name, type, ""});
   return ply_type_size(type);
 }

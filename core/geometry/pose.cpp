@@ -12,12 +12,9 @@ Pose make_pose(const Vec3& p, const Quat& q) {
   return X;
 }
 
-Pose make_pose(const Vec3& p, double qw, double qx, double qy, double qz) {
-  return make_pose(p, Quat(qw, qx, qy, qz));
-}
+Pose make_pose(const Vec3& p, double qw, double qx, double qy, double qz) { return make_pose(p, Quat(qw, qx, qy, qz)); }
 
-Quat normalized_quaternion(double qw, double qx, double qy, double qz, const std::string& where,
-                           Warnings* warnings) {
+Quat normalized_quaternion(double qw, double qx, double qy, double qz, const std::string& where, Warnings* warnings) {
   const double n2 = qw * qw + qx * qx + qy * qy + qz * qz;
   if (!std::isfinite(n2)) throw InputError(where, "quaternion has a non-finite component");
   const double n = std::sqrt(n2);

@@ -29,8 +29,7 @@ Pose make_pose(const Vec3& p, double qw, double qx, double qy, double qz);
 
 // Normalises a quaternion read from a file. Throws InputError(where) for a zero-norm or non-finite one;
 // adds a warning for one whose norm differs from 1 by more than kQuatUnitTolerance.
-Quat normalized_quaternion(double qw, double qx, double qy, double qz, const std::string& where,
-                           Warnings* warnings);
+Quat normalized_quaternion(double qw, double qx, double qy, double qz, const std::string& where, Warnings* warnings);
 
 // Rotation about a unit axis by an angle (right-handed), and the common elementary ones.
 Mat3 rotation_about(const Vec3& axis, double angle_rad);

@@ -19,8 +19,7 @@ class Sdf {
   virtual double value_and_gradient(const Vec3& p, Vec3* gradient) const = 0;
   // Batch forms; defaults loop over the single-point calls.
   virtual void values(std::span<const Vec3> p, std::span<double> phi) const;
-  virtual void values_and_gradients(std::span<const Vec3> p, std::span<double> phi,
-                                    std::span<Vec3> gradient) const;
+  virtual void values_and_gradients(std::span<const Vec3> p, std::span<double> phi, std::span<Vec3> gradient) const;
   // Box outside which values are only a lower bound (narrow band) or an extrapolation.
   virtual Eigen::AlignedBox3d bounds() const = 0;
   virtual std::string describe() const = 0;
@@ -48,9 +47,9 @@ SdfPtr make_transformed_sdf(SdfPtr inner_B, const Pose& X_AB);
 
 // ---- mesh fields (OpenVDB narrow band, sampled trilinearly)
 struct MeshSdfOptions {
-  double voxel_size = 0.0;          // metres; 0 picks bbox_diagonal / 200, at most 0.25 mm
-  double band_width = 0.004;        // metres of exact band on each side; >= 3 mm for deep presses
-  bool allow_open = false;          // best effort for meshes with holes (sign from a flood fill)
+  double voxel_size = 0.0;    // metres; 0 picks bbox_diagonal / 200, at most 0.25 mm
+  double band_width = 0.004;  // metres of exact band on each side; >= 3 mm for deep presses
+  bool allow_open = false;    // best effort for meshes with holes (sign from a flood fill)
 };
 SdfPtr make_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options = {});
 // Unsigned distance from p to the triangle abc (what the mesh field is built from; also the tests' exact reference).

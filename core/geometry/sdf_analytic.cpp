@@ -57,7 +57,11 @@ class SphereSdf final : public Sdf {
 class SphericalCapSdf final : public Sdf {
  public:
   SphericalCapSdf(double R, double F, double T)
-      : R_(R), F_(F), T_(T), z_rim_(-(R - std::sqrt(std::max(R * R - F * F, 0.0)))), sin_rim_(F / R),
+      : R_(R),
+        F_(F),
+        T_(T),
+        z_rim_(-(R - std::sqrt(std::max(R * R - F * F, 0.0)))),
+        sin_rim_(F / R),
         cos_rim_((z_rim_ + R) / R) {}
   // The distance alone (HydroShear asks it of every point near the gel at every step): squared distances to the
   // arc's circle or its rim end, the wall and the bottom, one square root each.
@@ -81,10 +85,11 @@ class SphericalCapSdf final : public Sdf {
     const double r = std::sqrt(p.x() * p.x() + p.y() * p.y()), z = p.z();
     const Vec2 q(r, z);
     Vec2 nearest = nearest_on_arc(q);
-    for (const Vec2& c : {nearest_on_segment(q, Vec2(F_, z_rim_), Vec2(F_, -T_)),
-                          nearest_on_segment(q, Vec2(F_, -T_), Vec2(0, -T_))})
+    for (const Vec2& c :
+         {nearest_on_segment(q, Vec2(F_, z_rim_), Vec2(F_, -T_)), nearest_on_segment(q, Vec2(F_, -T_), Vec2(0, -T_))})
       if ((q - c).squaredNorm() < (q - nearest).squaredNorm()) nearest = c;
-    const bool inside = z >= -T_ && ((z <= z_rim_ && r <= F_) || (z > z_rim_ && r * r + (z + R_) * (z + R_) <= R_ * R_));
+    const bool inside = z >= -T_ &&
+                        ((z <= z_rim_ && r <= F_) || (z > z_rim_ && r * r + (z + R_) * (z + R_) <= R_ * R_));
     const Vec2 d = q - nearest;
     const double dist = d.norm();
     const Vec2 radial = r > 0 ? Vec2(p.x() / r, p.y() / r) : Vec2(1, 0);
@@ -112,7 +117,7 @@ class SphericalCapSdf final : public Sdf {
     const Vec2 v = q - Vec2(0, -R_);
     if (v.x() * cos_rim_ - v.y() * sin_rim_ > 0) return Vec2(F_, z_rim_);
     const double n = v.norm();
-    if (n == 0 || (v.x() <= 0 && v.y() < 0)) return Vec2(0, 0);   // the centre, or straight below it
+    if (n == 0 || (v.x() <= 0 && v.y() < 0)) return Vec2(0, 0);  // the centre, or straight below it
     return Vec2(0, -R_) + (R_ / n) * v;
   }
   static Vec2 nearest_on_segment(const Vec2& q, const Vec2& a, const Vec2& b) {
@@ -186,7 +191,9 @@ class BoxSdf final : public Sdf {
   }
 
  private:
-  static Vec3 sign_or_one(const Vec3& s) { return s.unaryExpr([](double v) { return v == 0 ? 1.0 : v; }); }
+  static Vec3 sign_or_one(const Vec3& s) {
+    return s.unaryExpr([](double v) { return v == 0 ? 1.0 : v; });
+  }
   Vec3 c_, h_;
 };
 

@@ -9,7 +9,7 @@ namespace sb {
 namespace {
 
 struct Entry {
-  TriMesh mesh;                  // the exact key: a copy (small beside its field)
+  TriMesh mesh;  // the exact key: a copy (small beside its field)
   MeshSdfOptions options;
   SdfPtr sdf;
 };
@@ -26,7 +26,7 @@ bool same_mesh(const TriMesh& a, const TriMesh& b) {
 
 struct Cache {
   std::mutex mutex;
-  std::list<Entry> entries;      // most recently used first
+  std::list<Entry> entries;  // most recently used first
 };
 
 Cache& cache() {
@@ -52,7 +52,7 @@ SdfPtr cached_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options) {
     std::lock_guard<std::mutex> lock(c.mutex);
     if (SdfPtr hit = find_and_touch(c, mesh, options)) return hit;
   }
-  SdfPtr built = make_mesh_sdf(mesh, options);   // seconds for a big mesh: not under the lock
+  SdfPtr built = make_mesh_sdf(mesh, options);  // seconds for a big mesh: not under the lock
   std::lock_guard<std::mutex> lock(c.mutex);
   if (SdfPtr raced = find_and_touch(c, mesh, options)) return raced;
   c.entries.push_front(Entry{mesh, options, built});

@@ -8,7 +8,8 @@
 // Lookups:
 //  - Trilinear: interpolation of the eight surrounding nodes; exact for fields linear in x, y, z (a half
 //    space, a plane); the gradient is the analytic gradient of the interpolant, normalised.
-//  - Nearest: pytorch_volumetric.CachedSDF, the lookup HydroShear's code uses: index = round((p - min) / voxel) per axis, the
+//  - Nearest: pytorch_volumetric.CachedSDF, the lookup HydroShear's code uses: index = round((p - min) / voxel) per
+//  axis, the
 //    value and the source gradient stored at that node; piecewise constant.
 // Out of range (a Trilinear query outside the covered box; a Nearest query whose rounded index falls outside
 // [0, n - 1], i.e. more than half a voxel beyond the box): the source field is evaluated directly. That is what
@@ -134,9 +135,7 @@ class GridSdf final : public Sdf {
     return lerp(f0, f1, t[0]);
   }
 
-  double fallback(const Vec3& p, Vec3* g) const {
-    return g ? source_->value_and_gradient(p, g) : source_->value(p);
-  }
+  double fallback(const Vec3& p, Vec3* g) const { return g ? source_->value_and_gradient(p, g) : source_->value(p); }
 
   SdfPtr source_;
   Vec3 origin_;

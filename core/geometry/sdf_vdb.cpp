@@ -27,10 +27,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <vector>
 #include <mutex>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 #include "core/geometry/sdf.hpp"
 
@@ -65,7 +65,8 @@ struct VertexFaces {
     faces.resize(static_cast<std::size_t>(start.back()));
     std::vector<int> fill(start.begin(), start.end() - 1);
     for (std::size_t i = 0; i < m.faces.size(); ++i)
-      for (int k = 0; k < 3; ++k) faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(m.faces[i][k])]++)] = static_cast<int>(i);
+      for (int k = 0; k < 3; ++k)
+        faces[static_cast<std::size_t>(fill[static_cast<std::size_t>(m.faces[i][k])]++)] = static_cast<int>(i);
   }
 };
 
@@ -124,8 +125,13 @@ class VdbMeshSdf final : public Sdf {
 
   VdbMeshSdf(Grid::Ptr grid, double voxel, double band, const Eigen::AlignedBox3d& mesh_box, std::size_t n_faces,
              bool open)
-      : grid_(std::move(grid)), voxel_(voxel), inv_voxel_(1.0 / voxel), band_(band), mesh_box_(mesh_box),
-        n_faces_(n_faces), open_(open) {}
+      : grid_(std::move(grid)),
+        voxel_(voxel),
+        inv_voxel_(1.0 / voxel),
+        band_(band),
+        mesh_box_(mesh_box),
+        n_faces_(n_faces),
+        open_(open) {}
 
   double value(const Vec3& p) const override {
     Accessor acc = grid_->getConstUnsafeAccessor();
@@ -227,7 +233,8 @@ SdfPtr make_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options) {
 
   const Eigen::AlignedBox3d box = bounding_box_of(mesh);
   const double voxel = pick_voxel_size(box, options);
-  if (!(voxel > 0) || !std::isfinite(voxel)) throw std::invalid_argument("make_mesh_sdf: degenerate mesh (zero extent)");
+  if (!(voxel > 0) || !std::isfinite(voxel))
+    throw std::invalid_argument("make_mesh_sdf: degenerate mesh (zero extent)");
 
   std::vector<openvdb::Vec3s> points;
   points.reserve(mesh.vertices.size());
@@ -253,8 +260,8 @@ SdfPtr make_mesh_sdf(const TriMesh& mesh, const MeshSdfOptions& options) {
   openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec3I> adapter(points, triangles);
   openvdb::util::NullInterrupter interrupter;
   openvdb::Int32Grid closest_face(0);
-  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(interrupter, adapter, *xform, half_width, half_width,
-                                                               0, &closest_face);
+  auto grid = openvdb::tools::meshToVolume<openvdb::FloatGrid>(interrupter, adapter, *xform, half_width, half_width, 0,
+                                                               &closest_face);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   refine_distances(*grid, closest_face, mesh, voxel);
   return std::make_shared<VdbMeshSdf>(grid, voxel, options.band_width, box, mesh.faces.size(), options.allow_open);

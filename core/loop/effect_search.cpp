@@ -29,7 +29,8 @@ std::vector<std::string> without(std::vector<std::string> names, const std::vect
 // The free parameters of `effect_id` that sit at a bound of their range ("name = value"), except a bound
 // that is the parameter's own "no effect" default (subsurface depth 0, edge strength 0): reaching that
 // means the effect switched itself off, not that it was pushed past physics.
-std::string params_at_bound(const ParamSet& params, const std::string& effect_id, const std::vector<std::string>& held) {
+std::string params_at_bound(const ParamSet& params, const std::string& effect_id,
+                            const std::vector<std::string>& held) {
   std::string out;
   for (const auto& name : without(effect_fit_params(params, effect_id), held)) {
     const ParamSpec& sp = params.specs()[static_cast<std::size_t>(params.index_of(name))];
@@ -46,7 +47,8 @@ std::string params_at_bound(const ParamSet& params, const std::string& effect_id
 
 // A fingerprint that model form can mimic must agree with the whole-field fit: a fitted value outside its
 // band is a verdict like a bound (the whole field wants something else than the evidence).
-std::string outside_band(const ParamSet& fitted, const std::string& candidate, const std::optional<FingerprintCheck>& fp) {
+std::string outside_band(const ParamSet& fitted, const std::string& candidate,
+                         const std::optional<FingerprintCheck>& fp) {
   std::string out;
   if (!fp || !fp->consistent) return out;
   for (const auto& b : fp->band) {
@@ -118,7 +120,7 @@ const EffectSearch::Recording& EffectSearch::recording(const std::vector<std::st
   const std::string recorded = ModelSpec{form_, pose_effects}.id();
   Recording r{record_field(recorded, p, in_.sensor, in_.calibration),
               record_field(recorded, p, in_.sensor, in_.validation)};
-  return recordings_.emplace(key, std::move(r)).first->second;   // map nodes are stable: factories keep pointers
+  return recordings_.emplace(key, std::move(r)).first->second;  // map nodes are stable: factories keep pointers
 }
 
 SampleModelFactory EffectSearch::replay(const std::vector<std::string>& ids, const std::string& warm_key,
@@ -129,7 +131,8 @@ SampleModelFactory EffectSearch::replay(const std::vector<std::string>& ids, con
 std::optional<FingerprintCheck> EffectSearch::fingerprint_of(const std::string& candidate,
                                                              const std::vector<std::string>& warm) {
   progress("fingerprint " + candidate);
-  if (!fingerprint_needs_model(candidate, *in_.sensor)) return fingerprint_check(candidate, *in_.sensor, fp_cal_, fp_val_);
+  if (!fingerprint_needs_model(candidate, *in_.sensor))
+    return fingerprint_check(candidate, *in_.sensor, fp_cal_, fp_val_);
   const std::string key = effect_set_key(warm);
   const Recording& rec = recording(warm);
   const ParamSet& p = fits_.at(key).fit.params;
@@ -178,7 +181,8 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
     make_val = replay(ids, warm_key, rec.val);
   }
   CalibrationResult r{form_ + "+" + key, start.params, {}, false, 0};
-  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, in_.calibration, start.params, fo_);
+  if (!stages.empty())
+    r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, in_.calibration, start.params, fo_);
   throw_if_cancelled(r, o_.progress);
   std::size_t free_count = 0;
   for (const auto& st : stages) free_count += st.params.size();
@@ -207,7 +211,9 @@ EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const s
                                     const ParamSet& from) {
   const std::string model = ModelSpec{form_, ids}.id();
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
-  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) { return make_spec_model(model, in_.sensor, ind); };
+  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
+    return make_spec_model(model, in_.sensor, ind);
+  };
   const CalibrationResult r = run_fit_stages(model, make, stage, in_.calibration, from, fo_);
   throw_if_cancelled(r, o_.progress);
   const SampleModelFactory full = spec_model_factory(model, in_.sensor);
@@ -254,8 +260,10 @@ FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
   const std::size_t free_count = ef.fit.free_params - fits_.at(effect_set_key(start.warm)).fit.free_params;
   std::string screen_note;
   const bool refit = promising(ef, effect_set_key(start.warm), fp, &screen_note);
-  if (refit && joint.size() > free_count) ef = joint_refit(ids, joint, ef.fit.params);
-  else if (joint.size() > free_count && !fp) ef.fit.veto = screen_note;
+  if (refit && joint.size() > free_count)
+    ef = joint_refit(ids, joint, ef.fit.params);
+  else if (joint.size() > free_count && !fp)
+    ef.fit.veto = screen_note;
   add_verdict(candidate, held_now, fp, &ef);
   ef.fit.fingerprint = fp;
   ef.time_s = seconds_since(t0);

@@ -50,7 +50,8 @@ class EffectSearch {
   EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
                  std::string* screen_note) const;
-  EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint, const ParamSet& from);
+  EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
+                        const ParamSet& from);
   void add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,
                    const std::optional<FingerprintCheck>& fp, EffectFit* ef) const;
   void progress(const std::string& what) const;
@@ -59,12 +60,12 @@ class EffectSearch {
   const ResidualOptions& o_;
   FitOptions fo_;
   std::string form_;
-  std::vector<std::string> form_free_;   // the form's joint parameters (none when the base is not fitted)
+  std::vector<std::string> form_free_;  // the form's joint parameters (none when the base is not fitted)
   std::size_t candidate_count_;
   std::map<std::string, EffectFit> fits_;
   std::map<std::string, Recording> recordings_;
   std::vector<FingerprintSample> fp_cal_, fp_val_;
-  std::map<std::string, std::vector<std::string>> held_by_effect_;   // parameters a fingerprint settled (full names)
+  std::map<std::string, std::vector<std::string>> held_by_effect_;  // parameters a fingerprint settled (full names)
 };
 
 }  // namespace sb

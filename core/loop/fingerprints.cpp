@@ -15,7 +15,6 @@ namespace sb {
 
 namespace {
 
-
 // Minimises f over a box by a grid (n0 x n1 points, corners included) and then a pattern search that halves
 // its step until it is below `tol` of the cell. Deterministic; ties keep the earlier point.
 struct Box2 {
@@ -82,7 +81,7 @@ class CreepEvidence {
       const bool opens_release = released && k > 0 && s_.in_contact[k - 1];
       for (std::size_t j = 0; j < M; ++j) {
         if (k > 0) x_[j] = c * last_[j] * (1 - a) + a * x_[j];
-        if (opens_run) {   // the run starts at the previous frame: its glassy value is last_
+        if (opens_run) {  // the run starts at the previous frame: its glassy value is last_
           run_start_[j] = last_[j];
           start_active_[j] = meas[k - 1][j].allFinite() && meas[k - 1][j].norm() >= kMotionThresholdPx;
         }
@@ -104,8 +103,8 @@ class CreepEvidence {
 
  private:
   const FingerprintSample& s_;
-  std::vector<std::uint8_t> moved_;   // markers the load moved >= kMotionThresholdPx while in contact
-  mutable std::vector<Vec2> x_, last_, run_start_, release_start_;   // scratch
+  std::vector<std::uint8_t> moved_;  // markers the load moved >= kMotionThresholdPx while in contact
+  mutable std::vector<Vec2> x_, last_, run_start_, release_start_;  // scratch
   mutable std::vector<std::uint8_t> start_active_;
 };
 
@@ -176,7 +175,7 @@ std::vector<std::vector<Vec2>> sls_glassy_field(const std::vector<std::vector<Ve
   if (meas_px.empty()) return d;
   const std::size_t M = meas_px.front().size();
   const double a = std::exp(-dt_s / tau_s), c = creep_fraction;
-  std::vector<Vec2> x(M, Vec2::Zero()), last(M, Vec2::Zero());   // delayed part, last finite glassy value
+  std::vector<Vec2> x(M, Vec2::Zero()), last(M, Vec2::Zero());  // delayed part, last finite glassy value
   for (std::size_t k = 0; k < meas_px.size(); ++k) {
     if (meas_px[k].size() != M) throw std::invalid_argument("sls_glassy_field: frames with different marker counts");
     d[k].resize(M);
@@ -197,12 +196,13 @@ CreepFingerprint creep_fingerprint(const std::vector<FingerprintSample>& samples
     CreepTerms sum;
     for (const auto& e : per_sample) {
       const CreepTerms t = e.terms(tau, c);
-      sum.held += t.held, sum.release += t.release, sum.held_count += t.held_count, sum.release_count += t.release_count;
+      sum.held += t.held, sum.release += t.release, sum.held_count += t.held_count,
+          sum.release_count += t.release_count;
     }
     return sum;
   };
   CreepFingerprint fp;
-  const CreepTerms raw = evidence(1.0, 0.0);   // c = 0: the glassy field is the measured one
+  const CreepTerms raw = evidence(1.0, 0.0);  // c = 0: the glassy field is the measured one
   fp.marker_frames = raw.held_count + raw.release_count;
   if (fp.marker_frames == 0) return fp;
   fp.signal_rms_px = std::sqrt((raw.held + raw.release) / fp.marker_frames);
@@ -299,7 +299,8 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
     require_flags(s, "lens_fingerprint");
     if (s.pred_px.size() != s.meas_px.size() || s.contact_centre_px.size() != s.meas_px.size() ||
         s.travel_px.size() != s.meas_px.size())
-      throw std::invalid_argument("lens_fingerprint: need the model's field, the contact centre and its travel per frame");
+      throw std::invalid_argument(
+          "lens_fingerprint: need the model's field, the contact centre and its travel per frame");
   }
   const double pitch = marker_pitch_px(sensor);
   constexpr double kUntravelledPx = 0.5;
@@ -309,7 +310,7 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
   // noise in both sides of a plain regression would bias k1 by sigma^2 tr(P dg/dd) / |P g|^2).
   struct Sums {
     double ez = 0, gz = 0, zz = 0, gg = 0, values = 0, nuisance = 0, frames = 0;
-    std::vector<Eigen::VectorXd> e, g;   // per frame, the asymmetric parts (for the residual's scatter)
+    std::vector<Eigen::VectorXd> e, g;  // per frame, the asymmetric parts (for the residual's scatter)
   };
   const auto regress = [&](double k1) {
     Sums t;
@@ -330,7 +331,7 @@ LensFingerprint lens_fingerprint(const Sensor& sensor, const std::vector<Fingerp
           t.values += 2;
         }
         Eigen::MatrixXd N = lens_nuisance(sensor, s.contact_centre_px[k], pitch, s.pred_px[k]);
-        for (std::size_t j = 0; j < M; ++j)   // lost markers carry no equation
+        for (std::size_t j = 0; j < M; ++j)  // lost markers carry no equation
           if (!seen[j]) N.middleRows(2 * static_cast<Eigen::Index>(j), 2).setZero();
         const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(N);
         const auto asym = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd { return v - N * qr.solve(v); };
@@ -414,7 +415,7 @@ double tracker_noise_px(const std::vector<FingerprintSample>& samples) {
   if (second.empty()) return kFingerprintNaN;
   const auto mid = second.begin() + static_cast<std::ptrdiff_t>(second.size() / 2);
   std::nth_element(second.begin(), mid, second.end());
-  constexpr double kMadToSigma = 0.6744897501960817;   // median |N(0, 1)|
+  constexpr double kMadToSigma = 0.6744897501960817;  // median |N(0, 1)|
   return *mid / (kMadToSigma * std::sqrt(6.0));
 }
 
@@ -468,12 +469,12 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
       smoothing->apply(ctx, f);
       Eigen::VectorXd lp = laplacian_values(nb, f);
       for (Eigen::Index r = 0; r < lp.size(); ++r)
-        if (meas_lap[i](r) == 0.0) lp(r) = 0.0;   // markers the measurement has no Laplacian for
+        if (meas_lap[i](r) == 0.0) lp(r) = 0.0;  // markers the measurement has no Laplacian for
       mm += meas_lap[i].squaredNorm(), mp += meas_lap[i].dot(lp), pp += lp.squaredNorm();
     }
     return pp > 0 ? mm - mp * mp / pp : mm;
   };
-  constexpr double kMaxDepthM = 0.005, kStepM = 1e-4;   // the effect's range, the scan's step
+  constexpr double kMaxDepthM = 0.005, kStepM = 1e-4;  // the effect's range, the scan's step
   double best = std::numeric_limits<double>::infinity(), best_h = 0;
   for (double h = 0; h <= kMaxDepthM + 1e-12; h += kStepM) {
     const double v = misfit(h);
@@ -484,8 +485,10 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
   const double r = 0.5 * (std::sqrt(5.0) - 1);
   double x1 = hi - r * (hi - lo), x2 = lo + r * (hi - lo), f1 = misfit(x1), f2 = misfit(x2);
   while (hi - lo > 1e-7) {
-    if (f1 < f2) hi = x2, x2 = x1, f2 = f1, x1 = hi - r * (hi - lo), f1 = misfit(x1);
-    else lo = x1, x1 = x2, f1 = f2, x2 = lo + r * (hi - lo), f2 = misfit(x2);
+    if (f1 < f2)
+      hi = x2, x2 = x1, f2 = f1, x1 = hi - r * (hi - lo), f1 = misfit(x1);
+    else
+      lo = x1, x1 = x2, f1 = f2, x2 = lo + r * (hi - lo), f2 = misfit(x2);
   }
   const double refined = 0.5 * (lo + hi);
   fp.depth_m = misfit(refined) < best ? refined : best_h;
@@ -519,12 +522,15 @@ FingerprintCheck::Band band(const std::string& name, double estimate, double agr
 // "found on both splits and agreeing", or what was missing, for the report.
 void conclude(FingerprintCheck* c, const std::string& missing_cal, const std::string& missing_val, bool agreeing,
               const FingerprintRules& rules) {
-  if (!missing_cal.empty()) c->verdict = "calibration: " + missing_cal;
-  else if (!missing_val.empty()) c->verdict = "validation: " + missing_val;
+  if (!missing_cal.empty())
+    c->verdict = "calibration: " + missing_cal;
+  else if (!missing_val.empty())
+    c->verdict = "validation: " + missing_val;
   else if (!agreeing)
     c->verdict = "the splits disagree (" + number(c->calibration) + " vs " + number(c->validation) + ", more than x" +
                  number(rules.agreement) + ")";
-  else c->verdict = "found on both splits";
+  else
+    c->verdict = "found on both splits";
   c->consistent = missing_cal.empty() && missing_val.empty() && agreeing;
 }
 
@@ -538,7 +544,8 @@ std::string creep_missing(const CreepFingerprint& f, const FingerprintRules& r) 
   if (!(f.explained_pct >= r.min_explained_pct))
     return "a standard linear solid explains " + number(f.explained_pct) + " % of the drift (< " +
            number(r.min_explained_pct) + " %)";
-  if (!(std::abs(f.creep_fraction) >= r.min_creep_fraction)) return "creep fraction " + number(f.creep_fraction) + " is none";
+  if (!(std::abs(f.creep_fraction) >= r.min_creep_fraction))
+    return "creep fraction " + number(f.creep_fraction) + " is none";
   if (!tau_inside(f.tau_s)) return "tau " + number(f.tau_s) + " s at the edge of [0.01, 10] s";
   return "";
 }
@@ -569,7 +576,8 @@ std::string lens_missing(const LensFingerprint& f, const FingerprintRules& r) {
 // The rest grid's lens: one estimate for both splits (the rest positions are the sensor's).
 std::string rest_grid_missing(const RestGridLens& g, const FingerprintRules& r) {
   if (!(std::abs(g.k1) >= r.min_k1)) return "k1 is none (|k1| < " + number(r.min_k1) + ")";
-  if (!(std::abs(g.k1) >= r.k1_sigmas * g.k1_stderr)) return "k1 within " + number(r.k1_sigmas) + " standard errors of 0";
+  if (!(std::abs(g.k1) >= r.k1_sigmas * g.k1_stderr))
+    return "k1 within " + number(r.k1_sigmas) + " standard errors of 0";
   if (!(std::abs(g.k1) < 1)) return "k1 outside the lens range";
   return "";
 }
@@ -615,13 +623,15 @@ std::string subsurface_missing(const SubsurfaceFingerprint& f, double min_depth_
            number(1e3 * min_depth_m) + " mm)";
   if (!(f.depth_m < 0.005)) return "depth at the bound (5 mm): the model's field is far sharper than any depth smooths";
   if (!std::isfinite(f.noise_px))
-    return "depth " + number(1e3 * f.depth_m) + " mm, but no tracker noise to judge the model's grid-scale misfit "
+    return "depth " + number(1e3 * f.depth_m) +
+           " mm, but no tracker noise to judge the model's grid-scale misfit "
            "against (no marker series of 3 frames), so the reading cannot be told from the model's form";
   const double over_noise = fine_misfit_over_noise(f, r);
   if (!(over_noise <= r.max_fine_misfit_over_noise))
-    return "depth " + number(1e3 * f.depth_m) + " mm read against a model wrong at the grid scale: smoothed, it leaves " +
-           number(over_noise) + "x the tracker noise's fine-scale content (> " + number(r.max_fine_misfit_over_noise) +
-           "x; noise " + number(f.noise_px) + " px), so the reading is its form error as much as depth";
+    return "depth " + number(1e3 * f.depth_m) +
+           " mm read against a model wrong at the grid scale: smoothed, it leaves " + number(over_noise) +
+           "x the tracker noise's fine-scale content (> " + number(r.max_fine_misfit_over_noise) + "x; noise " +
+           number(f.noise_px) + " px), so the reading is its form error as much as depth";
   return "";
 }
 

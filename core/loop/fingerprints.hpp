@@ -31,12 +31,12 @@ namespace sb {
 // One sample as a fingerprint sees it.
 struct FingerprintSample {
   double dt_s = 0.02;
-  std::vector<std::vector<Vec2>> meas_px;   // [frame][marker]; NaN where the tracker lost the marker
-  std::vector<std::vector<Vec2>> pred_px;   // [frame][marker]: the reference model's field (lens, subsurface)
-  std::vector<std::uint8_t> in_contact;     // [frame]: the indenter is in the gel
-  std::vector<std::uint8_t> held;           // [frame]: in the gel and its pose equals the previous frame's
-  std::vector<Vec2> contact_centre_px;      // [frame]: the contact centre in the image (lens; any value out of contact)
-  std::vector<double> travel_px;            // [frame]: its tangential travel since first contact (lens)
+  std::vector<std::vector<Vec2>> meas_px;  // [frame][marker]; NaN where the tracker lost the marker
+  std::vector<std::vector<Vec2>> pred_px;  // [frame][marker]: the reference model's field (lens, subsurface)
+  std::vector<std::uint8_t> in_contact;    // [frame]: the indenter is in the gel
+  std::vector<std::uint8_t> held;          // [frame]: in the gel and its pose equals the previous frame's
+  std::vector<Vec2> contact_centre_px;     // [frame]: the contact centre in the image (lens; any value out of contact)
+  std::vector<double> travel_px;           // [frame]: its tangential travel since first contact (lens)
 };
 
 inline constexpr double kFingerprintNaN = std::numeric_limits<double>::quiet_NaN();
@@ -58,7 +58,7 @@ struct CreepFingerprint {
   // the change since the release (on markers that moved >= kMotionThresholdPx in contact: a permanent set
   // left by adhesion is constant and does not count). RMS over its marker-frames at c = 0 ...
   double signal_rms_px = 0;
-  double held_rms_px = 0, release_rms_px = 0;   // ... and of its two parts
+  double held_rms_px = 0, release_rms_px = 0;  // ... and of its two parts
   double marker_frames = 0;
   // ... and the share of its sum of squares that undoing (tau, c) removes.
   double explained_pct = kFingerprintNaN;
@@ -79,9 +79,9 @@ Vec2 lens_k1_pattern(const Camera& camera, const Vec2& m_px, const Vec2& d_px);
 
 struct LensFingerprint {
   double k1 = kFingerprintNaN;
-  double k1_stderr = kFingerprintNaN;   // from the scatter of what the nuisance fields and k1 leave
-  double signal_rms_px = 0;             // RMS of k1 x the asymmetric part of the pattern over the frames used
-  double frames = 0;                    // frames used: in contact, a marker moved, the contact has not travelled
+  double k1_stderr = kFingerprintNaN;  // from the scatter of what the nuisance fields and k1 leave
+  double signal_rms_px = 0;            // RMS of k1 x the asymmetric part of the pattern over the frames used
+  double frames = 0;                   // frames used: in contact, a marker moved, the contact has not travelled
 };
 
 // Regresses the residual (meas - pred) on the lens pattern, frame by frame, after projecting out of both
@@ -110,9 +110,9 @@ double tracker_noise_px(const std::vector<FingerprintSample>& samples);
 
 struct SubsurfaceFingerprint {
   double depth_m = kFingerprintNaN;
-  double measured_energy_px2 = 0;   // grid Laplacian energy of the measured fields (frames where a marker moved)
-  double model_energy_px2 = 0;      // of the model's fields, unsmoothed
-  double measured_fine_fraction = kFingerprintNaN;   // those over the fields' own energy sum |d|^2 (diagnostic)
+  double measured_energy_px2 = 0;  // grid Laplacian energy of the measured fields (frames where a marker moved)
+  double model_energy_px2 = 0;     // of the model's fields, unsmoothed
+  double measured_fine_fraction = kFingerprintNaN;  // those over the fields' own energy sum |d|^2 (diagnostic)
   double model_fine_fraction = kFingerprintNaN;
   double frames = 0;
   // Whether the reading is evidence: what the best gain times the model's field smoothed at depth_m leaves of
@@ -136,17 +136,17 @@ SubsurfaceFingerprint subsurface_fingerprint(const Sensor& sensor, const std::ve
 
 // When an estimate counts as found on one split, and when the two splits agree.
 struct FingerprintRules {
-  double agreement = 1.5;              // the splits' estimates have one sign and a ratio within this
-  double min_signal_px = 0.15;         // creep: the evidence's RMS above tracker noise (0.1 px at 0.05 px noise)
-  double min_explained_pct = 50.0;     // creep: undoing (tau, c) removes at least this share of it
-  double min_creep_fraction = 0.02;    // creep: |c| below this is no creep
-  double min_k1 = 0.02;                // lens: |k1| below this moves a corner marker's displacement < 6 %
-  double k1_sigmas = 3.0;              // lens: and |k1| at least this many standard errors (rest grid or residual)
-  double min_depth_fraction = 0.25;    // subsurface: depth below this fraction of the marker pitch is not seen
+  double agreement = 1.5;            // the splits' estimates have one sign and a ratio within this
+  double min_signal_px = 0.15;       // creep: the evidence's RMS above tracker noise (0.1 px at 0.05 px noise)
+  double min_explained_pct = 50.0;   // creep: undoing (tau, c) removes at least this share of it
+  double min_creep_fraction = 0.02;  // creep: |c| below this is no creep
+  double min_k1 = 0.02;              // lens: |k1| below this moves a corner marker's displacement < 6 %
+  double k1_sigmas = 3.0;            // lens: and |k1| at least this many standard errors (rest grid or residual)
+  double min_depth_fraction = 0.25;  // subsurface: depth below this fraction of the marker pitch is not seen
   // subsurface: the grid-scale misfit left at the depth within this many times the noise's (measured: 1.0 with
   // the model exact, 68-146 for every model on the FE twin, whose form is wrong at the grid scale)
   double max_fine_misfit_over_noise = 4.0;
-  double min_noise_px = 0.005;         // subsurface: a noise estimate below this (noise-free data) counts as this
+  double min_noise_px = 0.005;  // subsurface: a noise estimate below this (noise-free data) counts as this
 };
 
 // The effects that have a fingerprint, and whether it compares the measurement with the model's field (the
@@ -158,8 +158,8 @@ bool fingerprint_needs_model(const std::string& effect_id, const Sensor& sensor)
 // creep_fraction at the calibration estimate (evidence beyond model form). Lens, when the sensor's rest grid is
 // a lattice: the rest grid is the evidence, the same on both splits; found when |k1| >= rules.min_k1 and
 // >= rules.k1_sigmas standard errors, then k1 is held at it and k2 at 0 (evidence beyond model form, accepted on
-// it: FingerprintCheck::Acceptance::kEvidence); not found whatever the residual says. Lens on a rest grid that is not a lattice:
-// the residual's asymmetry; the whole-field fit of k1 must end within the agreement ratio of its estimate, k2
+// it: FingerprintCheck::Acceptance::kEvidence); not found whatever the residual says. Lens on a rest grid that is not a
+// lattice: the residual's asymmetry; the whole-field fit of k1 must end within the agreement ratio of its estimate, k2
 // held at 0 (a second radial term is not identified on a marker grid this coarse). Subsurface as that lens,
 // with depth_m. nullopt for an effect without a fingerprint. The samples need pred_px when
 // fingerprint_needs_model(effect_id, sensor).

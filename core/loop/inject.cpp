@@ -17,7 +17,7 @@ void insert_hold(const Sensor& sensor, int frames, double noise_px, std::mt19937
   s->meas_px.insert(s->meas_px.begin() + deepest, frames, s->meas_px[deepest]);
   for (int k = 1; k <= frames; ++k)
     for (auto& d : s->meas_px[deepest + k]) {
-      const double du = noise(*rng);   // sequenced: argument order is unspecified
+      const double du = noise(*rng);  // sequenced: argument order is unspecified
       d += Vec2(du, noise(*rng));
     }
 }

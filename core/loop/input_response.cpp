@@ -140,8 +140,8 @@ std::vector<PoseInputs> pose_inputs(const Sdf& gel_sdf_E, const Indenter& indent
   return out;
 }
 
-ResponseSurface ResponseSurface::fit(const std::vector<PoseInputs>& inputs, const std::vector<std::vector<Vec2>>& fields,
-                                     int degree) {
+ResponseSurface ResponseSurface::fit(const std::vector<PoseInputs>& inputs,
+                                     const std::vector<std::vector<Vec2>>& fields, int degree) {
   if (inputs.size() != fields.size() || inputs.empty())
     throw std::invalid_argument("ResponseSurface: " + std::to_string(inputs.size()) + " input rows for " +
                                 std::to_string(fields.size()) + " fields");
@@ -279,7 +279,8 @@ std::vector<ScoredInputFrame> scored_input_frames(const std::string& model_id, c
     }
   });
   std::vector<ScoredInputFrame> all;
-  for (auto& v : per_sample) all.insert(all.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
+  for (auto& v : per_sample)
+    all.insert(all.end(), std::make_move_iterator(v.begin()), std::make_move_iterator(v.end()));
   return all;
 }
 
@@ -295,9 +296,8 @@ std::string input_response_markdown(const InputResponseAnalysis& a, const std::s
      << "| change | measured RMS px | " << model_id << " RMS px | best gain | shape error after gain px | "
      << "mean measured px | mean model px |\n|---|---:|---:|---:|---:|---|---|\n";
   for (const auto& r : a.responses)
-    md << "| " << r.input << " | " << f(r.measured_rms_px) << " | " << f(r.model_rms_px) << " | " << f(r.gain)
-       << " | " << f(r.after_gain_rms_px) << " | " << vec(r.measured_mean_px) << " | " << vec(r.model_mean_px)
-       << " |\n";
+    md << "| " << r.input << " | " << f(r.measured_rms_px) << " | " << f(r.model_rms_px) << " | " << f(r.gain) << " | "
+       << f(r.after_gain_rms_px) << " | " << vec(r.measured_mean_px) << " | " << vec(r.model_mean_px) << " |\n";
   md << "\nThe inputs alone (the measured surface, fitted on calibration) predict validation to "
      << f(a.inputs_only_rmse_px, "%.3f") << " px; " << model_id << " on the same " << a.validation_marker_frames
      << " marker-frames: " << f(a.model_rmse_px, "%.3f") << " px.\n";

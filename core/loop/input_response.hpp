@@ -18,10 +18,10 @@ namespace sb {
 
 // The inputs of one frame, in E, from the poses (no model).
 struct PoseInputs {
-  double depth_m = 0;          // penetration of the indenter (indenter_penetration)
-  Vec2 tilt{0, 0};             // xy of the indenter's approach axis R_EI z: (sin t) along the tilt's direction
-  Vec2 travel_m{0, 0};         // xy translation since the first frame in contact (0 before contact)
-  double twist_rad = 0;        // rotation about E's z since the first frame in contact
+  double depth_m = 0;    // penetration of the indenter (indenter_penetration)
+  Vec2 tilt{0, 0};       // xy of the indenter's approach axis R_EI z: (sin t) along the tilt's direction
+  Vec2 travel_m{0, 0};   // xy translation since the first frame in contact (0 before contact)
+  double twist_rad = 0;  // rotation about E's z since the first frame in contact
 };
 inline constexpr int kPoseInputCount = 6;
 std::array<double, kPoseInputCount> as_array(const PoseInputs& x);
@@ -47,24 +47,24 @@ class ResponseSurface {
   std::vector<double> features(const PoseInputs& x) const;
   std::vector<std::array<int, kPoseInputCount>> exponents_;
   std::array<double, kPoseInputCount> centre_{}, spread_{};
-  std::vector<std::vector<double>> coef_u_, coef_v_;   // [marker][term]; empty for a marker without enough data
+  std::vector<std::vector<double>> coef_u_, coef_v_;  // [marker][term]; empty for a marker without enough data
 };
 
 // One input changed from the reference: the measured and the model's change of the field.
 struct InputResponse {
-  std::string input;                    // "depth +1.0 mm", "tilt x +0.26" ...
-  double measured_rms_px = 0;           // RMS over markers of the measured change
-  double model_rms_px = 0;              // ... of the model's change
-  double gain = 0;                      // the scalar g minimising |measured - g model|
-  double after_gain_rms_px = 0;         // RMS of measured - g model: the change's shape error
-  Vec2 measured_mean_px{0, 0}, model_mean_px{0, 0};   // mean over markers (a rigid shift of the field)
+  std::string input;                                 // "depth +1.0 mm", "tilt x +0.26" ...
+  double measured_rms_px = 0;                        // RMS over markers of the measured change
+  double model_rms_px = 0;                           // ... of the model's change
+  double gain = 0;                                   // the scalar g minimising |measured - g model|
+  double after_gain_rms_px = 0;                      // RMS of measured - g model: the change's shape error
+  Vec2 measured_mean_px{0, 0}, model_mean_px{0, 0};  // mean over markers (a rigid shift of the field)
 };
 
 struct InputResponseAnalysis {
   PoseInputs reference;
-  std::vector<InputResponse> responses;   // first the field at the reference itself (from no input), then one per input
-  double inputs_only_rmse_px = 0;         // the measured surface (calibration) scored on validation
-  double model_rmse_px = 0;               // the model on the same validation marker-frames
+  std::vector<InputResponse> responses;  // first the field at the reference itself (from no input), then one per input
+  double inputs_only_rmse_px = 0;        // the measured surface (calibration) scored on validation
+  double model_rmse_px = 0;              // the model on the same validation marker-frames
   long validation_marker_frames = 0;
 };
 

@@ -137,12 +137,13 @@ std::vector<RecordedField> record_field(const std::string& model_id, const Param
 SampleModelFactory replay_factory(const std::string& form_id, const std::vector<std::string>& effect_ids,
                                   const ParamSet& form_params, const std::vector<RecordedField>* recorded,
                                   std::shared_ptr<const Sensor> sensor) {
-  ParamSet own = model_spec_params(form_id);   // the form's own table (EffectModel splits the combined one by it)
+  ParamSet own = model_spec_params(form_id);  // the form's own table (EffectModel splits the combined one by it)
   copy_shared(form_params, &own);
-  return [form_id, effect_ids, own, recorded, sensor](const FitSample& s, std::size_t i) -> std::unique_ptr<ShearModel> {
-    auto replay = std::make_unique<ReplayModel>(form_id, own, recorded->at(i));
-    return wrap_with_effects(std::move(replay), effect_ids, sensor, s.indenter);
-  };
+  return
+      [form_id, effect_ids, own, recorded, sensor](const FitSample& s, std::size_t i) -> std::unique_ptr<ShearModel> {
+        auto replay = std::make_unique<ReplayModel>(form_id, own, recorded->at(i));
+        return wrap_with_effects(std::move(replay), effect_ids, sensor, s.indenter);
+      };
 }
 
 std::vector<FingerprintSample> fingerprint_samples(const Sensor& sensor, const std::vector<FitSample>& samples) {

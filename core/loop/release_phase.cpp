@@ -82,7 +82,7 @@ double release_rmse(const std::vector<std::vector<Vec2>>& disp_px, int t0, int f
       ++n;
     }
   }
-  return n > 0 ? std::sqrt(sse / n) : kNaN;   // per marker: sqrt of the mean squared vector error
+  return n > 0 ? std::sqrt(sse / n) : kNaN;  // per marker: sqrt of the mean squared vector error
 }
 
 ReleasePhase analyse_release(const std::vector<std::vector<Vec2>>& disp_px, double dt_s) {

@@ -16,25 +16,25 @@
 namespace sb {
 
 struct ReleaseFit {
-  double tau_s = 0;            // recovery time constant (the largest grid value means: no visible decay)
-  bool tau_at_bound = false;   // tau hit the top of the search grid: only a lower bound
-  double permanent = 0;        // c: the fraction of the release field that stays
+  double tau_s = 0;           // recovery time constant (the largest grid value means: no visible decay)
+  bool tau_at_bound = false;  // tau hit the top of the search grid: only a lower bound
+  double permanent = 0;       // c: the fraction of the release field that stays
 };
 
 struct ReleasePhase {
   bool found = false;
-  std::string why_not;         // when not found: still in contact at the end, too few frames, ...
+  std::string why_not;  // when not found: still in contact at the end, too few frames, ...
   int peak_frame = -1;
-  double peak_mean_px = 0;     // largest per-frame mean |d| (the loaded field)
-  int release_frame = -1;      // t0: first frame of the release phase
-  int frames = 0;              // frames from t0 to the end
-  double left_mean_px = 0;     // mean |d| at t0: what is left after unloading
+  double peak_mean_px = 0;  // largest per-frame mean |d| (the loaded field)
+  int release_frame = -1;   // t0: first frame of the release phase
+  int frames = 0;           // frames from t0 to the end
+  double left_mean_px = 0;  // mean |d| at t0: what is left after unloading
   double left_max_px = 0;
-  double end_mean_px = 0;      // mean |d| at the last frame
-  ReleaseFit fit;              // on the first half of the release frames
-  double heldout_rmse_zero_px = 0;   // second half: the models (zero field)
-  double heldout_rmse_fit_px = 0;    // second half: the recovery law
-  double heldout_rmse_persist_px = 0;   // second half: d = d(t0) (nothing recovers), the law's c = 1 limit
+  double end_mean_px = 0;              // mean |d| at the last frame
+  ReleaseFit fit;                      // on the first half of the release frames
+  double heldout_rmse_zero_px = 0;     // second half: the models (zero field)
+  double heldout_rmse_fit_px = 0;      // second half: the recovery law
+  double heldout_rmse_persist_px = 0;  // second half: d = d(t0) (nothing recovers), the law's c = 1 limit
 };
 
 // Mean |d| per frame over the markers the tracker kept (NaN markers skipped; NaN for an empty frame).

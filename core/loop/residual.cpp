@@ -12,7 +12,8 @@
 namespace sb {
 
 std::vector<std::string> model_form_variants(const std::string& model_id) {
-  if (model_id == "hydroshear") return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"};
+  if (model_id == "hydroshear")
+    return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"};
   return {};
 }
 
@@ -53,8 +54,8 @@ ResidualLoop::ResidualLoop(const ResidualInputs& in, const ResidualOptions& opti
     : in_(in), o_(options), candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates) {
   if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
   if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
-  default_params(in.model_id);                          // an unknown model fails before any work
-  for (const auto& id : candidates_) make_effect(id);   // so does an unknown effect
+  default_params(in.model_id);                         // an unknown model fails before any work
+  for (const auto& id : candidates_) make_effect(id);  // so does an unknown effect
 }
 
 FitOptions ResidualLoop::fit_options() const {
@@ -110,7 +111,8 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
   double best_rmse_px = 0;
   for (const std::string& v : model_form_variants(in_.model_id)) {
     auto [ef, sc] = fit_variant(v, {});
-    if (sc.accepted && (round.selected.empty() || sc.rmse_px < best_rmse_px)) round.selected = v, best_rmse_px = sc.rmse_px;
+    if (sc.accepted && (round.selected.empty() || sc.rmse_px < best_rmse_px))
+      round.selected = v, best_rmse_px = sc.rmse_px;
     round.scores.push_back(std::move(sc));
     round.fits[v] = std::move(ef);
   }
@@ -155,7 +157,8 @@ ResidualStructure ResidualLoop::score(const std::string& model_id, const EffectF
 
 // Step 5 too: the responses of the measured field and of the model to the known inputs. The response
 // surface's degree drops where the calibration split has too few frames for a cubic's 84 terms (3 frames a term).
-std::optional<InputResponseAnalysis> ResidualLoop::input_response(const std::string& model_id, const EffectFit& fit) const {
+std::optional<InputResponseAnalysis> ResidualLoop::input_response(const std::string& model_id,
+                                                                  const EffectFit& fit) const {
   const auto cal = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.calibration);
   const auto val = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.validation);
   constexpr std::size_t kFramesPerTerm = 3;

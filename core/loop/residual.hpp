@@ -25,35 +25,35 @@
 #include "core/base/progress.hpp"
 #include "core/calibration/fit.hpp"
 #include "core/calibration/metrics.hpp"
-#include "core/loop/residual_select.hpp"
 #include "core/loop/input_response.hpp"
+#include "core/loop/residual_select.hpp"
 #include "core/loop/residual_structure.hpp"
 
 namespace sb {
 
 struct ResidualInputs {
-  std::string dataset;                   // name, for reports
-  std::string model_id;                  // base model (a model_ids() entry)
+  std::string dataset;   // name, for reports
+  std::string model_id;  // base model (a model_ids() entry)
   std::shared_ptr<const Sensor> sensor;
-  std::vector<FitSample> calibration;    // split "calibration" (fits see only these)
-  std::vector<FitSample> validation;     // split "validation" (scores only)
-  ParamSet base_params;                  // start of the base fit, or the fixed base when !fit_base
+  std::vector<FitSample> calibration;  // split "calibration" (fits see only these)
+  std::vector<FitSample> validation;   // split "validation" (scores only)
+  ParamSet base_params;                // start of the base fit, or the fixed base when !fit_base
 };
 
 struct ResidualOptions {
   // true: fit the base model's joint parameters on calibration first, and refit them jointly with
   // every effect's parameters. false: the base parameters stay as given; only effect parameters are fit.
   bool fit_base = true;
-  std::vector<std::string> candidates;   // effect ids to try; empty: the whole catalogue
+  std::vector<std::string> candidates;  // effect ids to try; empty: the whole catalogue
   // Try the base model's model-form variants (model_form_variants) against it, each fitted jointly on
   // calibration and accepted by the same held-out rule as an effect (only with fit_base).
   bool model_forms = true;
   SelectionOptions selection;
-  int max_iterations = 30;               // Levenberg-Marquardt iterations per stage
+  int max_iterations = 30;  // Levenberg-Marquardt iterations per stage
   // A candidate gets its joint refit (form + effects, every run a full model run) only when its effect
   // alone, over the reference's recorded field, improves the validation RMSE by at least this (%).
   double screen_min_pct = 0.5;
-  int bins = 6;                          // per numeric covariate
+  int bins = 6;  // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;
 };
@@ -61,8 +61,8 @@ struct ResidualOptions {
 // The fit of one model (a form, or a form with effects), with its validation scores and metrics.
 struct EffectFit {
   std::vector<std::string> effects;
-  FitResult fit;                          // what select_effects sees
-  MotionMetrics validation;               // per motion RMSE / CS of the fitted model
+  FitResult fit;             // what select_effects sees
+  MotionMetrics validation;  // per motion RMSE / CS of the fitted model
   double time_s = 0;
 };
 
@@ -70,7 +70,7 @@ struct EffectFit {
 struct ModelFormRound {
   std::map<std::string, EffectFit> fits;
   std::vector<CandidateScore> scores;
-  std::string selected;                   // the best accepted variant; "" when none is
+  std::string selected;  // the best accepted variant; "" when none is
   // How the selected variant was fitted: {} (its stages, then jointly) or the parameters held after their
   // first stage (model_form_hold), when held-out data preferred that fit; then the joint fit's RMSE too.
   std::vector<std::string> held;
@@ -79,29 +79,29 @@ struct ModelFormRound {
 
 // Step 3's output: the greedy selection of effects on top of `form`.
 struct EffectRounds {
-  std::string form;                       // the model the effects wrap: the selected form, else the base
+  std::string form;  // the model the effects wrap: the selected form, else the base
   SelectionResult selection;
   std::map<std::string, EffectFit> fits;  // keyed by effect_set_key ("" = the form as fitted)
 };
 
 // Step 4's output: the loop's answer.
 struct FinalModel {
-  std::string model_id;                   // "<form>+<effect>+..." (core/effects/model_spec.hpp)
+  std::string model_id;  // "<form>+<effect>+..." (core/effects/model_spec.hpp)
   EffectFit fit;
 };
 
 struct ResidualReport {
   std::string dataset;
-  std::string model_id;                   // the base model
+  std::string model_id;  // the base model
   bool fit_base = true;
   std::shared_ptr<const Sensor> sensor;
-  EffectFit before;                       // the base model as fitted
+  EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
   EffectRounds effects;
-  std::string after_model;                // the final model by name
-  EffectFit after;                        // its joint fit and scores
-  ResidualStructure structure_before;     // base model, all samples (calibration + validation)
-  ResidualStructure structure_after;      // final model, all samples
+  std::string after_model;             // the final model by name
+  EffectFit after;                     // its joint fit and scores
+  ResidualStructure structure_before;  // base model, all samples (calibration + validation)
+  ResidualStructure structure_after;   // final model, all samples
   // How the measured field and each model respond to the known inputs (input_response.hpp); empty when a
   // split has no scored frame.
   std::optional<InputResponseAnalysis> response_before, response_after;

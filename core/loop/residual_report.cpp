@@ -10,12 +10,12 @@
 #include <limits>
 #include <tuple>
 
-#include "core/base/reproducible.hpp"
 #include "core/base/error.hpp"
+#include "core/base/format.hpp"
+#include "core/base/reproducible.hpp"
+#include "core/data/tsd.hpp"
 #include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
-#include "core/data/tsd.hpp"
-#include "core/base/format.hpp"
 
 namespace sb {
 
@@ -98,9 +98,13 @@ nlohmann::ordered_json structure_json(const ResidualStructure& s) {
   nlohmann::ordered_json mean = nlohmann::ordered_json::array(), pc1 = nlohmann::ordered_json::array();
   for (const auto& v : s.mean_field_px) mean.push_back({v.x(), v.y()});
   for (const auto& v : s.pc1_px) pc1.push_back({v.x(), v.y()});
-  return {{"rmse_px", num(s.rmse_px)}, {"marker_frames", s.marker_frames}, {"frames", s.frames},
-          {"explained_variance_pc1_3", s.explained_variance}, {"covariates", cov},
-          {"mean_field_px", mean}, {"pc1_px", pc1}};
+  return {{"rmse_px", num(s.rmse_px)},
+          {"marker_frames", s.marker_frames},
+          {"frames", s.frames},
+          {"explained_variance_pc1_3", s.explained_variance},
+          {"covariates", cov},
+          {"mean_field_px", mean},
+          {"pc1_px", pc1}};
 }
 
 nlohmann::ordered_json fingerprint_json(const FingerprintCheck& f) {
@@ -220,10 +224,11 @@ std::string f3(double v) { return format_number(v, "%.3f", "–"); }
 // The contact-frame tables: where (relative to the contact edge, ahead of or behind the travel), when
 // (phase) and under which load the model is wrong, and in which direction.
 std::string contact_frame_markdown(const ResidualStructure& s) {
-  std::string md = "### In the contact's own frame\n\nResidual (measured − model) of the marker-frames in contact; "
-                   "radial = along the direction from the contact centre to the marker (+ outward), along = along "
-                   "the indenter's travel since first contact (+ the way it moved). Mean components show a bias, "
-                   "RMS the size.\n\n";
+  std::string md =
+      "### In the contact's own frame\n\nResidual (measured − model) of the marker-frames in contact; "
+      "radial = along the direction from the contact centre to the marker (+ outward), along = along "
+      "the indenter's travel since first contact (+ the way it moved). Mean components show a bias, "
+      "RMS the size.\n\n";
   for (const auto& t : s.covariates) {
     if (!t.contact_frame) continue;
     md += "**" + t.name + (t.unit.empty() ? "" : " (" + t.unit + ")") +
@@ -236,7 +241,6 @@ std::string contact_frame_markdown(const ResidualStructure& s) {
   }
   return md;
 }
-
 
 }  // namespace
 
@@ -269,7 +273,9 @@ nlohmann::ordered_json candidate_json(const ResidualReport& r, const CandidateSc
   if (!c.veto.empty()) cj["veto"] = c.veto;
   if (c.model_form_symptom) {
     cj["model_form_symptom"] = true;
-    symptoms->push_back({{"effect", c.candidate}, {"round", round + 1}, {"veto", c.veto},
+    symptoms->push_back({{"effect", c.candidate},
+                         {"round", round + 1},
+                         {"veto", c.veto},
                          {"compensated_pct", num(c.improvement_pct)},
                          {"base_shifts", f ? base_shifts_json(r, *f) : nlohmann::ordered_json::object()}});
   }
@@ -332,13 +338,14 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   return j;
 }
 
-std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir, const std::string& stem) {
+std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir,
+                                              const std::string& stem) {
   std::vector<std::string> names;
   const bool changed = r.after_model != r.model_id;
   for (std::size_t c = 0; c < r.structure_before.covariates.size(); ++c) {
     const auto& t = r.structure_before.covariates[c];
     const CovariateTable* after = changed && c < r.structure_after.covariates.size() ? &r.structure_after.covariates[c]
-                                                                                      : nullptr;
+                                                                                     : nullptr;
     // The after table has its own bin edges; plot it only when they match the before table's.
     if (after && after->labels != t.labels) after = nullptr;
     const std::string name = stem + "_rms_vs_" + slug(t.name) + ".png";
@@ -382,11 +389,15 @@ std::string answer_markdown(const ResidualReport& r) {
         " px** (" + r.after_model + ", fitted jointly)";
   const double change = 100.0 * (rmse_of(r.after) - rmse_of(r.before)) / rmse_of(r.before);
   md += std::isfinite(change) ? ", " + format_number(change, "%+.1f") + " %.\n\n" : ".\n\n";
-  md += "- model form: " + (r.model_form.selected.empty() ? std::string(r.model_form.scores.empty() ? "not tried" : "none selected")
-                                                          : r.model_form.selected + held_note(r.model_form)) + "\n";
+  md += "- model form: " +
+        (r.model_form.selected.empty() ? std::string(r.model_form.scores.empty() ? "not tried" : "none selected")
+                                       : r.model_form.selected + held_note(r.model_form)) +
+        "\n";
   md += "- effects on " + r.effects.form + ": " +
-        (r.effects.selection.selected.empty() ? std::string("none selected") : effect_set_key(r.effects.selection.selected)) +
-        "\n\nLoad it anywhere as `--model " + r.after_model + "` with the parameter file written beside this report "
+        (r.effects.selection.selected.empty() ? std::string("none selected")
+                                              : effect_set_key(r.effects.selection.selected)) +
+        "\n\nLoad it anywhere as `--model " + r.after_model +
+        "` with the parameter file written beside this report "
         "(`--params`), or open this report in the workbench.\n\n";
   return md;
 }
@@ -394,7 +405,8 @@ std::string answer_markdown(const ResidualReport& r) {
 std::string structure_markdown(const ResidualStructure& sb, const std::vector<std::string>& plots) {
   std::string md = "## What the residual looked like\n\n";
   md += "Base residual RMS " + f3(sb.rmse_px) + " px over " + std::to_string(sb.marker_frames) + " marker-frames (" +
-        std::to_string(sb.frames) + " frames, calibration + validation). Principal components of the centred residual "
+        std::to_string(sb.frames) +
+        " frames, calibration + validation). Principal components of the centred residual "
         "(frames × 2·markers) explain ";
   for (std::size_t c = 0; c < sb.explained_variance.size(); ++c)
     md += (c ? ", " : "") + std::string("PC") + std::to_string(c + 1) + " " + f3(100 * sb.explained_variance[c]) + " %";
@@ -423,36 +435,40 @@ std::string response_markdown(const ResidualReport& r) {
   return md;
 }
 
-
 // The model-form round: the base model's variants, each a model of its own, against the base.
 std::string model_form_markdown(const ResidualReport& r) {
   const ModelFormRound& m = r.model_form;
   if (m.scores.empty()) return "";
   std::string md = "\n## Which model form explains it\n\n";
-  md += "Each model-form variant of " + r.model_id + " (docs/effects.md, \"Model-form effects\") fitted like the base "
+  md += "Each model-form variant of " + r.model_id +
+        " (docs/effects.md, \"Model-form effects\") fitted like the base "
         "(its stages, then jointly) on calibration, scored on validation with the same rule as the effects: the 95 % "
         "paired-bootstrap interval of the improvement above the margin and a better calibration BIC.\n\n"
         "| model | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted |\n|---|---|---|---|---|---|\n";
   for (const auto& c : m.scores)
-    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" + f3(c.improvement_ci_pct.low) +
-          ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " + (c.accepted ? "yes" : "no") + " |\n";
-  md += "\n" + (m.selected.empty()
-                    ? std::string("**No model form selected**: no variant passes the rule; the effect rounds below run on ") +
-                          r.model_id + "."
-                    : "**Selected model form: " + m.selected + "** (" + f3(m.scores.front().reference_rmse_px) + " -> " +
-                          f3(validation_rmse(m.fits.at(m.selected).fit.validation)) + " px validation)" + held_note(m) +
-                          ". The effect rounds below run on it.") + "\n";
+    md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
+          f3(c.improvement_ci_pct.low) + ", " + f3(c.improvement_ci_pct.high) + "] | " + f3(c.delta_bic) + " | " +
+          (c.accepted ? "yes" : "no") + " |\n";
+  md += "\n" +
+        (m.selected.empty()
+             ? std::string("**No model form selected**: no variant passes the rule; the effect rounds below run on ") +
+                   r.model_id + "."
+             : "**Selected model form: " + m.selected + "** (" + f3(m.scores.front().reference_rmse_px) + " -> " +
+                   f3(validation_rmse(m.fits.at(m.selected).fit.validation)) + " px validation)" + held_note(m) +
+                   ". The effect rounds below run on it.") +
+        "\n";
   return md;
 }
 
 std::string round_table_markdown(const ResidualReport& r, const std::vector<CandidateScore>& row) {
-  std::string md = "| effect | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted | parameters |\n"
-                   "|---|---|---|---|---|---|---|\n";
+  std::string md =
+      "| effect | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted | parameters |\n"
+      "|---|---|---|---|---|---|---|\n";
   for (const auto& c : row) {
     const EffectFit* f = fit_of(r, c.effect_ids);
     std::string params;
     if (f) {
-      const auto pj = effect_params_json(f->fit.params, c.candidate);   // items() must not outlive it
+      const auto pj = effect_params_json(f->fit.params, c.candidate);  // items() must not outlive it
       for (const auto& [k, v] : pj.items()) params += (params.empty() ? "" : ", ") + k + " = " + g3(v.get<double>());
     }
     md += "| " + c.candidate + " | " + f3(c.rmse_px) + " | " + f3(c.improvement_pct) + " | [" +
@@ -523,14 +539,16 @@ std::string selected_markdown(const ResidualReport& r) {
     }
   }
   if (any_bound)
-    md += "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
-          "effect is standing in for something the model lacks rather than measuring that physics.\n";
+    md +=
+        "\nA parameter at its bound means the data ask for more than the effect's physical range: the "
+        "effect is standing in for something the model lacks rather than measuring that physics.\n";
   return md + "\n";
 }
 
 std::string effects_markdown(const ResidualReport& r) {
   std::string md = "\n## Which effect explains it\n\n";
-  md += "Each catalogued effect was wrapped around " + r.effects.form + " (the model form the round above ended with) "
+  md += "Each catalogued effect was wrapped around " + r.effects.form +
+        " (the model form the round above ended with) "
         "and fitted alone over its recorded field, then (unless screened) jointly with it on calibration; accepted "
         "when the 95 % paired-bootstrap interval of the validation improvement lies above the margin (or the effect "
         "explains the held drift) and the calibration BIC improves, and vetoed when a parameter sits at a bound of its "
@@ -545,8 +563,9 @@ std::string effects_markdown(const ResidualReport& r) {
 }
 
 std::string errors_markdown(const ResidualReport& r) {
-  std::string md = "## Error before and after (validation)\n\nBefore: " + r.model_id + " as fitted. After: " +
-                   r.after_model + ".\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
+  std::string md = "## Error before and after (validation)\n\nBefore: " + r.model_id +
+                   " as fitted. After: " + r.after_model +
+                   ".\n\n| motion | RMSE before px | RMSE after px | CS before | CS after |\n"
                    "|---|---|---|---|---|\n";
   for (const auto& [motion, acc] : r.before.validation.per_motion) {
     const MetricsResult b = acc.result();
@@ -562,8 +581,8 @@ std::string errors_markdown(const ResidualReport& r) {
 
 std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots) {
   std::string md = "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
-  md += std::string("Base model ") + (r.fit_base ? "fitted on the calibration split (staged + joint)"
-                                                  : "with the given parameters (not refitted)") +
+  md += std::string("Base model ") +
+        (r.fit_base ? "fitted on the calibration split (staged + joint)" : "with the given parameters (not refitted)") +
         "; scores on the validation split. Residual = measured − predicted.\n\n";
   md += answer_markdown(r) + structure_markdown(r.structure_before, plots) + response_markdown(r) +
         model_form_markdown(r) + effects_markdown(r) + errors_markdown(r);

@@ -17,8 +17,7 @@ namespace {
 void require_consistent(const ValidationErrors& e) {
   if (e.sq_err_px2.empty() || e.sq_err_px2.size() != e.count.size())
     throw std::invalid_argument("validation errors: need one squared-error sum and one count per sample (got " +
-                                std::to_string(e.sq_err_px2.size()) + " and " + std::to_string(e.count.size()) +
-                                ")");
+                                std::to_string(e.sq_err_px2.size()) + " and " + std::to_string(e.count.size()) + ")");
 }
 
 // Uniform index in [0, n) from a 64-bit draw (multiply-shift: the same on every platform, unlike
@@ -40,9 +39,7 @@ double improvement_pct(double reference_rmse, double candidate_rmse) {
 }
 
 // "creep+lens", or "(base)" for no effects.
-std::string chain_label(const std::vector<std::string>& ids) {
-  return ids.empty() ? "(base)" : join(ids, "+");
-}
+std::string chain_label(const std::vector<std::string>& ids) { return ids.empty() ? "(base)" : join(ids, "+"); }
 
 }  // namespace
 
@@ -64,8 +61,8 @@ double gaussian_bic(double sse, double n, std::size_t k) {
   return n * std::log(variance) + static_cast<double>(k) * std::log(n);
 }
 
-Interval bootstrap_improvement_pct(const ValidationErrors& reference, const ValidationErrors& candidate,
-                                   int resamples, std::uint64_t seed, double confidence) {
+Interval bootstrap_improvement_pct(const ValidationErrors& reference, const ValidationErrors& candidate, int resamples,
+                                   std::uint64_t seed, double confidence) {
   require_consistent(reference);
   require_consistent(candidate);
   if (reference.sq_err_px2.size() != candidate.sq_err_px2.size())
@@ -144,7 +141,8 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
   why << "improvement " << format_number(s.improvement_pct, "%.1f") << " % ["
       << format_number(s.improvement_ci_pct.low, "%.1f") << ", " << format_number(s.improvement_ci_pct.high, "%.1f")
       << "], dBIC " << format_number(s.delta_bic, "%.0f");
-  if (std::isfinite(s.fingerprint_pct)) why << ", held drift explained " << format_number(s.fingerprint_pct, "%.0f") << " %";
+  if (std::isfinite(s.fingerprint_pct))
+    why << ", held drift explained " << format_number(s.fingerprint_pct, "%.0f") << " %";
   if (s.fingerprint)
     why << ", fingerprint " << s.fingerprint->param << " " << format_number(s.fingerprint->calibration, "%.3g") << " / "
         << format_number(s.fingerprint->validation, "%.3g") << " (calibration / validation)";
@@ -162,7 +160,8 @@ CandidateScore score_candidate(const FitResult& reference, const FitResult& cand
     why << s.veto;
   else if (beyond_form && !drift_ok && !interval_ok)
     why << "at the fingerprint's parameters it explains less than " << options.min_fingerprint_pct
-        << "% of the validation drift and the interval's lower bound is not above " << options.min_lower_bound_pct << "%";
+        << "% of the validation drift and the interval's lower bound is not above " << options.min_lower_bound_pct
+        << "%";
   else if (beyond_form)
     why << "it makes the whole validation field certainly worse (interval below 0)";
   else if (!interval_ok)

@@ -20,7 +20,7 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-struct Point {          // one scored marker-frame and its covariates
+struct Point {  // one scored marker-frame and its covariates
   double err_px;
   double t_contact_s, radial_px, d_centre_mm, d_edge_mm, depth_mm, travel_mm;
   LoadingState loading;
@@ -37,8 +37,8 @@ CovariateTable numeric_table(const std::string& name, const std::string& unit, c
   CovariateTable t;
   t.name = name, t.unit = unit;
   if (pts.empty()) return t;
-  const auto [lo_it, hi_it] =
-      std::minmax_element(pts.begin(), pts.end(), [field](const Point& a, const Point& b) { return a.*field < b.*field; });
+  const auto [lo_it, hi_it] = std::minmax_element(
+      pts.begin(), pts.end(), [field](const Point& a, const Point& b) { return a.*field < b.*field; });
   const double lo = (*lo_it).*field;
   const double hi = std::max((*hi_it).*field, lo + 1e-9);
   std::vector<double> sum(bins, 0.0);
@@ -191,8 +191,14 @@ Point marker_point(const Sensor& sensor, const FrameContact& fc, std::size_t k, 
   const Vec2 p = sensor.p_EM[j].head<2>();
   const Vec2 half = 0.5 * sensor.gel.size_m;
   const double edge = std::max(0.0, std::min(half.x() - std::abs(p.x()), half.y() - std::abs(p.y())));
-  Point pt{e.norm(), fc.t_contact_s[k], (sensor.markers_rest_px[j] - sensor.camera.principal_px).norm(),
-           1e3 * (p - fc.centre_E[k]).norm(), 1e3 * edge, 1e3 * fc.depth_m[k], 1e3 * fc.travel_m[k], fc.loading[k]};
+  Point pt{e.norm(),
+           fc.t_contact_s[k],
+           (sensor.markers_rest_px[j] - sensor.camera.principal_px).norm(),
+           1e3 * (p - fc.centre_E[k]).norm(),
+           1e3 * edge,
+           1e3 * fc.depth_m[k],
+           1e3 * fc.travel_m[k],
+           fc.loading[k]};
   // The image axes are the E axes scaled (Camera::px_from_E), so E directions apply to px residuals.
   const Vec2 out_E = p - fc.centre_E[k];
   const Vec2 dir_E = fc.travel_dir_E[k];

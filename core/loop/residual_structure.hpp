@@ -20,10 +20,10 @@ enum class ContactPhase { kLoading, kHold, kSlide, kUnloading, kNoContact };
 struct CovariateTable {
   std::string name;
   std::string unit;
-  std::vector<std::string> labels;       // bin labels ("0.00-0.25", or "loading" ...)
-  std::vector<double> centre;            // bin centre (numeric covariates; index for categorical)
-  std::vector<double> rms_px;            // NaN for an empty bin
-  std::vector<long> count;               // marker-frames in the bin
+  std::vector<std::string> labels;  // bin labels ("0.00-0.25", or "loading" ...)
+  std::vector<double> centre;       // bin centre (numeric covariates; index for categorical)
+  std::vector<double> rms_px;       // NaN for an empty bin
+  std::vector<long> count;          // marker-frames in the bin
   // Contact-frame tables only (in contact, a subset of the marker-frames): the mean residual component
   // along the direction from the contact centre to the marker (+: outward) and along the indenter's
   // tangential travel since first contact (+: the way it moved). Empty for the other tables.

@@ -5,11 +5,11 @@
 #include <cmath>
 #include <limits>
 
+#include "core/base/error.hpp"
+#include "core/calibration/prediction_export.hpp"
+#include "core/data/json_read.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
-#include "core/base/error.hpp"
-#include "core/data/json_read.hpp"
-#include "core/calibration/prediction_export.hpp"
 
 namespace sb {
 
@@ -67,7 +67,8 @@ ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string&
   if (!ci.is_array() || ci.size() != 2) jsonin::fail(file, ci_ptr, "expected [low, high]");
   v.ci95_low_pct = ci[0].is_null() ? kNaN : jsonin::finite_number(ci[0], file, jsonin::child(ci_ptr, std::size_t{0}));
   v.ci95_high_pct = ci[1].is_null() ? kNaN : jsonin::finite_number(ci[1], file, jsonin::child(ci_ptr, std::size_t{1}));
-  if (const auto* a = jsonin::find(c, "accepted")) v.accepted = jsonin::boolean(*a, file, jsonin::child(ptr, "accepted"));
+  if (const auto* a = jsonin::find(c, "accepted"))
+    v.accepted = jsonin::boolean(*a, file, jsonin::child(ptr, "accepted"));
   if (const auto* r = jsonin::find(c, "reason")) v.reason = jsonin::string(*r, file, jsonin::child(ptr, "reason"));
   v.verdict = candidate_verdict(c, v, rules_recorded);
   return v;
@@ -94,7 +95,8 @@ std::vector<ContactFrameTableView> read_contact_frame(const nlohmann::json& j, c
     for (std::size_t b = 0; b < bins.size(); ++b) {
       const std::string bp = jsonin::child(ptr + "/bins", b);
       v.bins.push_back(jsonin::string(jsonin::member(bins[b], "bin", path, bp), path, bp + "/bin"));
-      v.count.push_back(static_cast<long>(jsonin::finite_number(jsonin::member(bins[b], "count", path, bp), path, bp + "/count")));
+      v.count.push_back(
+          static_cast<long>(jsonin::finite_number(jsonin::member(bins[b], "count", path, bp), path, bp + "/count")));
       v.rms_px.push_back(number_or_nan(bins[b], "rms_px", path, bp));
       v.mean_radial_px.push_back(number_or_nan(bins[b], "mean_radial_px", path, bp));
       v.mean_along_px.push_back(number_or_nan(bins[b], "mean_along_travel_px", path, bp));
@@ -129,11 +131,13 @@ ResidualSummary load_residual_summary(const std::string& path) {
   s.after_params = jsonin::member(after, "params", path, "/after");
   jsonin::require_object(s.after_params, path, "/after/params");
   s.selected = effect_list(jsonin::member(j, "selected", path, ""), path, "/selected");
-  if (const auto* form = jsonin::find(j, "model_form_selected")) s.model_form = jsonin::string(*form, path, "/model_form_selected");
+  if (const auto* form = jsonin::find(j, "model_form_selected"))
+    s.model_form = jsonin::string(*form, path, "/model_form_selected");
   s.after_model = ModelSpec{s.model_id, s.selected}.id();
   if (const auto* m = jsonin::find(j, "after_model")) s.after_model = jsonin::string(*m, path, "/after_model");
   try {
-    if (parse_model_spec(s.after_model).effects != s.selected) jsonin::fail(path, "/after_model", "its effects differ from /selected");
+    if (parse_model_spec(s.after_model).effects != s.selected)
+      jsonin::fail(path, "/after_model", "its effects differ from /selected");
   } catch (const std::invalid_argument& e) {
     jsonin::fail(path, "/after_model", e.what());
   }
@@ -185,7 +189,7 @@ std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary,
 std::vector<Vec2> residual_field(const std::vector<Vec2>& measured, const std::vector<Vec2>& predicted) {
   std::vector<Vec2> r(measured.size(), Vec2(kNaN, kNaN));
   for (std::size_t i = 0; i < measured.size() && i < predicted.size(); ++i) r[i] = measured[i] - predicted[i];
-  return r;   // NaN - x stays NaN: a lost marker stays lost
+  return r;  // NaN - x stays NaN: a lost marker stays lost
 }
 
 // ------------------------------------------------------------------------------ FieldSeriesJob
@@ -203,8 +207,9 @@ void FieldSeriesJob::start(std::unique_ptr<ShearModel> model, std::vector<Pose> 
   clear();
   cancel_ = false;
   // The model moves into the task: the worker owns everything it touches.
-  future_ = std::async(std::launch::async, [this, m = std::shared_ptr<ShearModel>(std::move(model)),
-                                            path = std::move(path), dt_s] { return predict_along(*m, path, dt_s, &cancel_); });
+  future_ =
+      std::async(std::launch::async, [this, m = std::shared_ptr<ShearModel>(std::move(model)), path = std::move(path),
+                                      dt_s] { return predict_along(*m, path, dt_s, &cancel_); });
 }
 
 bool FieldSeriesJob::running() const {
@@ -216,7 +221,7 @@ void FieldSeriesJob::wait() const {
 }
 
 const std::vector<std::vector<Vec2>>& FieldSeriesJob::result() {
-  if (future_.valid() && !running()) result_ = future_.get();   // an exception in the worker propagates
+  if (future_.valid() && !running()) result_ = future_.get();  // an exception in the worker propagates
   return result_;
 }
 

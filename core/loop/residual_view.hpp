@@ -20,7 +20,7 @@ struct ResidualCandidateView {
   double improvement_pct = 0;
   double ci95_low_pct = 0, ci95_high_pct = 0;
   bool accepted = false;
-  std::string reason;   // why it was (not) selected
+  std::string reason;  // why it was (not) selected
   // The reason in two words, for a table: "selected", "at a bound" (a model-form symptom), "no evidence"
   // (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it gained < 0.5 %),
   // "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports older than the
@@ -37,19 +37,19 @@ struct ContactFrameTableView {
 };
 
 struct ResidualSummary {
-  std::string file;            // the JSON it came from
+  std::string file;  // the JSON it came from
   std::string dataset;
-  std::string model_id;        // the base model: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized
-  double before_rmse_px = 0;   // validation split, base model
-  double after_rmse_px = 0;    // validation split, the final model
+  std::string model_id;       // the base model: hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized
+  double before_rmse_px = 0;  // validation split, base model
+  double after_rmse_px = 0;   // validation split, the final model
   // The loop's answer (core/effects/model_spec.hpp): the selected model form (else the base) with the selected
   // effects. Reports older than the model-form round's effects on the form: model_id + selected.
   std::string after_model;
-  std::string model_form;      // the selected model form ("" when none was, or the report is older)
-  std::vector<ResidualCandidateView> candidates;   // ranked: largest improvement first
-  std::vector<std::string> selected;               // effect ids, in the order they wrap the form
-  nlohmann::json before_params;                    // the base model fitted alone (or as given)
-  nlohmann::json after_params;                     // the corrected model's whole parameter table
+  std::string model_form;                         // the selected model form ("" when none was, or the report is older)
+  std::vector<ResidualCandidateView> candidates;  // ranked: largest improvement first
+  std::vector<std::string> selected;              // effect ids, in the order they wrap the form
+  nlohmann::json before_params;                   // the base model fitted alone (or as given)
+  nlohmann::json after_params;                    // the corrected model's whole parameter table
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
 };
 
@@ -63,8 +63,7 @@ ParamSet fitted_base_params(const ResidualSummary& summary);
 
 // The corrected model: `after_model` at its fitted parameters (the form's own parameters included: they were
 // refitted jointly with the effects when the analysis fitted the base).
-std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary,
-                                                 std::shared_ptr<const Sensor> sensor,
+std::unique_ptr<ShearModel> make_corrected_model(const ResidualSummary& summary, std::shared_ptr<const Sensor> sensor,
                                                  std::shared_ptr<const Indenter> indenter);
 
 // measured - predicted per marker; NaN where the measurement is NaN (a marker the tracker lost) or

@@ -38,7 +38,7 @@ bool lattice_steps(const std::vector<Vec2>& p, const std::vector<int>& finite, c
   if (offsets.empty()) return false;
   const auto shorter = [](const Vec2& u, const Vec2& v) {
     const double nu = u.squaredNorm(), nv = v.squaredNorm();
-    return nu != nv ? nu < nv : (u.x() != v.x() ? u.x() < v.x() : u.y() < v.y());   // deterministic ties
+    return nu != nv ? nu < nv : (u.x() != v.x() ? u.x() < v.x() : u.y() < v.y());  // deterministic ties
   };
   *a = *std::min_element(offsets.begin(), offsets.end(), shorter);
   if (a->x() < 0 || (a->x() == 0 && a->y() < 0)) *a = -*a;
@@ -101,7 +101,7 @@ LatticeIndices assign_lattice_indices(const std::vector<Vec2>& rest_px, const Ve
   if (!lattice_steps(rest_px, finite, central, &out.step_a_px, &out.step_b_px)) return out;
   const Vec2 steps[2] = {out.step_a_px, out.step_b_px};
 
-  std::map<std::pair<int, int>, int> at;   // index -> marker
+  std::map<std::pair<int, int>, int> at;  // index -> marker
   const auto key = [](const Eigen::Vector2i& n) { return std::make_pair(n.x(), n.y()); };
   // Grown outwards: the marker nearest the principal point first (its distance orders the queue).
   using Item = std::pair<double, int>;
@@ -179,7 +179,8 @@ RestGridLens rest_grid_lens(const Camera& camera, const std::vector<Vec2>& rest_
     if (L.assigned[i]) used.push_back(i);
   fit.markers_used = int(used.size());
   if (fit.markers_used < kMinLatticeMarkers) {
-    fit.why_not = std::to_string(fit.markers_used) + " markers on a lattice (< " + std::to_string(kMinLatticeMarkers) + ")";
+    fit.why_not = std::to_string(fit.markers_used) + " markers on a lattice (< " + std::to_string(kMinLatticeMarkers) +
+                  ")";
     return fit;
   }
   Eigen::Vector2i lo = L.index[used[0]], hi = lo;
@@ -194,7 +195,7 @@ RestGridLens rest_grid_lens(const Camera& camera, const std::vector<Vec2>& rest_
     X.row(r) << 1.0, double(L.index[i].x()), double(L.index[i].y());
     Y.row(r) = rest_px[i].transpose();
   }
-  const Eigen::MatrixXd B = X.colPivHouseholderQr().solve(Y);   // rows: o, A e_x, A e_y
+  const Eigen::MatrixXd B = X.colPivHouseholderQr().solve(Y);  // rows: o, A e_x, A e_y
   double o[2] = {B(0, 0), B(0, 1)};
   double A[4] = {B(1, 0), B(2, 0), B(1, 1), B(2, 1)};
   double k1 = 0.0;

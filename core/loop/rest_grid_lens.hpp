@@ -26,7 +26,7 @@ Vec2 lens_distort_px(const Camera& camera, double k1, const Vec2& p_px);
 struct LatticeIndices {
   std::vector<Eigen::Vector2i> index;
   std::vector<std::uint8_t> assigned;
-  Vec2 step_a_px = Vec2::Zero(), step_b_px = Vec2::Zero();   // the two offsets at the seed
+  Vec2 step_a_px = Vec2::Zero(), step_b_px = Vec2::Zero();  // the two offsets at the seed
   int count = 0;
 };
 
@@ -48,17 +48,17 @@ inline constexpr double kMaxLatticeRmsPitchFraction = 0.1;
 
 struct RestGridLens {
   bool is_lattice = false;
-  std::string why_not;          // when !is_lattice, the reason (for reports)
+  std::string why_not;  // when !is_lattice, the reason (for reports)
   double k1 = 0.0;
-  double k1_stderr = 0.0;       // sqrt of (J^T J)^-1 at k1 times the residual variance SSE / (2 N - 7)
-  double rms_px = 0.0;          // sqrt(sum |rest_i - D(o + A n_i)|^2 / N) over the markers used
-  double pitch_px = 0.0;        // the shorter lattice step |A e_x|, |A e_y|
-  double pitch_long_px = 0.0;   // the longer one
-  double shift_rms_px = 0.0;    // RMS of |D(o + A n_i) - (o + A n_i)|: how far the fitted lens moves the grid
+  double k1_stderr = 0.0;      // sqrt of (J^T J)^-1 at k1 times the residual variance SSE / (2 N - 7)
+  double rms_px = 0.0;         // sqrt(sum |rest_i - D(o + A n_i)|^2 / N) over the markers used
+  double pitch_px = 0.0;       // the shorter lattice step |A e_x|, |A e_y|
+  double pitch_long_px = 0.0;  // the longer one
+  double shift_rms_px = 0.0;   // RMS of |D(o + A n_i) - (o + A n_i)|: how far the fitted lens moves the grid
   Vec2 origin_px = Vec2::Zero();
   Eigen::Matrix2d A = Eigen::Matrix2d::Zero();
   int markers_used = 0;
-  Eigen::Vector2i span = Eigen::Vector2i::Zero();   // distinct indices along each axis (max - min + 1)
+  Eigen::Vector2i span = Eigen::Vector2i::Zero();  // distinct indices along each axis (max - min + 1)
   LatticeIndices indices;
 };
 

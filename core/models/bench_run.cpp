@@ -6,17 +6,19 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "core/geometry/sdf.hpp"
 #include "core/models/bench_workload.hpp"
 #include "core/models/fots.hpp"
 #include "core/models/hydroshear.hpp"
-#include "core/geometry/sdf.hpp"
 #include "core/models/tacsl.hpp"
 
 namespace sb {
 
 const std::vector<std::string>& bench_model_ids() {
-  static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick",
+  static const std::vector<std::string> ids = {"hydroshear",        "fots",
+                                               "fots-reimpl",       "tacsl",
+                                               "tacsl-normalized",  "hydroshear-layer",
+                                               "hydroshear-stick",  "hydroshear-layer-stick",
                                                "hydroshear-contact"};
   return ids;
 }

@@ -18,9 +18,9 @@
 namespace sb {
 
 inline constexpr int kBenchWarmupSteps = 3;
-inline constexpr int kBenchDefaultSteps = 23;      // k = 0..22
-inline constexpr int kBenchMaxSteps = 50;          // the workload's trajectory length
-inline constexpr double kBenchDt = 1.0 / 60;       // s between steps (TacSL's velocities; 60 Hz control)
+inline constexpr int kBenchDefaultSteps = 23;  // k = 0..22
+inline constexpr int kBenchMaxSteps = 50;      // the workload's trajectory length
+inline constexpr double kBenchDt = 1.0 / 60;   // s between steps (TacSL's velocities; 60 Hz control)
 
 // hydroshear, fots, fots-reimpl, tacsl, tacsl-normalized.
 const std::vector<std::string>& bench_model_ids();
@@ -28,14 +28,14 @@ const std::vector<std::string>& bench_model_ids();
 struct BenchResult {
   std::string model;
   int envs = 0, slots = 0, steps = 0, timed_steps = 0, threads = 0;
-  std::vector<double> step_ms;                 // wall time of every step k = 0..steps-1
+  std::vector<double> step_ms;                   // wall time of every step k = 0..steps-1
   double median_ms = 0, min_ms = 0, max_ms = 0;  // over k = 3..steps-1
-  double sensor_steps_per_s = 0;               // slots / median step time
+  double sensor_steps_per_s = 0;                 // slots / median step time
   bool profiled = false;
   // Profile mode: CPU milliseconds per timed step spent in each phase, summed over worker threads
   // (so they add up to about threads x wall time when all cores are busy).
   std::array<double, kPhaseCount> phase_cpu_ms{};
-  double checksum = 0;                         // sum of |disp| over every marker of the last step
+  double checksum = 0;  // sum of |disp| over every marker of the last step
 };
 
 // One prepared workload: trajectory, sensor, peg and the model's batch of 2E slots.

@@ -13,7 +13,8 @@ std::uint64_t splitmix64(std::uint64_t x) {
 }
 
 double bench_uniform(std::uint64_t seed, int env, int c) {
-  const std::uint64_t bits = splitmix64(seed + 16ull * static_cast<std::uint64_t>(env) + static_cast<std::uint64_t>(c)) >> 11;
+  const std::uint64_t bits =
+      splitmix64(seed + 16ull * static_cast<std::uint64_t>(env) + static_cast<std::uint64_t>(c)) >> 11;
   return static_cast<double>(bits) * 0x1.0p-53;
 }
 
@@ -52,8 +53,8 @@ SurfaceSamples bench_peg_points() {
 BenchEnvParams bench_env_params(std::uint64_t seed, int env) {
   auto u = [&](int c) { return bench_uniform(seed, env, c); };
   const double deg = M_PI / 180;
-  return {0.5e-3 + 0.5e-3 * u(0), 2.0e-3 * u(1), 2 * M_PI * u(2), 10 * deg * (2 * u(3) - 1),
-          3e-3 * (2 * u(4) - 1), 1.5e-3 * (2 * u(5) - 1), 5 * deg * (2 * u(6) - 1)};
+  return {0.5e-3 + 0.5e-3 * u(0), 2.0e-3 * u(1),           2 * M_PI * u(2),         10 * deg * (2 * u(3) - 1),
+          3e-3 * (2 * u(4) - 1),  1.5e-3 * (2 * u(5) - 1), 5 * deg * (2 * u(6) - 1)};
 }
 
 namespace {

@@ -21,7 +21,7 @@ struct BenchWorkloadSpec {
   std::uint64_t seed = 20260311;
 };
 
-inline constexpr int kBenchSensors = 2;           // left pad, right pad
+inline constexpr int kBenchSensors = 2;  // left pad, right pad
 inline constexpr double kPegRadius = 0.004;
 inline constexpr double kPegLength = 0.040;
 inline constexpr double kPegPointSpacing = 0.75e-3;

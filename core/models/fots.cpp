@@ -12,7 +12,7 @@ namespace sb {
 namespace {
 
 const double kCameraPxPerMetre = Camera{}.px_per_metre();  // GelSight Mini 1/0.0634 mm
-constexpr int kSlotGrain = 32;  // slots per parallel task (a slot costs about a microsecond)
+constexpr int kSlotGrain = 32;                             // slots per parallel task (a slot costs about a microsecond)
 
 // Python's int(): truncation toward zero.
 double trunc_px(double v, bool integer) { return integer ? std::trunc(v) : v; }
@@ -67,7 +67,10 @@ std::vector<ParamSpec> fots_reimpl_param_specs() {
 
 FotsBatch::FotsBatch(FotsVariant variant, std::shared_ptr<const Sensor> sensor,
                      std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params)
-    : variant_(variant), sensor_(std::move(sensor)), indenter_(std::move(indenter)), slots_(std::max(slots, 0)),
+    : variant_(variant),
+      sensor_(std::move(sensor)),
+      indenter_(std::move(indenter)),
+      slots_(std::max(slots, 0)),
       scratch_(std::max(slots, 0)) {
   if (!sensor_) throw std::invalid_argument("fots: sensor required");
   if (!indenter_ || !indenter_->sdf) throw std::invalid_argument("fots: indenter with an SDF required");
@@ -102,8 +105,7 @@ void FotsBatch::set_params(const ParamSet& p) {
     kappa_t_ = p.get("kappa_t");
     anchor_grasp_ = p.index_of("anchor_grasp") < 0 || param_flag(p, "anchor_grasp");
     for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k)
-        set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
+      for (int k = 0; k < n; ++k) set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
   }
   dil_x_ = std::make_shared<const std::vector<double>>(std::move(dil_x));
   dil_y_ = std::make_shared<const std::vector<double>>(std::move(dil_y));
@@ -188,8 +190,10 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   const double px_per_m = px_per_mm_ * 1e3;
   const Vec3 t0 = slot.X_ref.translation(), t1 = X_EI.translation();
   const Vec2 centre = sensor_->camera.principal_px;
-  const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), integer_px_), trunc_px(t0.y() * px_per_m + centre.y(), integer_px_));
-  const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, integer_px_), trunc_px((t1.y() - t0.y()) * px_per_m, integer_px_));
+  const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), integer_px_),
+               trunc_px(t0.y() * px_per_m + centre.y(), integer_px_));
+  const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, integer_px_),
+               trunc_px((t1.y() - t0.y()) * px_per_m, integer_px_));
   // Each kernel's exps in one vectorised batch (exp_in_place, <= 1e-14 relative; exponents below -700
   // are clamped, which changes a weight of < 1e-304 by less than itself). The twist is evaluated at the
   // sheared positions, so its batch follows the shear's.
@@ -215,8 +219,8 @@ namespace {
 // True when X differs from X_ref only by a translation along z_E (the gel's normal), within what a pose
 // recorded to double precision carries: 1 nm in-plane, 1e-9 rad.
 bool only_along_normal(const Pose& X_ref, const Pose& X) {
-  constexpr double kInPlaneTol = 1e-9;   // m
-  constexpr double kAngleTol = 1e-9;     // rad
+  constexpr double kInPlaneTol = 1e-9;  // m
+  constexpr double kAngleTol = 1e-9;    // rad
   const Vec3 dt = X.translation() - X_ref.translation();
   if (dt.head<2>().norm() > kInPlaneTol) return false;
   const Eigen::AngleAxisd dR(X.linear() * X_ref.linear().transpose());

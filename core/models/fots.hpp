@@ -47,21 +47,21 @@ class FotsBatch {
 
  private:
   struct Slot {
-    bool in_contact = false;          // a history is running
-    Pose X_ref = Pose::Identity();    // original: pose at first contact; reimpl: the pose its SE(2) history starts at
-    bool grasping = false;            // reimpl: the normal approach is not over (the anchor follows the patch)
+    bool in_contact = false;        // a history is running
+    Pose X_ref = Pose::Identity();  // original: pose at first contact; reimpl: the pose its SE(2) history starts at
+    bool grasping = false;          // reimpl: the normal approach is not over (the anchor follows the patch)
     // reimpl: anchor c in I, the reference SE(2) (x, y, theta) and the last quaternion (hemisphere)
     Vec3 c_I = Vec3::Zero();
     Vec3 se2_ref = Vec3::Zero();
     Quat q_last = Quat::Identity();
-    bool have_prev = false;           // reimpl: a previous (contact-free) step exists
+    bool have_prev = false;  // reimpl: a previous (contact-free) step exists
     Pose X_prev = Pose::Identity();
   };
   struct Scratch {
     std::vector<Vec3> m_I;
     std::vector<double> phi_I;
-    std::vector<Vec2> x_px;           // original: the deformed marker positions
-    std::vector<double> args;         // reimpl: the shear and twist kernel exponents, then their exps
+    std::vector<Vec2> x_px;    // original: the deformed marker positions
+    std::vector<double> args;  // reimpl: the shear and twist kernel exponents, then their exps
   };
   void step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
   void step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
@@ -74,17 +74,17 @@ class FotsBatch {
   std::shared_ptr<const Indenter> indenter_;
   ParamSet params_;
   double lambda_d_, lambda_s_, lambda_t_;
-  double px_per_mm_ = 0, twist_clip_rad_ = 0;     // original
-  bool integer_px_ = true;                        // original
-  double kappa_d_ = 0, kappa_s_ = 0, kappa_t_ = 0; // reimpl
-  bool anchor_grasp_ = true;                      // reimpl: the anchor set at the end of the normal approach
-  std::vector<Vec2> m_px_;                         // markers in image pixels (original)
+  double px_per_mm_ = 0, twist_clip_rad_ = 0;       // original
+  bool integer_px_ = true;                          // original
+  double kappa_d_ = 0, kappa_s_ = 0, kappa_t_ = 0;  // reimpl
+  bool anchor_grasp_ = true;                        // reimpl: the anchor set at the end of the normal approach
+  std::vector<Vec2> m_px_;                          // markers in image pixels (original)
   // Constant marker-to-marker dilation kernel, k-major: dil_x_[k * nm + j] = w(j, k) (x_j - x_k) (px
   // for the original, metres for the reimpl.) and the same for y.
-  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)
+  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;  // shared by copies (set_params makes new ones)
   PhaseProfile* profile_ = nullptr;
   std::vector<Slot> slots_;
-  std::vector<Scratch> scratch_;                   // one per slot (63 markers: small)
+  std::vector<Scratch> scratch_;  // one per slot (63 markers: small)
 };
 
 // The in-plane rotation angle of R about +z: the twist of its swing-twist decomposition,

@@ -7,8 +7,8 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cstring>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <set>
 #include <stdexcept>
@@ -51,18 +51,21 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool conta
        "shear scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)", true},
       {"K", "", 1, 1e-3, 1e6, "tangential stiffness gain (authors K = A = 1: state in metres)", true},
       {"E", "", 1, 1e-3, 1e6, "normal stiffness gain (authors E = A = 1: state in metres)", true},
-      {"g_aug", "m", 0, 0, 5e-3, "gravity augmentation: virtual uncommitted shift of the indenter (authors' RL: 0.25 mm)"},
+      {"g_aug", "m", 0, 0, 5e-3,
+       "gravity augmentation: virtual uncommitted shift of the indenter (authors' RL: 0.25 mm)"},
       {"g_dir_x", "", -1, -1, 1, "x_E component of the augmentation direction (normalised)"},
       {"g_dir_y", "", 0, -1, 1, "y_E component of the augmentation direction"},
       {"g_dir_z", "", 0, -1, 1, "z_E component of the augmentation direction"},
-      {"weight", "", 0, 0, 1, "shear weight: 0 = accumulated normal state f_n (authors' code), 1 = depth -phi_E (paper)"},
+      {"weight", "", 0, 0, 1,
+       "shear weight: 0 = accumulated normal state f_n (authors' code), 1 = depth -phi_E (paper)"},
       {"normal", "", 0, 0, 1, "normal of the n/t split: 0 = elastomer +z (authors' code), 1 = indenter normal (paper)"},
       {"flat_pad_fast", "", 1, 0, 1, "1: exact analytic phi_E for a flat pad; 0: always query sensor.gel_sdf"},
   };
   if (layer) {
     // The shear kernel only: the dilation's kernel acts between markers, a pitch (2 mm) apart at least, where
-    // a near-field term narrower than the far one adds nothing (fitted, it went to its bound). Ranges: the near-field width 1/sqrt(2 lambda2) between 0.07 mm (finer than the marker pitch can
-    // resolve) and 2.2 mm (half the gel's 4.5 mm thickness); beta from no near field to 30x the far one.
+    // a near-field term narrower than the far one adds nothing (fitted, it went to its bound). Ranges: the near-field
+    // width 1/sqrt(2 lambda2) between 0.07 mm (finer than the marker pitch can resolve) and 2.2 mm (half the gel's 4.5
+    // mm thickness); beta from no near field to 30x the far one.
     const std::vector<ParamSpec> near = {
         {"beta_s", "", 1, 0, 30, "layer kernel: weight of the shear's near-field Gaussian (0 = authors' kernel)"},
         {"lambda_s2", "m^-2", 1e6, 1e5, 1e8, "layer kernel: rate of the shear's near-field Gaussian", true},
@@ -94,9 +97,9 @@ std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool conta
   }
   // What only the shear sum and the dilation read (step_slot's last two phases); mu, E, K, the
   // augmentation and the normal's choice shape the state.
-  static const std::set<std::string> field_only = {"lambda_d", "lambda_s", "kappa_d", "kappa_s", "weight",
-                                                   "beta_s", "lambda_s2", "stick_sat", "beta_s3", "lambda_s3",
-                                                   "follow", "aniso_s3", "float32"};
+  static const std::set<std::string> field_only = {"lambda_d", "lambda_s",  "kappa_d",   "kappa_s", "weight",
+                                                   "beta_s",   "lambda_s2", "stick_sat", "beta_s3", "lambda_s3",
+                                                   "follow",   "aniso_s3",  "float32"};
   for (ParamSpec& s : specs) s.field_only = field_only.count(s.name) > 0;
   return specs;
 }
@@ -130,13 +133,13 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
 // Inputs of one tracker step, one entry per point (kernels::advance_points).
 struct HydroShearBatch::StepColumns {
   std::vector<double> s_prev, qx, qy, qz, s, px, py, pz, ox, oy, oz, nx, ny, nz;
-  std::vector<double> un;                  // output: the normal part of the new state
+  std::vector<double> un;  // output: the normal part of the new state
   void resize(int n) {
     for (auto* v : {&s_prev, &qx, &qy, &qz, &s, &px, &py, &pz, &ox, &oy, &oz, &nx, &ny, &nz, &un}) v->resize(n);
   }
   kernels::AdvanceColumns view() const {
-    return {s_prev.data(), qx.data(), qy.data(), qz.data(), s.data(), px.data(), py.data(), pz.data(),
-            ox.data(),     oy.data(), oz.data(), nx.data(), ny.data(), nz.data()};
+    return {s_prev.data(), qx.data(), qy.data(), qz.data(), s.data(),  px.data(), py.data(),
+            pz.data(),     ox.data(), oy.data(), oz.data(), nx.data(), ny.data(), nz.data()};
   }
 };
 
@@ -148,41 +151,43 @@ struct HydroShearBatch::Scratch {
   std::vector<double> vx, vy, vz, vs, vs_aug;
   // Candidates: visited points with phi_E < 0 now or at the shifted pose (position, visited index).
   std::vector<int> cpos, ci;
-  StepColumns commit, augment;             // the committed step's and the augmentation's inputs
-  PointColumns next, aug;                  // their outputs (next is swapped into the slot)
+  StepColumns commit, augment;  // the committed step's and the augmentation's inputs
+  PointColumns next, aug;       // their outputs (next is swapped into the slot)
   // The field's points: state columns, the real point o_i of each (anchor = o_i + u_i) and the normal.
   const PointColumns* field = nullptr;
   const double *field_un = nullptr, *field_phi = nullptr;
   const double *fx = nullptr, *fy = nullptr, *fz = nullptr, *fnx = nullptr, *fny = nullptr, *fnz = nullptr;
   // Shear sum operands (kernels::shear_operands, shear_matrices).
-  std::vector<double> wvx, wvy, ww, args, Xt, Wt, S;   // ww: the weights alone (stick saturation)
+  std::vector<double> wvx, wvy, ww, args, Xt, Wt, S;  // ww: the weights alone (stick saturation)
   std::vector<std::uint8_t> fast;
-  std::vector<int> old_index;              // lookup_state's merge
+  std::vector<int> old_index;  // lookup_state's merge
   std::vector<double> ex, ey;
-  std::vector<double> marker_gauss;          // one point's Gaussian at every marker (markers off a grid)
-  std::vector<double> shear_x, shear_y;    // per marker
-  std::vector<double> shear_w;             // sum_i w_i G_i per marker (the stick saturation)
+  std::vector<double> marker_gauss;      // one point's Gaussian at every marker (markers off a grid)
+  std::vector<double> shear_x, shear_y;  // per marker
+  std::vector<double> shear_w;           // sum_i w_i G_i per marker (the stick saturation)
   // The single-precision path (shear_sum_single): the anchors, the exponents of the axis-split factors,
   // the operands of one chunk of points, the 8-lane partial sums and the recurrences' running row.
   std::vector<double> anchor_x, anchor_y, anchor_z, axis_args;
   template <typename T>
   struct Operands {
-    std::vector<T> vx, vy, w;              // the point operands in float (double reads wvx, wvy, ww)
-    std::vector<T> X, W, S;                // one chunk's operands and the lanes' partial sums
+    std::vector<T> vx, vy, w;  // the point operands in float (double reads wvx, wvy, ww)
+    std::vector<T> X, W, S;    // one chunk's operands and the lanes' partial sums
   };
   Operands<float> f32;
   Operands<double> f64;
   template <typename T>
   Operands<T>& operands() {
-    if constexpr (std::is_same_v<T, float>) return f32;
-    else return f64;
+    if constexpr (std::is_same_v<T, float>)
+      return f32;
+    else
+      return f64;
   }
   std::vector<double> run, sums;
-  double shift_x = 0, shift_y = 0;         // the contact-following shift of every anchor (contact_shift)
+  double shift_x = 0, shift_y = 0;  // the contact-following shift of every anchor (contact_shift)
   std::vector<Vec3> m_I;
   std::vector<double> phi_I;
-  std::vector<int> dil_k;                  // markers inside the indenter
-  std::vector<double> dil_h;               // and their depths
+  std::vector<int> dil_k;                    // markers inside the indenter
+  std::vector<double> dil_h;                 // and their depths
   std::vector<double> dil_sum_x, dil_sum_y;  // the dilation's sums before kappa_d
 };
 struct HydroShearBatch::ScratchPool {
@@ -191,7 +196,9 @@ struct HydroShearBatch::ScratchPool {
 
 HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
                                  int slots, const ParamSet& params)
-    : sensor_(std::move(sensor)), indenter_(std::move(indenter)), slots_(std::max(slots, 0)),
+    : sensor_(std::move(sensor)),
+      indenter_(std::move(indenter)),
+      slots_(std::max(slots, 0)),
       pool_(std::make_unique<ScratchPool>()) {
   if (!sensor_ || !sensor_->gel_sdf) throw std::invalid_argument("hydroshear: sensor with a gel SDF required");
   if (!indenter_ || !indenter_->sdf) throw std::invalid_argument("hydroshear: indenter with an SDF required");
@@ -208,13 +215,31 @@ HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shar
 HydroShearBatch::~HydroShearBatch() = default;
 HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
-    : sensor_(o.sensor_), indenter_(o.indenter_), params_(o.params_), k_(o.k_), flat_(o.flat_), pad_(o.pad_),
-      grid_(o.grid_), gauss_x_(o.gauss_x_), gauss_y_(o.gauss_y_), gauss_x2_(o.gauss_x2_), gauss_y2_(o.gauss_y2_),
-      gauss_x3_(o.gauss_x3_), gauss_y3_(o.gauss_y3_),
-      dil_x_(o.dil_x_), dil_y_(o.dil_y_), dil_lambda_(o.dil_lambda_),
-      marker_z_max_(o.marker_z_max_), table_(o.table_), cull_z_(o.cull_z_), cull_(o.cull_), gel_box_(o.gel_box_),
-      box_cull_(o.box_cull_), slots_(o.slots_),
-      pool_(std::make_unique<ScratchPool>()), profile_(nullptr) {}
+    : sensor_(o.sensor_),
+      indenter_(o.indenter_),
+      params_(o.params_),
+      k_(o.k_),
+      flat_(o.flat_),
+      pad_(o.pad_),
+      grid_(o.grid_),
+      gauss_x_(o.gauss_x_),
+      gauss_y_(o.gauss_y_),
+      gauss_x2_(o.gauss_x2_),
+      gauss_y2_(o.gauss_y2_),
+      gauss_x3_(o.gauss_x3_),
+      gauss_y3_(o.gauss_y3_),
+      dil_x_(o.dil_x_),
+      dil_y_(o.dil_y_),
+      dil_lambda_(o.dil_lambda_),
+      marker_z_max_(o.marker_z_max_),
+      table_(o.table_),
+      cull_z_(o.cull_z_),
+      cull_(o.cull_),
+      gel_box_(o.gel_box_),
+      box_cull_(o.box_cull_),
+      slots_(o.slots_),
+      pool_(std::make_unique<ScratchPool>()),
+      profile_(nullptr) {}
 
 // Recursive median split along the longest axis of the bounding box until kClusterLeaf points remain:
 // spatially compact clusters whatever the sample order.
@@ -341,7 +366,6 @@ void HydroShearBatch::reset_slot(int slot) {
   s.X_prev = Pose::Identity();
 }
 
-
 void HydroShearBatch::PointColumns::resize(int n) {
   pos.resize(n);
   for (auto* v : {&ux, &uy, &uz}) v->resize(n);
@@ -371,8 +395,8 @@ std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
   return out;
 }
 
-void HydroShearBatch::step(std::span<const Pose> X_EI, double /*dt: quasi-static, the path is the state*/, std::span<Vec2> disp_px,
-                           std::span<FieldOutput> diagnostics) {
+void HydroShearBatch::step(std::span<const Pose> X_EI, double /*dt: quasi-static, the path is the state*/,
+                           std::span<Vec2> disp_px, std::span<FieldOutput> diagnostics) {
   const int n = slots();
   const std::size_t nm = sensor_->p_EM.size();
   const bool field = !disp_px.empty();
@@ -449,7 +473,8 @@ void HydroShearBatch::gather_candidates(const Pose& X_EI, Scratch& sc) const {
   const PoseArrays X(X_EI);
   int off = 0;
   for (const auto& [b, e] : sc.ranges) {
-    kernels::transform_points(X.r, X.t, &table.pIx[b], &table.pIy[b], &table.pIz[b], e - b, &sc.vx[off], &sc.vy[off], &sc.vz[off]);
+    kernels::transform_points(X.r, X.t, &table.pIx[b], &table.pIy[b], &table.pIz[b], e - b, &sc.vx[off], &sc.vy[off],
+                              &sc.vz[off]);
     off += e - b;
   }
   phi_columns(sc.vx.data(), sc.vy.data(), sc.vz.data(), Vec3::Zero(), visited, sc.vs.data());
@@ -556,12 +581,10 @@ void HydroShearBatch::commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) co
   // gel (s_prev < 0) and still is, alpha = (-s + s_prev) / (s_prev - s) = 1 exactly, whatever s_prev,
   // and s_prev = s gives that 1 through the 0/0 rule.
   const int* ix = sc.old_index.data();
-  for (int j = 0; j < n_in; ++j)
-    in.s_prev[j] = ix[j] >= 0 ? in.s[j] : phi_E(Vec3(in.qx[j], in.qy[j], in.qz[j]));
+  for (int j = 0; j < n_in; ++j) in.s_prev[j] = ix[j] >= 0 ? in.s[j] : phi_E(Vec3(in.qx[j], in.qy[j], in.qz[j]));
   normals(X_EI.linear(), next.pos, in);
   kernels::advance_points(in.view(), !k_.normal_indenter, k_.mu * k_.E / k_.K, n_in, next.ux.data(), next.uy.data(),
-                          next.uz.data(),
-                          in.un.data(), next.slip.data());
+                          next.uz.data(), in.un.data(), next.slip.data());
   slot.points.swap(next);
   slot.X_prev = X_EI;
   slot.first = false;
@@ -599,10 +622,9 @@ void HydroShearBatch::augmented_state(const Slot& slot, const Pose& X_EI, Scratc
   lookup_state(slot.points, out.pos, sc.old_index, in);
   normals(X_EI.linear(), out.pos, in);
   kernels::advance_points(in.view(), !k_.normal_indenter, k_.mu * k_.E / k_.K, n_aug, out.ux.data(), out.uy.data(),
-                          out.uz.data(),
-                          in.un.data(), out.slip.data());
+                          out.uz.data(), in.un.data(), out.slip.data());
   sc.field = &out;
-  sc.field_un = in.un.data(), sc.field_phi = in.s.data();  // phi_E at the shifted point
+  sc.field_un = in.un.data(), sc.field_phi = in.s.data();            // phi_E at the shifted point
   sc.fx = in.qx.data(), sc.fy = in.qy.data(), sc.fz = in.qz.data();  // the real, unshifted points
   sc.fnx = in.nx.data(), sc.fny = in.ny.data(), sc.fnz = in.nz.data();
 }
@@ -628,8 +650,10 @@ void HydroShearBatch::shear_sum(Scratch& sc) const {
                              {k_.beta_s, k_.lambda_s2, &gauss_x2_, &gauss_y2_},
                              {k_.beta_s3, k_.lambda_s3, &gauss_x3_, &gauss_y3_, false, k_.aniso_s3}};
   if (k_.shared_pass) {
-    if (k_.single_precision) shear_sum_shared<float>(terms, sc);
-    else shear_sum_shared<double>(terms, sc);
+    if (k_.single_precision)
+      shear_sum_shared<float>(terms, sc);
+    else
+      shear_sum_shared<double>(terms, sc);
   } else {
     for (const ShearTerm& term : terms)
       if (term.weight > 0) add_shear_term(term, sc);
@@ -705,9 +729,10 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
     sc.args[i] = sc.args[mp + i] = sc.args[2 * mp + i] = 0;
     sc.fast[i] = 0;
   }
-  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
-                                   sc.field_phi, sc.fnx, sc.fny, sc.fnz};
-  kernels::ShearConstants k = fact ? axis_constants(*term.gx, *term.gy, term.lambda, grid_.z0) : kernels::ShearConstants{};
+  const kernels::ShearColumns cols{sc.fx,       sc.fy,        sc.fz,  F.ux.data(), F.uy.data(), F.uz.data(),
+                                   sc.field_un, sc.field_phi, sc.fnx, sc.fny,      sc.fnz};
+  kernels::ShearConstants k = fact ? axis_constants(*term.gx, *term.gy, term.lambda, grid_.z0)
+                                   : kernels::ShearConstants{};
   k.E = k_.E, k.K = k_.K, k.lambda_s = term.lambda, k.z0 = grid_.z0;
   k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
   k.max_total_exponent = fact ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
@@ -721,7 +746,7 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   if (term.weight != 1.0)
     for (int i = 0; i < n; ++i) wvx[i] *= term.weight, wvy[i] *= term.weight;
   const double* ww = nullptr;
-  if (term.with_weights) {   // w_i as shear_operands forms it
+  if (term.with_weights) {  // w_i as shear_operands forms it
     sc.ww.assign(mp, 0.0);
     for (int i = 0; i < n; ++i) sc.ww[i] = term.weight * (k_.weight_paper ? -sc.field_phi[i] : k_.E * sc.field_un[i]);
     ww = sc.ww.data();
@@ -746,18 +771,18 @@ void HydroShearBatch::shear_sum_shared(std::span<const ShearTerm> terms, Scratch
   const int n = F.size();
   const int mp = (n + 7) / 8 * 8;  // whole 8-float vectors
   for (auto* v : {&sc.wvx, &sc.wvy, &sc.ww, &sc.anchor_x, &sc.anchor_y, &sc.anchor_z}) v->assign(mp, 0.0);
-  const kernels::ShearColumns cols{sc.fx, sc.fy, sc.fz, F.ux.data(), F.uy.data(), F.uz.data(), sc.field_un,
-                                   sc.field_phi, sc.fnx, sc.fny, sc.fnz};
+  const kernels::ShearColumns cols{sc.fx,       sc.fy,        sc.fz,  F.ux.data(), F.uy.data(), F.uz.data(),
+                                   sc.field_un, sc.field_phi, sc.fnx, sc.fny,      sc.fnz};
   kernels::ShearConstants k{};
   k.E = k_.E, k.K = k_.K, k.weight_paper = k_.weight_paper, k.normal_z = !k_.normal_indenter;
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   kernels::point_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(),
                           sc.anchor_y.data(), sc.anchor_z.data());
-  if constexpr (std::is_same_v<T, float>) {   // in double, the terms read sc.wvx, wvy, ww themselves
+  if constexpr (std::is_same_v<T, float>) {  // in double, the terms read sc.wvx, wvy, ww themselves
     auto& ops = sc.operands<T>();
     for (auto [from, to] : {std::pair{&sc.wvx, &ops.vx}, std::pair{&sc.wvy, &ops.vy}, std::pair{&sc.ww, &ops.w}}) {
       to->resize(mp);
-      std::copy(from->begin(), from->end(), to->begin());   // rounded to float
+      std::copy(from->begin(), from->end(), to->begin());  // rounded to float
     }
   }
   for (const ShearTerm& term : terms)
@@ -767,7 +792,7 @@ void HydroShearBatch::shear_sum_shared(std::span<const ShearTerm> terms, Scratch
 // One Gaussian term of shear_sum_shared: its slow points one by one, the rest factored per chunk.
 template <typename T>
 void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp) const {
-  constexpr int kChunk = 96;   // points per chunk: the operands (at most 55 rows of floats) stay in L1
+  constexpr int kChunk = 96;  // points per chunk: the operands (at most 55 rows of floats) stay in L1
   const int n = sc.field->size();
   const double* vx = sc.wvx.data();
   const double* vy = sc.wvy.data();
@@ -783,8 +808,8 @@ void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp
   double *rx = ex0 + mp, *ey0 = rx + mp, *ry = ey0 + mp;
   kernels::ShearConstants k = axis_constants(*term.gx, *term.gy, term.lambda, grid_.z0);
   k.max_total_exponent = kMaxTotalExponent;
-  const int slow = kernels::axis_exponents(sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data(), k, mp, ex0,
-                                           rx, ey0, ry, sc.fast.data());
+  const int slow = kernels::axis_exponents(sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data(), k, mp, ex0, rx,
+                                           ey0, ry, sc.fast.data());
   const std::uint8_t* fast = sc.fast.data();
   for (int i = 0; i < n && slow > 0; ++i)
     if (!fast[i] && (vx[i] != 0 || vy[i] != 0 || (term.with_weights && w[i] != 0)))
@@ -798,7 +823,7 @@ void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp
   const int w_blocks = aniso ? 4 : (term.with_weights ? 3 : 2);
   const int x_blocks = aniso ? 3 : 1;
   auto& ops = sc.operands<T>();
-  constexpr int kLanes = 32 / sizeof(T);   // the partial sums' lanes per output (add_products_acc)
+  constexpr int kLanes = 32 / sizeof(T);  // the partial sums' lanes per output (add_products_acc)
   ops.X.resize(static_cast<std::size_t>(x_blocks) * cols_pad * kChunk);
   ops.W.resize(static_cast<std::size_t>(w_blocks) * rows * kChunk);
   sc.run.resize(kChunk);
@@ -808,10 +833,12 @@ void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp
   const T* vxf;
   const T* vyf;
   const T* wf;
-  if constexpr (std::is_same_v<T, float>) vxf = ops.vx.data(), vyf = ops.vy.data(), wf = ops.w.data();
-  else vxf = vx, vyf = vy, wf = w;
+  if constexpr (std::is_same_v<T, float>)
+    vxf = ops.vx.data(), vyf = ops.vy.data(), wf = ops.w.data();
+  else
+    vxf = vx, vyf = vy, wf = w;
   for (int off = 0; off < mp; off += kChunk) {
-    const int m = std::min(kChunk, mp - off);   // a multiple of 8, as mp and kChunk are
+    const int m = std::min(kChunk, mp - off);  // a multiple of 8, as mp and kChunk are
     T* X = ops.X.data();
     T* W = ops.W.data();
     const std::ptrdiff_t xrows = static_cast<std::ptrdiff_t>(cols_pad) * m;
@@ -820,9 +847,9 @@ void HydroShearBatch::add_term_shared(const ShearTerm& term, Scratch& sc, int mp
       kernels::aniso_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off, fast + off,
                               sc.anchor_x.data() + off, sc.anchor_y.data() + off, grid_.xs.data(), grid_.ys.data(),
                               rows, cols, m, term.gx->q(), term.gy->q(), kl, X, W, sc.run.data());
-      kernels::add_products_acc(W, rows, X + xrows, cols, m, S);                              // W1 XA
-      kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, m, S + kLanes * nm);       // WB XB
-      kernels::add_products_acc(W + 3 * wrows, rows, X, cols, m, S + kLanes * 3 * nm);           // WC XC
+      kernels::add_products_acc(W, rows, X + xrows, cols, m, S);                                // W1 XA
+      kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, m, S + kLanes * nm);  // WB XB
+      kernels::add_products_acc(W + 3 * wrows, rows, X, cols, m, S + kLanes * 3 * nm);          // WC XC
     } else {
       kernels::term_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off,
                              term.with_weights ? wf + off : nullptr, fast + off, rows, cols, m, term.gx->q(),

@@ -56,19 +56,19 @@ struct HydroShearParams {
   double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
   bool shared_pass = false;           // every term in one pass over shared operands (the contact variant)
   bool single_precision = false;      // that pass in single precision (its parameter "float32")
-  Vec3 g_dir_E;            // unit direction of the gravity augmentation shift, in E
-  bool weight_paper;       // false: w = f_n (code); true: w = -phi_E (paper)
-  bool normal_indenter;    // false: split along +z_E (code); true: along -n_I (paper)
-  bool flat_pad_fast;      // analytic phi_E for a flat pad instead of sensor.gel_sdf
+  Vec3 g_dir_E;                       // unit direction of the gravity augmentation shift, in E
+  bool weight_paper;                  // false: w = f_n (code); true: w = -phi_E (paper)
+  bool normal_indenter;               // false: split along +z_E (code); true: along -n_I (paper)
+  bool flat_pad_fast;                 // analytic phi_E for a flat pad instead of sensor.gel_sdf
   static HydroShearParams from(const ParamSet& p);
 };
 
 // One tracked point's state as a diagnostic.
 struct HydroShearPoint {
-  int index;               // into indenter.samples.p_IS
-  double phi_E;            // phi_E at the last committed step (< 0: in the gel)
-  Vec3 u_E;                // state in metres (anchor = point + u)
-  double u_n;              // normal part of u (>= 0)
+  int index;     // into indenter.samples.p_IS
+  double phi_E;  // phi_E at the last committed step (< 0: in the gel)
+  Vec3 u_E;      // state in metres (anchor = point + u)
+  double u_n;    // normal part of u (>= 0)
   PointState state;
 };
 
@@ -92,7 +92,7 @@ class HydroShearBatch {
                   const ParamSet& params);
   ~HydroShearBatch();
   HydroShearBatch(HydroShearBatch&&) noexcept;
-  HydroShearBatch(const HydroShearBatch& other);   // copies the state; fresh scratch
+  HydroShearBatch(const HydroShearBatch& other);  // copies the state; fresh scratch
   int slots() const { return static_cast<int>(slots_.size()); }
   int markers() const { return static_cast<int>(sensor_->p_EM.size()); }
   void set_params(const ParamSet& params);
@@ -113,15 +113,15 @@ class HydroShearBatch {
  private:
   // Points as columns (structure of arrays), in point order: what the vectorised kernels read and write.
   struct PointColumns {
-    std::vector<int> pos;                  // position in the point order (perm_)
-    std::vector<double> ux, uy, uz;        // the state u (metres)
+    std::vector<int> pos;            // position in the point order (perm_)
+    std::vector<double> ux, uy, uz;  // the state u (metres)
     std::vector<std::uint8_t> slip;
     int size() const { return static_cast<int>(pos.size()); }
     void resize(int n);
     void swap(PointColumns& other) noexcept;
   };
   struct Slot {
-    PointColumns points;                   // exactly the points with phi_E < 0 at the last step
+    PointColumns points;  // exactly the points with phi_E < 0 at the last step
     Pose X_prev = Pose::Identity();
     bool first = true;
   };
@@ -147,12 +147,12 @@ class HydroShearBatch {
   struct ShearTerm {
     double weight, lambda;
     const GaussianAxis *gx, *gy;
-    bool with_weights = false;   // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
-    double aniso = 0;            // + aniso lambda d (d . v): the along-the-load anisotropy (contact's far field)
+    bool with_weights = false;  // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
+    double aniso = 0;           // + aniso lambda d (d . v): the along-the-load anisotropy (contact's far field)
   };
   void contact_shift(Scratch& sc) const;
   void shear_sum(Scratch& sc) const;
-  bool factored(const ShearTerm& term) const;   // the term's Gaussians factor on the marker grid
+  bool factored(const ShearTerm& term) const;  // the term's Gaussians factor on the marker grid
   void add_shear_term(const ShearTerm& term, Scratch& sc) const;
   void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
   template <typename T>
@@ -173,14 +173,14 @@ class HydroShearBatch {
   bool flat_ = false;
   FlatPad pad_;
   MarkerGridLayout grid_;
-  GaussianAxis gauss_x_, gauss_y_;         // shear Gaussians along the grid axes (grid_.is_grid)
-  GaussianAxis gauss_x2_, gauss_y2_;       // the layer kernel's near-field term (k_.beta_s > 0)
-  GaussianAxis gauss_x3_, gauss_y3_;       // the far-field term (k_.beta_s3 > 0)
+  GaussianAxis gauss_x_, gauss_y_;    // shear Gaussians along the grid axes (grid_.is_grid)
+  GaussianAxis gauss_x2_, gauss_y2_;  // the layer kernel's near-field term (k_.beta_s > 0)
+  GaussianAxis gauss_x3_, gauss_y3_;  // the far-field term (k_.beta_s3 > 0)
   // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
   // .y), rows padded with zeros to kernels::dilation_stride(nm).
-  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;   // shared by copies (set_params makes new ones)
-  double dil_lambda_ = 0;                                       // the lambda_d they were made with
-  double marker_z_max_ = 0;                // highest marker (the dilation needs the indenter below it)
+  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;  // shared by copies (set_params makes new ones)
+  double dil_lambda_ = 0;                                     // the lambda_d they were made with
+  double marker_z_max_ = 0;  // highest marker (the dilation needs the indenter below it)
   // The indenter's points in the batch's order, built once and shared by copies: the workbench clones each
   // model every 16 steps (a checkpoint for seeks), and copying these made a clone O(indenter) instead of
   // O(contact) (docs/reliability.md, the soak's memory).
@@ -188,14 +188,14 @@ class HydroShearBatch {
     // The point order: pos -> index into samples.p_IS (perm) and back (pos_of); p_I/n_I in that order.
     std::vector<int> perm, pos_of;
     std::vector<Vec3> p_I, n_I;
-    std::vector<double> pIx, pIy, pIz;     // p_I as columns
+    std::vector<double> pIx, pIy, pIz;  // p_I as columns
     std::vector<Cluster> clusters;
     // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
     // their points: one test skips the whole group. begin/end index clusters here.
     std::vector<Cluster> groups;
   };
   std::shared_ptr<const PointTable> table_;
-  double cull_z_ = 0;                      // points with z_E >= cull_z_ are outside the gel (flat pad)
+  double cull_z_ = 0;  // points with z_E >= cull_z_ are outside the gel (flat pad)
   bool cull_ = false;
   // Any other gel: its mesh's box grown by a margin (kGelBoxMargin); a cluster wholly outside it is not in the
   // gel (the TacTip's dome under an 80 mm flat surface: three quarters of the surface's points).

@@ -37,7 +37,7 @@ void transform_points(const double* r, const double* t, const double* x, const d
                       double* ox, double* oy, double* oz) {
   const double r0 = r[0], r1 = r[1], r2 = r[2], r3 = r[3], r4 = r[4], r5 = r[5], r6 = r[6], r7 = r[7], r8 = r[8];
   const double t0 = t[0], t1 = t[1], t2 = t[2];
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double a = x[i], b = y[i], c = z[i];
     ox[i] = r0 * a + r1 * b + r2 * c + t0;
@@ -51,7 +51,7 @@ void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, cons
                   double* phi) {
   const double hx = pad.hx, hy = pad.hy, hz = 0.5 * pad.thickness;
   const double sx = shift[0], sy = shift[1], sz = shift[2];
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double qx = std::fabs(x[i] + sx) - hx;
     const double qy = std::fabs(y[i] + sy) - hy;
@@ -68,7 +68,7 @@ namespace {
 template <bool kNormalZ>
 [[gnu::always_inline]] inline void advance_loop(const AdvanceColumns& c, double cone, int n, double* ux, double* uy,
                                                 double* uz, double* un, std::uint8_t* slip) {
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     // In-gel fraction of the segment; 0/0 (s unchanged) is 1 as in the authors' code (s < 0 here).
     const double s = c.s[i], sp = c.s_prev[i];
@@ -128,7 +128,7 @@ template <bool kWeightPaper, bool kNormalZ>
                                                        double* vx, double* vy, double* lead, double* rx, double* ry,
                                                        std::uint8_t* fast) {
   const double l = k.lambda_s;
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     double w;
     point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w);
@@ -167,7 +167,7 @@ namespace {
   for (int k = 1; k < n; ++k) {
     const double* prev = block + static_cast<std::ptrdiff_t>(k - 1) * mp;
     double* row = block + static_cast<std::ptrdiff_t>(k) * mp;
-SB_IVDEP
+    SB_IVDEP
     for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_r[i] * q_pow);
     q_pow *= q;
   }
@@ -177,7 +177,7 @@ SB_IVDEP
 SB_VECTOR_CLONES
 void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
                   double* block) {
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < mp; ++i) {
     const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
     block[i] = fast[i] ? x : 0.0;
@@ -187,8 +187,8 @@ SB_IVDEP
 
 SB_VECTOR_CLONES
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
-                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt, const double* vw) {
+                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt, double* Wt,
+                    const double* vw) {
   // Xt: row 0 = E_i, row c = row c-1 * r_i q^(c-1), the ratio recurrence of GaussianAxis carried
   // across rows (each row is one vectorised pass over the points).
   for (int i = 0; i < mp; ++i) Xt[i] = e_lead[i];
@@ -198,7 +198,7 @@ void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry
   // Wt: rows 0 = (fast) vx_i and vy_i, then the y axis' recurrence applied to both.
   double* wx0 = Wt;
   double* wy0 = Wt + static_cast<std::ptrdiff_t>(rows) * mp;
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < mp; ++i) {
     const double x = vx[i], y = vy[i];  // loaded unconditionally: a conditional load stops vectorisation
     wx0[i] = fast[i] ? x : 0.0;
@@ -210,7 +210,7 @@ SB_IVDEP
     const double* py = wy0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
     double* rx = wx0 + static_cast<std::ptrdiff_t>(r) * mp;
     double* ry = wy0 + static_cast<std::ptrdiff_t>(r) * mp;
-SB_IVDEP
+    SB_IVDEP
     for (int i = 0; i < mp; ++i) {
       const double ratio = e_ry[i] * q_pow;
       rx[i] = px[i] * ratio;
@@ -230,7 +230,7 @@ template <bool kWeightPaper, bool kNormalZ>
 [[gnu::always_inline]] inline void point_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
                                                        double* vx, double* vy, double* w, double* ax, double* ay,
                                                        double* az) {
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w[i]);
     ax[i] = c.px[i] + c.ux[i] + k.shift_x;
@@ -259,7 +259,7 @@ int axis_exponents(const double* ax, const double* ay, const double* az, const S
   const ShearConstants k = constants;
   const double l = k.lambda_s;
   int slow = 0;
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double dx0 = k.x0 - ax[i], dxn = k.xn - ax[i], dy0 = k.y0 - ay[i], dyn = k.yn - ay[i], dz = k.z0 - az[i];
     const double lz = l * dz * dz;
@@ -280,22 +280,25 @@ namespace {
 // target (see for_row_blocks), and these loops are the hot ones.
 // The running row of the y factor at row 0: fast_i gy0_i.
 [[gnu::always_inline]] inline void y_factor_start(const double* e_y0, const std::uint8_t* fast, int m, double* run) {
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < m; ++i) {
-    const double g = e_y0[i];   // loaded unconditionally: a conditional load stops vectorisation
+    const double g = e_y0[i];  // loaded unconditionally: a conditional load stops vectorisation
     run[i] = fast[i] ? g : 0.0;
   }
 }
 
 // Four values of T: the recurrence's doubles rounded (float) or kept (double), and their loads and stores.
-template <typename T> struct Four;
-template <> struct Four<float> {
+template <typename T>
+struct Four;
+template <>
+struct Four<float> {
   using type = v4f;
   static type from(v4d v) { return to_float(v); }
   static type load(const float* p) { return load4f(p); }
   static void store(float* p, type v) { store4f(p, v); }
 };
-template <> struct Four<double> {
+template <>
+struct Four<double> {
   using type = v4d;
   static type from(v4d v) { return v; }
   static type load(const double* p) { return load4(p); }
@@ -364,7 +367,7 @@ template <typename T>
     const v4d a = load4(ax + i);
     for (int c = 0; c < cols; ++c) {
       if (c > 0) g *= ratio, ratio *= qx;
-      const V e = F::from(g), dx = F::from(xs[c] - a);   // the offset in double, then rounded
+      const V e = F::from(g), dx = F::from(xs[c] - a);  // the offset in double, then rounded
       F::store(row_of(XC, c, m) + i, e);
       F::store(row_of(XA, c, m) + i, e * (1 + klt * dx * dx));
       F::store(row_of(XB, c, m) + i, e * dx);
@@ -423,9 +426,18 @@ void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, 
 }
 
 namespace {
-template <typename T> struct Vec;
-template <> struct Vec<double> { using type = v4d; static constexpr int width = 4; };
-template <> struct Vec<float> { using type = v8f; static constexpr int width = 8; };
+template <typename T>
+struct Vec;
+template <>
+struct Vec<double> {
+  using type = v4d;
+  static constexpr int width = 4;
+};
+template <>
+struct Vec<float> {
+  using type = v8f;
+  static constexpr int width = 8;
+};
 template <typename V, typename T>
 [[gnu::always_inline]] inline V load(const T* p) {
   V v;
@@ -509,7 +521,9 @@ struct ProductRows {
   int cols, mp;
   double* S;
   template <int A>
-  [[gnu::always_inline]] inline void block(int a) const { add_row_block<A>(Wt, a, Xt, cols, mp, S); }
+  [[gnu::always_inline]] inline void block(int a) const {
+    add_row_block<A>(Wt, a, Xt, cols, mp, S);
+  }
 };
 template <typename T>
 struct ProductRowsAcc {
@@ -517,7 +531,9 @@ struct ProductRowsAcc {
   int cols, mp;
   T* Sacc;
   template <int A>
-  [[gnu::always_inline]] inline void block(int a) const { add_row_block_acc<T, A>(Wt, a, Xt, cols, mp, Sacc); }
+  [[gnu::always_inline]] inline void block(int a) const {
+    add_row_block_acc<T, A>(Wt, a, Xt, cols, mp, Sacc);
+  }
 };
 }  // namespace
 
@@ -556,7 +572,7 @@ void lane_sums(const float* Sacc, int n, double* out) {
     v8f v[8];
     for (int k = 0; k < 8; ++k) v[k] = load<v8f>(Sacc + 8 * static_cast<std::ptrdiff_t>(j + k));
     const v8f ab = hadd(v[0], v[1]), cd = hadd(v[2], v[3]), ef = hadd(v[4], v[5]), gh = hadd(v[6], v[7]);
-    const v8f abcd = hadd(ab, cd), efgh = hadd(ef, gh);   // [a b c d | a b c d] halves of the sums
+    const v8f abcd = hadd(ab, cd), efgh = hadd(ef, gh);  // [a b c d | a b c d] halves of the sums
     const v8f total = __builtin_shufflevector(abcd, efgh, 0, 1, 2, 3, 8, 9, 10, 11) +
                       __builtin_shufflevector(abcd, efgh, 4, 5, 6, 7, 12, 13, 14, 15);
     for (int k = 0; k < 8; ++k) out[j + k] = total[k];

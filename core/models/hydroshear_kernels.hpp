@@ -22,10 +22,10 @@ void flat_pad_phi(const FlatPad& pad, const double* shift, const double* x, cons
 // mu E / K. Writes u (metres), u_n and slip (1: clipped to the cone, 0: stick). normal_z: n = +z for
 // every point (the authors' split) and the n columns are not read.
 struct AdvanceColumns {
-  const double *s_prev, *qx, *qy, *qz;   // phi_E and position at the previous pose
-  const double *s, *px, *py, *pz;        // now (s < 0: the caller passes only points in the gel)
-  const double *ox, *oy, *oz;            // old state (0 for a point that enters)
-  const double *nx, *ny, *nz;            // split normal, out of the gel
+  const double *s_prev, *qx, *qy, *qz;  // phi_E and position at the previous pose
+  const double *s, *px, *py, *pz;       // now (s < 0: the caller passes only points in the gel)
+  const double *ox, *oy, *oz;           // old state (0 for a point that enters)
+  const double *nx, *ny, *nz;           // split normal, out of the gel
 };
 void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n, double* ux, double* uy, double* uz,
                     double* un, std::uint8_t* slip);
@@ -36,18 +36,18 @@ void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n,
 // fast[i] = 0 when a partial product could come near underflow (the caller sums that point another
 // way); its exponents are then 0 and its weight must not be used.
 struct ShearColumns {
-  const double *px, *py, *pz;            // the real point o_i (the anchor is o_i + u_i)
-  const double *ux, *uy, *uz, *un;       // state
-  const double *phi;                     // phi_E used by the paper's weight
-  const double *nx, *ny, *nz;            // split normal (not read when normal_z)
+  const double *px, *py, *pz;       // the real point o_i (the anchor is o_i + u_i)
+  const double *ux, *uy, *uz, *un;  // state
+  const double* phi;                // phi_E used by the paper's weight
+  const double *nx, *ny, *nz;       // split normal (not read when normal_z)
 };
 struct ShearConstants {
   double E, K, lambda_s, z0;
   bool weight_paper;
-  bool normal_z;                         // n = +z for every point
-  double x0, xn, hx, y0, yn, hy;         // the grid axes' first and last coordinates and pitches
+  bool normal_z;                  // n = +z for every point
+  double x0, xn, hx, y0, yn, hy;  // the grid axes' first and last coordinates and pitches
   double max_total_exponent;
-  double shift_x = 0, shift_y = 0;       // added to every anchor (the contact-following shift)
+  double shift_x = 0, shift_y = 0;  // added to every anchor (the contact-following shift)
 };
 void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* lead,
                     double* rx, double* ry, std::uint8_t* fast);
@@ -62,8 +62,8 @@ void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, doub
 // With vw (not null) a third block of rows, Wt[(2 rows + r) * mp + i] = fast_i vw_i Y_i[r], sums the
 // weights alone (the stick saturation's denominator); Wt must then hold round_up(3 rows, 3) rows.
 void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
-                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt,
-                    double* Wt, const double* vw = nullptr);
+                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt, double* Wt,
+                    const double* vw = nullptr);
 
 // One more block of rows of Wt for another weight column: block[r * mp + i] = fast_i w_i Y_i[r] (the same
 // recurrence as shear_matrices' blocks, so it pairs with the Xt that shear_matrices built).
@@ -110,8 +110,8 @@ void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, 
                     double* run);
 void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
                     const double* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
-                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3, double* W4,
-                    double* run);
+                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3,
+                    double* W4, double* run);
 
 // S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
 // 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).

@@ -49,8 +49,10 @@ class SingleSlotModel final : public ShearModel {
 }  // namespace
 
 const std::vector<std::string>& model_ids() {
-  static const std::vector<std::string> ids = {"hydroshear", "fots", "fots-reimpl", "tacsl", "tacsl-normalized",
-                                               "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick",
+  static const std::vector<std::string> ids = {"hydroshear",        "fots",
+                                               "fots-reimpl",       "tacsl",
+                                               "tacsl-normalized",  "hydroshear-layer",
+                                               "hydroshear-stick",  "hydroshear-layer-stick",
                                                "hydroshear-contact"};
   return ids;
 }
@@ -78,10 +80,12 @@ std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<co
                                        std::shared_ptr<const Indenter> indenter) {
   const ParamSet p = default_params(id);
   if (id.starts_with("hydroshear"))
-    return std::make_unique<SingleSlotModel<HydroShearBatch>>(id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p), sensor);
+    return std::make_unique<SingleSlotModel<HydroShearBatch>>(
+        id, std::make_shared<HydroShearBatch>(sensor, indenter, 1, p), sensor);
   if (id == "fots" || id == "fots-reimpl") {
     const auto v = id == "fots" ? FotsVariant::Original : FotsVariant::Reimpl;
-    return std::make_unique<SingleSlotModel<FotsBatch>>(id, std::make_shared<FotsBatch>(v, sensor, indenter, 1, p), sensor);
+    return std::make_unique<SingleSlotModel<FotsBatch>>(id, std::make_shared<FotsBatch>(v, sensor, indenter, 1, p),
+                                                        sensor);
   }
   return std::make_unique<SingleSlotModel<TacslBatch>>(
       id, std::make_shared<TacslBatch>(id == "tacsl-normalized", sensor, indenter, 1, p), sensor);

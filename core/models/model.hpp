@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/geometry/indenter.hpp"
 #include "core/base/params.hpp"
+#include "core/geometry/indenter.hpp"
 #include "core/sensor/sensor.hpp"
 
 namespace sb {
@@ -18,10 +18,10 @@ enum class PointState : std::uint8_t { Free = 0, Stick = 1, Slip = 2 };
 // One sensor's output for one step. Diagnostics are filled by models that have them (HydroShear's
 // tracked points); others leave them empty.
 struct FieldOutput {
-  std::vector<Vec2> disp_px;                  // per marker (du, dv) in image pixels
+  std::vector<Vec2> disp_px;  // per marker (du, dv) in image pixels
   std::vector<std::uint8_t> marker_in_contact;
-  std::vector<Vec3> p_EP;                     // tracked points in E (only those near the gel)
-  std::vector<Vec3> anchor_EP;                // their anchors (where they stuck)
+  std::vector<Vec3> p_EP;       // tracked points in E (only those near the gel)
+  std::vector<Vec3> anchor_EP;  // their anchors (where they stuck)
   std::vector<PointState> point_state;
 };
 

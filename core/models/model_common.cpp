@@ -84,7 +84,8 @@ namespace {
 // for ST = 12) while the points stream past, so S is loaded and stored once per pair of rows.
 // Always inlined, so each target clone of the caller compiles it for its own vector unit.
 template <int ST>
-[[gnu::always_inline]] inline void add_outer_products_fixed(const double* W, int nw, const double* X, int m, double* S) {
+[[gnu::always_inline]] inline void add_outer_products_fixed(const double* W, int nw, const double* X, int m,
+                                                            double* S) {
   int a = 0;
   for (; a + 2 <= nw; a += 2) {
     double acc0[ST] = {}, acc1[ST] = {};
@@ -118,7 +119,7 @@ void add_outer_products(const double* W, int nw, const double* X, int stride, in
     for (int a = 0; a < nw; ++a) {
       const double wa = w[a];
       double* s = S + static_cast<std::ptrdiff_t>(a) * stride;
-SB_IVDEP
+      SB_IVDEP
       for (int c = 0; c < stride; ++c) s[c] += wa * x[c];
     }
   }
@@ -131,7 +132,7 @@ void exp_in_place(double* x, int n) {
   constexpr double kLn2Hi = 0.693145751953125;
   constexpr double kLn2Lo = 1.42860682030941723212e-6;
   constexpr double kShifter = 0x1.8p52;  // adding it rounds to an integer held in the low mantissa bits
-SB_IVDEP
+  SB_IVDEP
   for (int i = 0; i < n; ++i) {
     const double v = x[i];  // the caller keeps it in [-700, 700]
     const double t = v * kLog2e + kShifter;

@@ -2,14 +2,14 @@
 // Pieces shared by the shear-model batches (hydroshear, fots, tacsl): the analytic flat-pad SDF fast
 // path, the marker-grid structure used by separable Gaussian sums, and the adapter that turns a batch
 // of one into a ShearModel.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <cmath>
 #include <memory>
 #include <span>
 #include <string>
 #include <string_view>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <vector>
 
 #include "core/models/model.hpp"
@@ -93,9 +93,9 @@ class GaussianAxis {
   bool uniform_ = false;
 };
 
-// exp(x[i]) in place for x in [-700, 700] (outside: undefined; callers guarantee it), branch-free so the loop vectorises: x = k ln2 + r with
-// |r| <= ln2/2, exp(r) by its Taylor series to degree 12 (truncation < 3e-16 relative), times 2^k built
-// in the exponent bits. Relative error a few ulp (tested against std::exp); the shear models call it on
+// exp(x[i]) in place for x in [-700, 700] (outside: undefined; callers guarantee it), branch-free so the loop
+// vectorises: x = k ln2 + r with |r| <= ln2/2, exp(r) by its Taylor series to degree 12 (truncation < 3e-16 relative),
+// times 2^k built in the exponent bits. Relative error a few ulp (tested against std::exp); the shear models call it on
 // a few exponents per point instead of std::exp per marker.
 void exp_in_place(double* x, int n);
 

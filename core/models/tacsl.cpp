@@ -9,9 +9,9 @@
 namespace sb {
 
 namespace {
-constexpr double kVelocityFloor = 1e-9;     // TacSL: vt / max(|vt|, 1e-9)
-constexpr double kNormalizeFloor = 1e-4;    // HydroShear's normalize_tacsl_shear_obs threshold
-constexpr int kSlotGrain = 32;              // slots per parallel task (a slot costs about a microsecond)
+constexpr double kVelocityFloor = 1e-9;   // TacSL: vt / max(|vt|, 1e-9)
+constexpr double kNormalizeFloor = 1e-4;  // HydroShear's normalize_tacsl_shear_obs threshold
+constexpr int kSlotGrain = 32;            // slots per parallel task (a slot costs about a microsecond)
 }  // namespace
 
 std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
@@ -19,8 +19,7 @@ std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
       {"kn", "1/m", 1.0, 1e-3, 1e6, "normal penalty gain: f_n = kn * depth (TacSL: 1, so f_n is metres)", true},
       {"kt", "s", 0.1, 1e-4, 1e6, "viscous tangential gain: |f_t| = kt |v_t| in the static branch (TacSL: 0.1)", true},
       {"mu", "", 2.0, 0, 10, "friction cap |f_t| <= mu f_n (TacSL: 2)"},
-      {"include_normal", "", 1, 0, 1,
-       "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
+      {"include_normal", "", 1, 0, 1, "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
   };
   if (normalized)
     s.push_back({"gain_px", "px", 1.0, 1e-3, 1e6, "length of the unit shear vectors in the output", true});
@@ -30,10 +29,9 @@ std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
   return s;
 }
 
-TacslBatch::TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor,
-                       std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params)
-    : normalized_(normalized), sensor_(std::move(sensor)), indenter_(std::move(indenter)),
-      slots_(std::max(slots, 0)) {
+TacslBatch::TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
+                       int slots, const ParamSet& params)
+    : normalized_(normalized), sensor_(std::move(sensor)), indenter_(std::move(indenter)), slots_(std::max(slots, 0)) {
   if (!sensor_) throw std::invalid_argument("tacsl: sensor required");
   if (!indenter_ || !indenter_->sdf) throw std::invalid_argument("tacsl: indenter with an SDF required");
   set_params(params);

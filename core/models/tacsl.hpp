@@ -22,8 +22,8 @@ std::vector<ParamSpec> tacsl_param_specs(bool normalized);
 
 class TacslBatch {
  public:
-  TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
-             int slots, const ParamSet& params);
+  TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
+             const ParamSet& params);
   int slots() const { return static_cast<int>(slots_.size()); }
   int markers() const { return static_cast<int>(sensor_->p_EM.size()); }
   bool normalized() const { return normalized_; }

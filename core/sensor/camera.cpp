@@ -23,7 +23,8 @@ Eigen::Matrix<double, 2, 3> Camera::project_jacobian(const Vec3& p_E) const {
   const Vec2 n = p_E.head<2>() / w;
   Eigen::Matrix<double, 2, 3> dn_dp;
   dn_dp << 1.0 / w, 0.0, -n.x() / w, 0.0, 1.0 / w, -n.y() / w;
-  const Eigen::Matrix2d dg_dn = (1.0 + k1 * n.squaredNorm()) * Eigen::Matrix2d::Identity() + 2.0 * k1 * n * n.transpose();
+  const Eigen::Matrix2d dg_dn = (1.0 + k1 * n.squaredNorm()) * Eigen::Matrix2d::Identity() +
+                                2.0 * k1 * n * n.transpose();
   return focal_px * dg_dn * dn_dp;
 }
 

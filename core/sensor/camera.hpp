@@ -19,13 +19,13 @@ enum class CameraModel { Orthographic, Pinhole };
 
 struct Camera {
   CameraModel model = CameraModel::Orthographic;
-  double mm_per_px = 0.0634;            // orthographic scale (unused by the pinhole model)
+  double mm_per_px = 0.0634;  // orthographic scale (unused by the pinhole model)
   Vec2 principal_px{159.5, 119.5};
   int width_px = 320;
   int height_px = 240;
-  double focal_px = 0.0;                // pinhole only
-  double distance_m = 0.0;              // pinhole only: camera centre below the skin apex
-  double k1 = 0.0;                      // pinhole only: radial distortion on normalised coordinates
+  double focal_px = 0.0;    // pinhole only
+  double distance_m = 0.0;  // pinhole only: camera centre below the skin apex
+  double k1 = 0.0;          // pinhole only: radial distortion on normalised coordinates
 
   bool pinhole() const { return model == CameraModel::Pinhole; }
   // The scale of the principal ray at the apex (z = 0): mm_per_px for the orthographic camera, D / f for the

@@ -29,8 +29,8 @@ Eigen::Matrix<double, 3, 2> tangent_frame_on_sphere(const Vec3& p_EP, double cen
 class SensorOutputStage {
  public:
   SensorOutputStage() = default;  // the identity
-  // For the pins p_EP (at depth `markers_depth_m` below the surface) seen by `camera`. `pin_surface_centre_z` is the z of the centre
-  // of the spherical pin surface (nullopt for a plane).
+  // For the pins p_EP (at depth `markers_depth_m` below the surface) seen by `camera`. `pin_surface_centre_z` is the z
+  // of the centre of the spherical pin surface (nullopt for a plane).
   SensorOutputStage(const Camera& camera, const std::vector<Vec3>& p_EP, double markers_depth_m,
                     std::optional<double> pin_surface_centre_z);
 

@@ -19,8 +19,7 @@ std::vector<Vec2> marker_grid_px(const MarkerGrid& grid, const Camera& camera) {
   uv.reserve(static_cast<std::size_t>(grid.rows) * grid.cols);
   const double c0 = 0.5 * (grid.cols - 1), r0 = 0.5 * (grid.rows - 1);
   for (int r = 0; r < grid.rows; ++r)
-    for (int c = 0; c < grid.cols; ++c)
-      uv.push_back(camera.principal_px + grid.pitch_px * Vec2(c - c0, r - r0));
+    for (int c = 0; c < grid.cols; ++c) uv.push_back(camera.principal_px + grid.pitch_px * Vec2(c - c0, r - r0));
   return uv;
 }
 
@@ -75,7 +74,8 @@ std::string marker_text(const Vec2& m) {
 
 // Orthographic markers under a mesh gel: at the surface height under them, `depth` lower (along -z, which is
 // the normal where the gel is flat, as the GelSight Mini's nearly is).
-std::vector<Vec3> markers_on_mesh(const TriMesh& mesh, const Camera& camera, const std::vector<Vec2>& uv, double depth) {
+std::vector<Vec3> markers_on_mesh(const TriMesh& mesh, const Camera& camera, const std::vector<Vec2>& uv,
+                                  double depth) {
   std::vector<Vec3> p_EM;
   p_EM.reserve(uv.size());
   for (const Vec2& m : uv) {
@@ -139,7 +139,8 @@ void check_cap(const GelSpec& gel) {
     throw std::invalid_argument("spherical cap: needs 0 < footprint_radius_m <= radius_m");
   const double cap_height = R - std::sqrt(R * R - rho * rho);
   if (!(gel.thickness_m > cap_height))
-    throw std::invalid_argument("spherical cap: thickness_m must exceed the cap height " + std::to_string(cap_height) + " m");
+    throw std::invalid_argument("spherical cap: thickness_m must exceed the cap height " + std::to_string(cap_height) +
+                                " m");
   if (!(gel.markers_depth_m >= 0.0) || gel.markers_depth_m >= R)
     throw std::invalid_argument("spherical cap: needs 0 <= markers_depth_m < radius_m");
 }
@@ -217,7 +218,7 @@ Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<V
     const Eigen::AlignedBox3d box = s.gel_mesh.bounds();
     s.gel.size_m = box.sizes().head<2>();
     s.gel.thickness_m = -box.min().z();
-    s.gel_sdf = cached_mesh_sdf(s.gel_mesh, {});   // every dataset load builds its sensor: once per gel
+    s.gel_sdf = cached_mesh_sdf(s.gel_mesh, {});  // every dataset load builds its sensor: once per gel
   }
   if (camera.pinhole() || gel.markers_depth_m > 0.0)
     s.output_stage = SensorOutputStage(camera, s.p_EM, gel.markers_depth_m, pin_surface_centre_z);

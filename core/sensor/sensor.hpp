@@ -6,9 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/sdf.hpp"
 #include "core/sensor/camera.hpp"
 #include "core/sensor/output_stage.hpp"
-#include "core/geometry/sdf.hpp"
 
 namespace sb {
 
@@ -22,8 +22,8 @@ struct GelSpec {
   // points out. A spherical cap is the sphere of radius_m centred at (0, 0, -radius_m) cut at the footprint
   // radius (<= radius_m), above a vertical wall down to z = -thickness_m; size_m is the footprint's box.
   std::string surface = "flat";
-  double radius_m = 0.0;             // spherical_cap only
-  double footprint_radius_m = 0.0;   // spherical_cap only
+  double radius_m = 0.0;            // spherical_cap only
+  double footprint_radius_m = 0.0;  // spherical_cap only
   // Pins below the contact surface, along its normal (0: markers on the surface).
   double markers_depth_m = 0.0;
 };
@@ -36,8 +36,8 @@ TriMesh spherical_cap_mesh(const GelSpec& gel, int segments = 96, int rings = 32
 // Marker layouts. `Grid` is centred on the principal point with a square pitch; rows run along y
 // (v), columns along x (u); storage is row-major with x fastest (as tsd/1 twin sets store them).
 struct MarkerGrid {
-  int rows = 7;       // along y
-  int cols = 9;       // along x
+  int rows = 7;  // along y
+  int cols = 9;  // along x
   double pitch_px = 33.0;
 };
 std::vector<Vec2> marker_grid_px(const MarkerGrid& grid, const Camera& camera);
@@ -48,9 +48,9 @@ struct Sensor {
   Camera camera;
   GelSpec gel;
   std::vector<Vec2> markers_rest_px;
-  std::vector<Vec3> p_EM;      // marker rest positions on the gel surface (over the pin, for pins at depth), in E (metres)
-  SdfPtr gel_sdf;              // phi_E: negative inside the gel
-  TriMesh gel_mesh;            // for display
+  std::vector<Vec3> p_EM;  // marker rest positions on the gel surface (over the pin, for pins at depth), in E (metres)
+  SdfPtr gel_sdf;          // phi_E: negative inside the gel
+  TriMesh gel_mesh;        // for display
   SensorOutputStage output_stage;  // applied to every model's field (the identity for the GelSight Mini)
 };
 
@@ -62,10 +62,10 @@ Sensor make_default_sensor();
 // surface, markers_depth_m lower); a pinhole camera back-projects each markers_rest_px ray onto the pin
 // surface (the plane z = -depth, or the sphere of radius R - depth about the cap's centre). The output stage is
 // built from those pins; p_EM is the surface point over each pin (along the normal), where the models compute
-// the field. A pinhole camera needs a flat or spherical-cap gel (std::invalid_argument for a mesh file). A mesh gel gets make_mesh_sdf of the mesh,
-// markers at the mesh surface height under them, and gel.size_m / thickness_m replaced by the mesh's footprint
-// and depth. Throws std::invalid_argument for a mesh surface without a mesh, and InputError when a marker lies
-// outside the mesh footprint.
+// the field. A pinhole camera needs a flat or spherical-cap gel (std::invalid_argument for a mesh file). A mesh gel
+// gets make_mesh_sdf of the mesh, markers at the mesh surface height under them, and gel.size_m / thickness_m replaced
+// by the mesh's footprint and depth. Throws std::invalid_argument for a mesh surface without a mesh, and InputError
+// when a marker lies outside the mesh footprint.
 Sensor make_sensor(const Camera& camera, const GelSpec& gel, const std::vector<Vec2>& markers_rest_px,
                    const TriMesh* gel_mesh_E = nullptr);
 

@@ -16,8 +16,8 @@
 namespace sb {
 namespace {
 
-constexpr int kMinPins = 19;            // the apex pin and two full rings (1 + 6 + 12)
-constexpr int kMinRings = 3;            // rings 1..2 give the slope; a third is the least to see curvature
+constexpr int kMinPins = 19;                   // the apex pin and two full rings (1 + 6 + 12)
+constexpr int kMinRings = 3;                   // rings 1..2 give the slope; a third is the least to see curvature
 constexpr double kApexNeighbourSpread = 0.25;  // ring 1's six distances within 25 % of their median
 constexpr double kSlotTolerance = 1.0 / 3.0;   // of the slot spacing 2 pi / (6 i)
 // Below this reciprocal condition number of the column-scaled J^T J the free set is not identifiable (a
@@ -80,7 +80,8 @@ TactipRings assign_tactip_rings(const std::vector<Vec2>& pins_px, const std::str
   const int apex = int(std::min_element(pins_px.begin(), pins_px.end(),
                                         [&](const Vec2& a, const Vec2& b) {
                                           return (a - centroid).squaredNorm() < (b - centroid).squaredNorm();
-                                        }) - pins_px.begin());
+                                        }) -
+                       pins_px.begin());
   out.centre_px = pins_px[apex];
   std::vector<double> radius(n);
   for (int j = 0; j < n; ++j) radius[j] = (pins_px[j] - out.centre_px).norm();
@@ -149,7 +150,8 @@ TactipRings assign_tactip_rings(const std::vector<Vec2>& pins_px, const std::str
   }
   if (int(out.ring_radius_px.size()) - 1 < kMinRings)
     throw InputError(where, "only " + std::to_string(out.ring_radius_px.size() - 1) +
-                                " pin rings about the apex pin: the TacTip ring fit needs " + std::to_string(kMinRings));
+                                " pin rings about the apex pin: the TacTip ring fit needs " +
+                                std::to_string(kMinRings));
   for (const auto& s : out.sites) out.assigned += s.ring >= 0;
   return out;
 }
@@ -159,8 +161,8 @@ Vec2 tactip_pin_px(const Camera& camera, double dome_radius_m, double pin_depth_
   const double rp = dome_radius_m - pin_depth_m;
   const double t = site.ring * ring_pitch_rad;
   const double phi = site.ring == 0 ? azimuth_rad : azimuth_rad + 2.0 * M_PI * site.slot / (6.0 * site.ring);
-  return camera.project(Vec3(rp * std::sin(t) * std::cos(phi), rp * std::sin(t) * std::sin(phi),
-                             -dome_radius_m + rp * std::cos(t)));
+  return camera.project(
+      Vec3(rp * std::sin(t) * std::cos(phi), rp * std::sin(t) * std::sin(phi), -dome_radius_m + rp * std::cos(t)));
 }
 
 namespace {
@@ -183,7 +185,8 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
                                       const std::string& where) {
   const Camera& c0 = options.initial;
   if (!c0.pinhole() || !(c0.focal_px > 0) || !(c0.distance_m > 0))
-    throw InputError(where, "the TacTip geometry fit starts from a pinhole camera with focal_px > 0 and distance_m > 0");
+    throw InputError(where,
+                     "the TacTip geometry fit starts from a pinhole camera with focal_px > 0 and distance_m > 0");
   const double R = options.dome_radius_m, rp = R - options.pin_depth_m;
   if (!(R > 0) || !(options.pin_depth_m >= 0) || !(rp > 0))
     throw InputError(where, "the TacTip geometry fit needs a dome radius > 0 and 0 <= pin depth < radius");
@@ -191,8 +194,13 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
   fit.rings = assign_tactip_rings(pins_px, where);
   // theta from ring 1 under the starting camera, to first order: rho_1 = f rp theta / (D - R + rp).
   const double theta0 = fit.rings.ring_radius_px[1] * (c0.distance_m - R + rp) / (c0.focal_px * rp);
-  std::array<double, kParams> x{fit.rings.centre_px.x(), fit.rings.centre_px.y(), fit.rings.azimuth_rad,
-                                theta0, c0.focal_px, c0.distance_m, c0.k1};
+  std::array<double, kParams> x{fit.rings.centre_px.x(),
+                                fit.rings.centre_px.y(),
+                                fit.rings.azimuth_rad,
+                                theta0,
+                                c0.focal_px,
+                                c0.distance_m,
+                                c0.k1};
   ceres::Problem problem;
   std::vector<double*> blocks;
   blocks.reserve(x.size());
@@ -231,8 +239,9 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
   for (std::size_t j = 0; j < pins_px.size(); ++j) {
     const TactipPinSite& site = fit.rings.sites[j];
     if (site.ring < 0) continue;
-    const double e = (tactip_pin_px(fit.camera, R, options.pin_depth_m, fit.ring_pitch_rad, fit.azimuth_rad, site) -
-                      pins_px[j]).norm();
+    const double e =
+        (tactip_pin_px(fit.camera, R, options.pin_depth_m, fit.ring_pitch_rad, fit.azimuth_rad, site) - pins_px[j])
+            .norm();
     sse += e * e;
     fit.max_px = std::max(fit.max_px, e);
   }
@@ -241,8 +250,9 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
   // Covariance of the free parameters: (J^T J)^-1 times the residual variance, J the Jacobian at the optimum
   // with its columns scaled to unit norm for the rank test (f in px and D in metres differ by 1e4).
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  double* sigma_out[kParams] = {&fit.sigma_principal_px.x(), &fit.sigma_principal_px.y(), nullptr,
-                                &fit.sigma_pitch_rad, &fit.sigma_focal_px, &fit.sigma_distance_m, &fit.sigma_k1};
+  double* sigma_out[kParams] = {
+      &fit.sigma_principal_px.x(), &fit.sigma_principal_px.y(), nullptr,      &fit.sigma_pitch_rad,
+      &fit.sigma_focal_px,         &fit.sigma_distance_m,       &fit.sigma_k1};
   for (double* s : sigma_out)
     if (s) *s = nan;
   ceres::Problem::EvaluateOptions eo;

@@ -30,11 +30,11 @@ struct TactipPinSite {
 };
 
 struct TactipRings {
-  Vec2 centre_px = Vec2::Zero();        // the apex pin's image
-  double azimuth_rad = 0.0;             // phi0, from ring 1
-  std::vector<TactipPinSite> sites;     // one per input pin
-  std::vector<double> ring_radius_px;   // mean image radius of ring i about centre_px (ring 0: 0)
-  int assigned = 0;                     // pins with a site
+  Vec2 centre_px = Vec2::Zero();       // the apex pin's image
+  double azimuth_rad = 0.0;            // phi0, from ring 1
+  std::vector<TactipPinSite> sites;    // one per input pin
+  std::vector<double> ring_radius_px;  // mean image radius of ring i about centre_px (ring 0: 0)
+  int assigned = 0;                    // pins with a site
 };
 
 // Assigns each pin its ring and slot: the apex pin is the one nearest the pins' centroid, ring 1 its six nearest
@@ -58,12 +58,12 @@ struct TactipGeometryFitOptions {
 };
 
 struct TactipGeometryFit {
-  Camera camera;                  // the fitted pinhole camera
-  double ring_pitch_rad = 0.0;    // theta
-  double azimuth_rad = 0.0;       // phi0
+  Camera camera;                // the fitted pinhole camera
+  double ring_pitch_rad = 0.0;  // theta
+  double azimuth_rad = 0.0;     // phi0
   TactipRings rings;
   int pins_used = 0;
-  double rms_px = 0.0;            // reprojection residual over the pins used (sqrt of the mean squared norm)
+  double rms_px = 0.0;  // reprojection residual over the pins used (sqrt of the mean squared norm)
   double max_px = 0.0;
   // One standard deviation of each fitted value from the covariance of the free parameters scaled by the
   // residual variance (sum of squares / (2 n - free parameters)); NaN for a fixed value or when the free set

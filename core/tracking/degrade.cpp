@@ -15,7 +15,7 @@ namespace sb {
 namespace {
 
 constexpr DegradeKind kKinds[] = {DegradeKind::blur, DegradeKind::noise, DegradeKind::brightness,
-                                  DegradeKind::jpeg, DegradeKind::drop, DegradeKind::occlusion};
+                                  DegradeKind::jpeg, DegradeKind::drop,  DegradeKind::occlusion};
 
 // splitmix64: a well-mixed 64-bit stream per (seed, frame), so frame k's noise does not depend on
 // how many frames came before it (a dropped or subsampled frame changes nothing else).
@@ -51,8 +51,10 @@ cv::Mat occlude(const cv::Mat& frame, double area_fraction, int index, int frame
   const cv::Scalar fill = cv::mean(frame);
   cv::Mat mask = cv::Mat::zeros(frame.size(), CV_8U);
   // Pixel centres strictly inside the disc: the covered area is pi r^2 up to the raster.
-  const int y0 = std::max(0, int(std::floor(d.v - d.radius))), y1 = std::min(frame.rows - 1, int(std::ceil(d.v + d.radius)));
-  const int x0 = std::max(0, int(std::floor(d.u - d.radius))), x1 = std::min(frame.cols - 1, int(std::ceil(d.u + d.radius)));
+  const int y0 = std::max(0, int(std::floor(d.v - d.radius))),
+            y1 = std::min(frame.rows - 1, int(std::ceil(d.v + d.radius)));
+  const int x0 = std::max(0, int(std::floor(d.u - d.radius))),
+            x1 = std::min(frame.cols - 1, int(std::ceil(d.u + d.radius)));
   for (int y = y0; y <= y1; ++y)
     for (int x = x0; x <= x1; ++x)
       if ((x - d.u) * (x - d.u) + (y - d.v) * (y - d.v) < d.radius * d.radius) mask.at<uchar>(y, x) = 255;
@@ -88,11 +90,12 @@ const char* degrade_kind_name(DegradeKind kind) {
 Degradation parse_degradation(const std::string& text, const std::string& where) {
   const auto colon = text.find(':');
   const std::string name = text.substr(0, colon);
-  const DegradeKind* kind = std::find_if(std::begin(kKinds), std::end(kKinds),
-                                         [&](DegradeKind k) { return name == degrade_kind_name(k); });
+  const DegradeKind* kind =
+      std::find_if(std::begin(kKinds), std::end(kKinds), [&](DegradeKind k) { return name == degrade_kind_name(k); });
   if (colon == std::string::npos || kind == std::end(kKinds))
-    throw InputError(where, "'" + text + "' is not KIND:STRENGTH with KIND one of blur, noise, brightness, jpeg, "
-                            "drop, occlusion (e.g. blur:2)");
+    throw InputError(where, "'" + text +
+                                "' is not KIND:STRENGTH with KIND one of blur, noise, brightness, jpeg, "
+                                "drop, occlusion (e.g. blur:2)");
   double strength = 0;
   try {
     std::size_t used = 0;
@@ -133,19 +136,15 @@ cv::Mat degrade_frame(const cv::Mat& frame, const Degradation& d, int index, int
       if (d.strength <= 0) return frame.clone();
       cv::GaussianBlur(frame, out, {0, 0}, d.strength);
       return out;
-    case DegradeKind::noise:
-      return d.strength > 0 ? add_noise(frame, d.strength, d.seed, index) : frame.clone();
+    case DegradeKind::noise: return d.strength > 0 ? add_noise(frame, d.strength, d.seed, index) : frame.clone();
     case DegradeKind::brightness: {
       const double gain = 1.0 + d.strength * (frames > 1 ? double(index) / double(frames - 1) : 0.0);
       frame.convertTo(out, -1, gain, 0.0);  // saturates at 255: a brightening drift clips the background
       return out;
     }
-    case DegradeKind::jpeg:
-      return reencode_jpeg(frame, d.strength);
-    case DegradeKind::drop:
-      return frame.clone();
-    case DegradeKind::occlusion:
-      return d.strength > 0 ? occlude(frame, d.strength, index, frames) : frame.clone();
+    case DegradeKind::jpeg: return reencode_jpeg(frame, d.strength);
+    case DegradeKind::drop: return frame.clone();
+    case DegradeKind::occlusion: return d.strength > 0 ? occlude(frame, d.strength, index, frames) : frame.clone();
   }
   return frame.clone();
 }

@@ -4,8 +4,8 @@
 // partial occlusion (dirt, a cable, a finger's shadow) sliding over the gel. Each has one strength
 // parameter, described once in degrade_param_specs(); the same (kind, strength, seed) on the same frames
 // always gives the same pixels, so a study is reproducible.
-#include <opencv2/core.hpp>
 #include <cstdint>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
 

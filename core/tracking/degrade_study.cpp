@@ -90,8 +90,10 @@ DegradeScore compare_to_clean(const TrackResult& clean, const TrackResult& degra
           s.jump_events.push_back({f, i, clean_uv[i], uv, onto ? other : -1});
       };
       if (!clean_ok) {
-        if (onto) record_jump();
-        else ++s.unverified;
+        if (onto)
+          record_jump();
+        else
+          ++s.unverified;
         continue;
       }
       const double e = (uv - clean_uv[i]).norm();

@@ -21,25 +21,25 @@ constexpr double kJumpPitch = 0.5;
 // Where a jump happened (for inspection: `track --draw` on the degraded clip shows it).
 struct JumpEvent {
   int source_frame = 0;
-  int marker = 0;      // clean marker index
-  Vec2 clean_uv;       // NaN when the clean track lost the marker there
+  int marker = 0;  // clean marker index
+  Vec2 clean_uv;   // NaN when the clean track lost the marker there
   Vec2 degraded_uv;
   int onto_marker = -1;  // the other marker whose clean position it landed on, -1 none
 };
 
 struct DegradeScore {
-  std::string label;        // "blur:2"
-  long frames_seen = 0;     // frames the degraded tracker saw
-  long marker_frames = 0;   // clean-tracked (finite) marker-frames in those frames
-  long lost = 0;            // of these, NaN in the degraded track (unpaired markers count as lost)
-  long compared = 0;        // finite in both
-  long jumps = 0;           // finite degraded positions off the clean track by > kJumpPitch, or on another's dot
-  long onto_neighbour = 0;  // of the jumps: nearest to a different marker's clean position, within kJumpPitch
-  long unverified = 0;      // finite degraded positions where the clean track is NaN (not scored)
-  int unpaired_markers = 0; // clean markers without a degraded marker at rest
+  std::string label;         // "blur:2"
+  long frames_seen = 0;      // frames the degraded tracker saw
+  long marker_frames = 0;    // clean-tracked (finite) marker-frames in those frames
+  long lost = 0;             // of these, NaN in the degraded track (unpaired markers count as lost)
+  long compared = 0;         // finite in both
+  long jumps = 0;            // finite degraded positions off the clean track by > kJumpPitch, or on another's dot
+  long onto_neighbour = 0;   // of the jumps: nearest to a different marker's clean position, within kJumpPitch
+  long unverified = 0;       // finite degraded positions where the clean track is NaN (not scored)
+  int unpaired_markers = 0;  // clean markers without a degraded marker at rest
   double rmse_px = 0, p95_px = 0, max_px = 0;  // |degraded - clean| position over `compared`
-  std::vector<double> errors_px;                // the `compared` errors (for pooling over clips)
-  std::vector<JumpEvent> jump_events;           // the first kMaxJumpEvents jumps
+  std::vector<double> errors_px;               // the `compared` errors (for pooling over clips)
+  std::vector<JumpEvent> jump_events;          // the first kMaxJumpEvents jumps
   static constexpr std::size_t kMaxJumpEvents = 20;
 
   double lost_fraction() const { return marker_frames ? double(lost) / double(marker_frames) : 0.0; }

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <set>
 #include <stdexcept>
 #include <string>
-#include <opencv2/imgproc.hpp>
 
 namespace sb {
 namespace {
@@ -63,7 +63,8 @@ double lattice_angle(const PinReference& ref, const std::vector<std::pair<int, i
 }
 
 // nb[k][i]: the rest neighbour of pin i in lattice direction k (0..5), -1 at the lattice's edge.
-std::vector<std::vector<int>> directional_neighbours(const PinReference& ref, const std::vector<std::pair<int, int>>& edges) {
+std::vector<std::vector<int>> directional_neighbours(const PinReference& ref,
+                                                     const std::vector<std::pair<int, int>>& edges) {
   const double theta0 = lattice_angle(ref, edges);
   constexpr double kAngleTol = 30.0 * M_PI / 180.0;  // sectors: every first-ring edge falls in one
   std::vector<std::vector<int>> nb(6, std::vector<int>(ref.rest_px.size(), -1));
@@ -203,8 +204,7 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
     const double step = (disp[i] - disp[j]).norm() / (ref.rest_px[i] - ref.rest_px[j]).norm();
     r.worst_relative_step = std::max(r.worst_relative_step, step);
     const bool slipped = step > o.max_relative_step;
-    const bool skipped =
-        site_between(ref.rest_px[i] + disp[i], ref.rest_px[j] + disp[j], detections, o.gabriel_margin);
+    const bool skipped = site_between(ref.rest_px[i] + disp[i], ref.rest_px[j] + disp[j], detections, o.gabriel_margin);
     r.slipped_pairs += slipped;
     r.skipped_sites += skipped;
     if (slipped || skipped) r.suspect[i] = r.suspect[j] = 1;
@@ -212,7 +212,8 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
   for (const auto& t : lattice_triangles(ref)) {
     if (!disp[t[0]].allFinite() || !disp[t[1]].allFinite() || !disp[t[2]].allFinite()) continue;
     ++r.triangles_checked;
-    const Vec2 a = ref.rest_px[t[0]] + disp[t[0]], b = ref.rest_px[t[1]] + disp[t[1]], c = ref.rest_px[t[2]] + disp[t[2]];
+    const Vec2 a = ref.rest_px[t[0]] + disp[t[0]], b = ref.rest_px[t[1]] + disp[t[1]],
+               c = ref.rest_px[t[2]] + disp[t[2]];
     if (signed_area(a, b, c) <= 0) {
       ++r.flipped_triangles;
       for (int v : t) r.suspect[v] = 1;
@@ -237,8 +238,7 @@ LatticeCheckResult check_lattice(const PinReference& ref, const std::vector<Vec2
   r.median_prior_miss_px = median_of(miss);
   r.coherent_prior_miss_px = Vec2(median_of(miss_u), median_of(miss_v)).norm();
   r.registration_margin = registration_margin(ref, kept, detections);
-  r.field_shifted =
-      r.registration_margin <= 0 || r.coherent_prior_miss_px > o.max_coherent_prior_miss * ref.pitch_px;
+  r.field_shifted = r.registration_margin <= 0 || r.coherent_prior_miss_px > o.max_coherent_prior_miss * ref.pitch_px;
   if (r.field_shifted)
     for (std::size_t i = 0; i < n; ++i) r.suspect[i] = disp[i].allFinite();
   return r;

@@ -36,24 +36,24 @@ struct LatticeCheckOptions {
   // First-ring relative step above which a pair is a slip. A slip by one site gives >= ~1 (a lattice
   // vector over one pitch); docs/tracking.md has the measured distribution on correctly tracked images.
   double max_relative_step = 0.6;
-  double gabriel_margin = 0.7;       // a detection within this fraction of the half-segment of the middle
+  double gabriel_margin = 0.7;           // a detection within this fraction of the half-segment of the middle
   double max_coherent_prior_miss = 0.5;  // pitches; only used when a prior is given
-  double max_prior_miss = 0.5;       // pitches; counted only
+  double max_prior_miss = 0.5;           // pitches; counted only
 };
 
 struct LatticeCheckResult {
   int pairs_checked = 0;
-  int slipped_pairs = 0;        // first-ring pairs with a relative step above max_relative_step
+  int slipped_pairs = 0;  // first-ring pairs with a relative step above max_relative_step
   int triangles_checked = 0;
-  int flipped_triangles = 0;    // rest triangles whose deformed orientation reversed (pins crossed)
-  int skipped_sites = 0;        // first-ring pairs with a detected pin between their matches (topology)
-  int prior_misses = 0;         // tracked pins farther than max_prior_miss pitches from the prior (counted)
-  double median_prior_miss_px = 0;  // median |tracked - prior| (0 without a prior)
+  int flipped_triangles = 0;          // rest triangles whose deformed orientation reversed (pins crossed)
+  int skipped_sites = 0;              // first-ring pairs with a detected pin between their matches (topology)
+  int prior_misses = 0;               // tracked pins farther than max_prior_miss pitches from the prior (counted)
+  double median_prior_miss_px = 0;    // median |tracked - prior| (0 without a prior)
   double coherent_prior_miss_px = 0;  // |component-wise median of (tracked - prior)|: a whole-field slip
-  int registration_margin = 0;  // pins explained beyond the best one-site translation (see above), after
-                                // the local tests' suspects are dropped
-  bool field_shifted = false;   // margin <= 0 or a coherent prior miss: all tracked pins suspect
-  int detached_pins = 0;        // tracked pins cut off from the main field by lost or suspect pins (suspect)
+  int registration_margin = 0;        // pins explained beyond the best one-site translation (see above), after
+                                      // the local tests' suspects are dropped
+  bool field_shifted = false;         // margin <= 0 or a coherent prior miss: all tracked pins suspect
+  int detached_pins = 0;              // tracked pins cut off from the main field by lost or suspect pins (suspect)
   double worst_relative_step = 0;
   // Per pin: on a slipped pair, a skipped site or a flipped triangle, in a shifted field, or detached.
   // Detached pins are unverified rather than evidence of a slip, so they do not make the field unclean.

@@ -1,8 +1,8 @@
 #include "core/tracking/pin_field_prior.hpp"
 
+#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
-#include <Eigen/Cholesky>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -26,8 +26,8 @@ double percentile(std::vector<double> v, double q) {
 }
 
 // Ridge least squares for one pin over the samples where it is tracked; false when too few.
-bool fit_pin(std::size_t pin, const std::vector<Eigen::VectorXd>& features, const std::vector<std::vector<Vec2>>& fields,
-             double ridge, Eigen::Ref<Eigen::MatrixXd> coef) {
+bool fit_pin(std::size_t pin, const std::vector<Eigen::VectorXd>& features,
+             const std::vector<std::vector<Vec2>>& fields, double ridge, Eigen::Ref<Eigen::MatrixXd> coef) {
   const Eigen::Index f = features.front().size();
   Eigen::MatrixXd AtA = Eigen::MatrixXd::Zero(f, f), Atb = Eigen::MatrixXd::Zero(f, 2);
   int m = 0;
@@ -82,8 +82,8 @@ PinFieldPrior PinFieldPrior::fit(const PinReference& ref, const std::vector<Eige
 std::vector<Vec2> PinFieldPrior::predict(const Eigen::VectorXd& features) const {
   if (empty()) return {};
   if (features.size() != coef_.rows())
-    throw std::invalid_argument("PinFieldPrior::predict: " + std::to_string(features.size()) + " covariates, fitted on " +
-                                std::to_string(coef_.rows()));
+    throw std::invalid_argument("PinFieldPrior::predict: " + std::to_string(features.size()) +
+                                " covariates, fitted on " + std::to_string(coef_.rows()));
   const Eigen::VectorXd flat = coef_.transpose() * features;
   std::vector<Vec2> out(coef_.cols() / 2);
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = Vec2(flat(2 * i), flat(2 * i + 1));

@@ -9,7 +9,8 @@
 // tracks the not yet accepted samples up to its limit with the prior fitted so far (an extrapolation by one
 // step), accepts those kept >= accept_fraction and clean under lattice_check.hpp, and refits on every
 // accepted sample; refinement passes then track every sample again with the latest prior (a sample kept
-// in the fit keeps its previous field when it fails the second time). Only the samples given are read: pass the calibration split alone.
+// in the fit keeps its previous field when it fails the second time). Only the samples given are read: pass the
+// calibration split alone.
 #include <Eigen/Core>
 #include <vector>
 
@@ -38,18 +39,18 @@ class PinFieldPrior {
 };
 
 struct ContinuationOptions {
-  std::vector<double> limits;    // increasing difficulty limits of the stages (the last covers every sample)
-  double accept_fraction = 0.95; // a sample joins the fit when it keeps this fraction of pins ...
-  LatticeCheckOptions check;     // ... and is clean under the lattice check (against the current prior)
+  std::vector<double> limits;     // increasing difficulty limits of the stages (the last covers every sample)
+  double accept_fraction = 0.95;  // a sample joins the fit when it keeps this fraction of pins ...
+  LatticeCheckOptions check;      // ... and is clean under the lattice check (against the current prior)
   double ridge = 1e-3;
-  int refine_passes = 2;         // passes over every sample with the latest prior after the last stage
+  int refine_passes = 2;  // passes over every sample with the latest prior after the last stage
 };
 
 struct ContinuationStage {
   double limit = 0;
-  int candidates = 0;     // samples up to the limit not accepted before this stage
-  int accepted = 0;       // of those, accepted in this stage
-  bool refine = false;    // a refinement pass (every sample, accepted or not, tracked again)
+  int candidates = 0;                          // samples up to the limit not accepted before this stage
+  int accepted = 0;                            // of those, accepted in this stage
+  bool refine = false;                         // a refinement pass (every sample, accepted or not, tracked again)
   double miss_median_px = 0, miss_p95_px = 0;  // |tracked - prior| of the accepted samples' pins (prior before refit)
 };
 

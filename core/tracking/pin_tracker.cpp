@@ -1,14 +1,14 @@
 #include "core/tracking/pin_tracker.hpp"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/calib3d.hpp>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <Eigen/SVD>
-#include <opencv2/calib3d.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "core/base/error.hpp"
 
@@ -122,8 +122,8 @@ std::vector<std::vector<int>> neighbours_within(const std::vector<Vec2>& pts, do
   return nb;
 }
 
-constexpr double kSeedFraction = 0.2;    // pitches: seed matches must sit this close to the global fit
-constexpr double kSupportRadius = 2.2;   // pitches: matched pins that predict a neighbour (local affine field)
+constexpr double kSeedFraction = 0.2;   // pitches: seed matches must sit this close to the global fit
+constexpr double kSupportRadius = 2.2;  // pitches: matched pins that predict a neighbour (local affine field)
 
 // Prediction of pin i from the residual field res = disp - prior of its matched surroundings:
 // rest + prior + the median residual of its matched first ring, or (affine) + the least-squares affine
@@ -173,7 +173,8 @@ ParamSet pin_tracker_param_specs() {
       {"min_fill", "", d.min_fill, 0, 1, "blob area / bounding-box area (a disc: 0.785)"},
       {"max_aspect", "", d.max_aspect, 1, 10, "bounding-box aspect ratio of a pin"},
       {"gate_fraction", "", d.gate_fraction, 0.1, 0.5, "match gate as a fraction of the pin pitch"},
-      {"outlier_fraction", "", d.outlier_fraction, 0.1, 1, "max disagreement with the neighbours, fraction of the pitch"},
+      {"outlier_fraction", "", d.outlier_fraction, 0.1, 1,
+       "max disagreement with the neighbours, fraction of the pitch"},
       {"local_iterations", "", double(d.local_iterations), 1, 20, "rounds of the growth from the seeds"},
       {"rim_seeds", "", double(d.rim_seeds), 0, 1, "1: seeds on the rim at rest instead of the global fit"},
       {"rim_width", "pitch", d.rim_width, 0.5, 5, "outer band of pins used as rim seeds"},
@@ -210,9 +211,8 @@ PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOption
     ref.rest_px.push_back(d.uv);
     areas.push_back(d.area_px);
   }
-  std::sort(ref.rest_px.begin(), ref.rest_px.end(), [](const Vec2& a, const Vec2& b) {
-    return a.y() != b.y() ? a.y() < b.y() : a.x() < b.x();
-  });
+  std::sort(ref.rest_px.begin(), ref.rest_px.end(),
+            [](const Vec2& a, const Vec2& b) { return a.y() != b.y() ? a.y() < b.y() : a.x() < b.x(); });
   ref.area_px = median(areas);
   std::vector<double> nn;
   for (std::size_t i = 0; i < ref.rest_px.size(); ++i) {

@@ -25,22 +25,22 @@
 namespace sb {
 
 struct PinTrackerOptions {
-  int threshold = 127;                 // grey level separating pins from background
-  double min_area_factor = 0.3;        // smaller blobs (x reference median area) are noise or masked pins
-  double max_area_factor = 2.0;        // larger blobs are merged pins or border junk
-  double min_fill = 0.5;               // blob area / bounding-box area (a disc fills 0.785)
-  double max_aspect = 2.0;             // bounding-box aspect ratio
-  double gate_fraction = 0.4;          // match gate, fraction of the rest pitch
-  double outlier_fraction = 0.35;      // max disagreement with the neighbours' median, fraction of the pitch
+  int threshold = 127;             // grey level separating pins from background
+  double min_area_factor = 0.3;    // smaller blobs (x reference median area) are noise or masked pins
+  double max_area_factor = 2.0;    // larger blobs are merged pins or border junk
+  double min_fill = 0.5;           // blob area / bounding-box area (a disc fills 0.785)
+  double max_aspect = 2.0;         // bounding-box aspect ratio
+  double gate_fraction = 0.4;      // match gate, fraction of the rest pitch
+  double outlier_fraction = 0.35;  // max disagreement with the neighbours' median, fraction of the pitch
   int local_iterations = 6;
-  bool rim_seeds = false;              // seeds on the rim at rest (else: pins on the global affine fit)
-  double rim_width = 2.0;              // pitches: outer band of pins taken as (nearly) fixed seeds
-  bool affine_prediction = false;      // local affine field (else the median of the matched neighbours)
+  bool rim_seeds = false;          // seeds on the rim at rest (else: pins on the global affine fit)
+  double rim_width = 2.0;          // pitches: outer band of pins taken as (nearly) fixed seeds
+  bool affine_prediction = false;  // local affine field (else the median of the matched neighbours)
 };
 ParamSet pin_tracker_param_specs();
 
 struct PinDetection {
-  Vec2 uv;      // area centroid, pixels (pixel centres at integer coordinates)
+  Vec2 uv;  // area centroid, pixels (pixel centres at integer coordinates)
   double area_px;
 };
 
@@ -50,15 +50,14 @@ std::vector<PinDetection> detect_pins(const cv::Mat& image, const PinTrackerOpti
                                       double reference_area_px = 0);
 
 struct PinReference {
-  std::vector<Vec2> rest_px;   // pin index -> rest position, sorted by v then u
-  double pitch_px = 0;         // median nearest-neighbour distance
-  double area_px = 0;          // median pin area
+  std::vector<Vec2> rest_px;                 // pin index -> rest position, sorted by v then u
+  double pitch_px = 0;                       // median nearest-neighbour distance
+  double area_px = 0;                        // median pin area
   std::vector<std::vector<int>> neighbours;  // rest-neighbours within 1.6 pitch
-  std::vector<char> on_rim;    // outer pins (within rim_width pitches of the outermost): the seeds
+  std::vector<char> on_rim;                  // outer pins (within rim_width pitches of the outermost): the seeds
 };
 // Throws InputError(where) when fewer than 10 pins are found.
-PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOptions& options,
-                                const std::string& where);
+PinReference make_pin_reference(const cv::Mat& reference, const PinTrackerOptions& options, const std::string& where);
 
 // Displacement of every reference pin in `image` (NaN where lost). `prior_disp` (empty = zero; one entry
 // per reference pin, NaN entries count as zero) is an expected displacement field, e.g. from the sample's

@@ -85,8 +85,8 @@ VendorTrack read_vendor_csv(const std::string& path) {
   }
   if (rows.empty()) throw InputError(path, "no rows");
   int max_row = 0, max_col = 0, max_frame = 0;
-  for (const auto& r : rows) max_row = std::max(max_row, r.row), max_col = std::max(max_col, r.col),
-                             max_frame = std::max(max_frame, r.frame);
+  for (const auto& r : rows)
+    max_row = std::max(max_row, r.row), max_col = std::max(max_col, r.col), max_frame = std::max(max_frame, r.frame);
   const int cols = max_col + 1, n = (max_row + 1) * cols;
   VendorTrack v;
   v.frames = max_frame;

@@ -23,8 +23,8 @@ struct TrackComparison {
 // The vendor CSV: rows `frame, row, col, x0, y0, x, y` (no header), frames numbered from 1.
 struct VendorTrack {
   int frames = 0;
-  std::vector<Vec2> rest_px;                  // x0, y0 of each (row, col) marker, row-major
-  std::vector<std::vector<Vec2>> position_px; // [frame - 1][marker] x, y
+  std::vector<Vec2> rest_px;                   // x0, y0 of each (row, col) marker, row-major
+  std::vector<std::vector<Vec2>> position_px;  // [frame - 1][marker] x, y
 };
 VendorTrack read_vendor_csv(const std::string& path);
 
@@ -37,7 +37,6 @@ std::vector<std::vector<Vec2>> read_markers_csv(const std::string& path, int mar
 // Compares absolute positions (tracked rest + disp vs reference rest + reference disp).
 // `remove_rest_offset`: compare displacement fields only (tracked disp vs reference disp).
 TrackComparison compare_to_reference(const TrackResult& tracked, const std::vector<Vec2>& reference_rest_px,
-                                     const std::vector<std::vector<Vec2>>& reference_disp_px,
-                                     bool remove_rest_offset);
+                                     const std::vector<std::vector<Vec2>>& reference_disp_px, bool remove_rest_offset);
 
 }  // namespace sb

@@ -23,7 +23,7 @@ const Vec2 kLost{kNaN, kNaN};
 // Red drawing (the vendor's arrows and crosses): a saturated red that no gel shading produces.
 constexpr int kOverlayMinRed = 120;
 constexpr int kOverlayMinRedExcess = 70;
-constexpr int kOverlayMinPixels = 10;   // fewer red pixels: no overlay, skip the fill
+constexpr int kOverlayMinPixels = 10;  // fewer red pixels: no overlay, skip the fill
 // Overlay fill: box widths tried in turn (pixels), and the least valid weight that may fill a pixel.
 constexpr int kFillBoxesPx[] = {5, 9, 17};
 constexpr float kFillMinWeight = 0.05f;
@@ -276,8 +276,10 @@ std::vector<int> assign(const std::vector<Vec2>& predicted_uv, const std::vector
     int best_j = -1;
     for (int j = 0; j < static_cast<int>(det.size()); ++j) {
       const double d2 = (predicted_uv[i] - det[j].uv).squaredNorm();
-      if (d2 < best) second = best, best = d2, best_j = j;
-      else if (d2 < second) second = d2;
+      if (d2 < best)
+        second = best, best = d2, best_j = j;
+      else if (d2 < second)
+        second = d2;
     }
     if (best_j >= 0 && best < gate2 && best <= kRatio2 * second) pairs.push_back({best, i, best_j});
   }
@@ -414,7 +416,8 @@ std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp,
   return out;
 }
 
-std::vector<Vec2> MarkerTracker::match(const std::vector<Vec2>& predicted, const std::vector<MarkerDetection>& det) const {
+std::vector<Vec2> MarkerTracker::match(const std::vector<Vec2>& predicted,
+                                       const std::vector<MarkerDetection>& det) const {
   const int n = result_.markers();
   std::vector<Vec2> uv(n);
   for (int i = 0; i < n; ++i) uv[i] = result_.rest_px[i] + predicted[i];
@@ -539,7 +542,7 @@ TrackResult track_video(const std::string& path, const TrackerOptions& options, 
   cv::VideoCapture cap(path, cv::CAP_FFMPEG);  // FFmpeg only: no GStreamer or image-sequence guesses
   if (!cap.isOpened()) throw InputError(path, "cannot open video (not a video or unsupported codec)");
   MarkerTracker tracker(options);
-  const double total = cap.get(cv::CAP_PROP_FRAME_COUNT);   // an estimate for some containers; 0 when unknown
+  const double total = cap.get(cv::CAP_PROP_FRAME_COUNT);  // an estimate for some containers; 0 when unknown
   cv::Mat f;
   int count = 0;
   while (cap.read(f)) {
@@ -552,8 +555,7 @@ TrackResult track_video(const std::string& path, const TrackerOptions& options, 
   return tracker.result();
 }
 
-TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options,
-                             const Progress& progress) {
+TrackResult track_frames_dir(const std::string& frames_dir, const TrackerOptions& options, const Progress& progress) {
   if (!fs::is_directory(frames_dir)) throw InputError(frames_dir, "frames directory not found");
   std::vector<fs::path> files;
   for (const auto& e : fs::directory_iterator(frames_dir)) {

@@ -2,9 +2,9 @@
 // Marker tracker for GelSight-type images: dark dots on a bright, coloured, shaded background.
 //
 // Detection (per frame): brightness = max(B, G, R) (a dot is dark in every channel, the coloured background
-// is bright in at least one); the vendor's red overlay arrows, when present, are masked and filled from the pixels around them; the
-// shading is removed by a black top-hat (closing with a box larger than a dot, minus the image) divided by
-// the closed background, i.e. the relative darkness; Otsu threshold (with a floor); connected components
+// is bright in at least one); the vendor's red overlay arrows, when present, are masked and filled from the pixels
+// around them; the shading is removed by a black top-hat (closing with a box larger than a dot, minus the image)
+// divided by the closed background, i.e. the relative darkness; Otsu threshold (with a floor); connected components
 // filtered by area; sub-pixel centre = darkness-weighted centroid over the blob grown by one pixel.
 //
 // Correspondence (per frame): each marker's displacement is predicted from its own last displacement and
@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "core/base/progress.hpp"
 #include "core/base/params.hpp"
+#include "core/base/progress.hpp"
 #include "core/geometry/pose.hpp"
 
 namespace sb {
@@ -37,15 +37,15 @@ struct TrackerOptions {
   // warning only; the tracker follows every marker it sees at rest.
   int grid_rows = 0;
   int grid_cols = 0;
-  int rest_frames = 3;              // rest = per-marker median over the first rest_frames frames
-  double max_dot_diameter_px = 24;  // top-hat box is 1.3x this
-  double min_contrast = 0.12;       // lowest relative darkness accepted as a dot (threshold floor)
-  double min_area_px = 12;          // smaller blobs are noise
-  double max_area_factor = 2.2;     // blobs larger than this x the median area are merged dots: rejected
+  int rest_frames = 3;                   // rest = per-marker median over the first rest_frames frames
+  double max_dot_diameter_px = 24;       // top-hat box is 1.3x this
+  double min_contrast = 0.12;            // lowest relative darkness accepted as a dot (threshold floor)
+  double min_area_px = 12;               // smaller blobs are noise
+  double max_area_factor = 2.2;          // blobs larger than this x the median area are merged dots: rejected
   double min_border_area_factor = 0.45;  // a blob cut by the image border must keep this much of the area
-  double gate_fraction = 0.45;      // match gate, fraction of the rest pitch
-  double velocity_gain = 0.7;       // prediction = last displacement + gain * last velocity
-  bool remove_overlay = true;       // mask saturated red drawing (the vendor's arrows) before detecting
+  double gate_fraction = 0.45;           // match gate, fraction of the rest pitch
+  double velocity_gain = 0.7;            // prediction = last displacement + gain * last velocity
+  bool remove_overlay = true;            // mask saturated red drawing (the vendor's arrows) before detecting
 };
 
 // The tracker's tunables, described once (name, unit, default, range).
@@ -60,9 +60,9 @@ std::vector<MarkerDetection> detect_markers(const cv::Mat& frame, const TrackerO
 struct TrackResult {
   int grid_rows = 0;  // rows/cols found at rest (rows: clusters of v), 0 when irregular
   int grid_cols = 0;
-  double pitch_px = 0;                       // median nearest-neighbour distance at rest
-  std::vector<Vec2> rest_px;                 // marker index -> rest position, row-major (v, then u)
-  std::vector<std::vector<Vec2>> disp_px;    // [frame][marker] displacement from rest, NaN when lost
+  double pitch_px = 0;                     // median nearest-neighbour distance at rest
+  std::vector<Vec2> rest_px;               // marker index -> rest position, row-major (v, then u)
+  std::vector<std::vector<Vec2>> disp_px;  // [frame][marker] displacement from rest, NaN when lost
   std::vector<std::string> warnings;
   int image_width = 0, image_height = 0;
 

@@ -19,8 +19,7 @@ Pose interpolate_pose(const Pose& a, const Pose& b, double t) {
   return make_pose(a.translation() + t * (b.translation() - a.translation()), qa.slerp(t, qb));
 }
 
-std::vector<Pose> substep_path(const Pose& from, const Pose& to, double max_translation_m,
-                               double max_rotation_rad) {
+std::vector<Pose> substep_path(const Pose& from, const Pose& to, double max_translation_m, double max_rotation_rad) {
   const double distance = (to.translation() - from.translation()).norm();
   const double angle = Quat(from.linear()).angularDistance(Quat(to.linear()));
   // The slack keeps an exact multiple of the limit (2 mm at 0.25 mm) from rounding up to one more step.
@@ -36,8 +35,7 @@ std::vector<Pose> substep_path(const Pose& from, const Pose& to, double max_tran
 AppState::AppState(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
                    std::vector<std::unique_ptr<ShearModel>> models, std::vector<Pose> path, double dt_s,
                    AppStateConfig config)
-    : sensor_(std::move(sensor)), indenter_(std::move(indenter)), config_(config), dt_s_(dt_s),
-      path_(std::move(path)) {
+    : sensor_(std::move(sensor)), indenter_(std::move(indenter)), config_(config), dt_s_(dt_s), path_(std::move(path)) {
   if (config_.checkpoint_every < 1) throw std::invalid_argument("AppState: checkpoint_every must be >= 1");
   measured_steps_ = static_cast<int>(path_.size());
   for (auto& m : models) {
@@ -54,31 +52,49 @@ AppState::~AppState() { stop_thread(); }
 // ---------------------------------------------------------------- UI side
 void AppState::request_params(std::size_t model, const ParamSet& params) {
   if (model >= slots_.size()) throw std::out_of_range("AppState: no model " + std::to_string(model));
-  { std::lock_guard lock(edits_mutex_); edits_.push_back(SetParams{model, params}); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(SetParams{model, params});
+  }
   wake_.notify_one();
 }
 void AppState::request_seek(int step) {
-  { std::lock_guard lock(edits_mutex_); edits_.push_back(Seek{step}); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(Seek{step});
+  }
   wake_.notify_one();
 }
 void AppState::request_drag(const Pose& X_EI_target) {
   if (!is_finite(X_EI_target)) throw std::invalid_argument("AppState: non-finite drag pose");
-  { std::lock_guard lock(edits_mutex_); edits_.push_back(Drag{X_EI_target}); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(Drag{X_EI_target});
+  }
   wake_.notify_one();
 }
 void AppState::request_path(std::vector<Pose> path) {
-  { std::lock_guard lock(edits_mutex_); edits_.push_back(ReplacePath{std::move(path)}); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(ReplacePath{std::move(path)});
+  }
   wake_.notify_one();
 }
 void AppState::request_model(std::size_t slot, std::unique_ptr<ShearModel> model) {
   if (slot >= slots_.size()) throw std::out_of_range("AppState: no model " + std::to_string(slot));
   if (!model) throw std::invalid_argument("AppState: null model");
-  { std::lock_guard lock(edits_mutex_); edits_.push_back(ReplaceModel{slot, std::move(model)}); }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(ReplaceModel{slot, std::move(model)});
+  }
   wake_.notify_one();
 }
 void AppState::set_playing(bool playing) {
   playing_ = playing;
-  { std::lock_guard lock(snapshot_mutex_); snapshot_.playing = playing; }
+  {
+    std::lock_guard lock(snapshot_mutex_);
+    snapshot_.playing = playing;
+  }
   wake_.notify_one();
 }
 void AppState::set_speed(double speed) {
@@ -120,7 +136,10 @@ int AppState::sync() {
     std::visit([this](const auto& x) { apply(x); }, edits[i]);
   }
   if (!edits.empty()) publish();
-  { std::lock_guard lock(edits_mutex_); edits_in_flight_ = 0; }
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_in_flight_ = 0;
+  }
   return static_cast<int>(edits.size());
 }
 
@@ -208,7 +227,7 @@ void AppState::apply(const Drag& e) {
   if (!drag_active_) {
     // The first drag of a gesture replaces the future of the path by the dragged segment.
     std::lock_guard lock(path_mutex_);
-    const int kept_steps = step_ + 1;   // step_ >= -1
+    const int kept_steps = step_ + 1;  // step_ >= -1
     path_.resize(static_cast<std::size_t>(kept_steps));
     drop_checkpoints_after(step_);
     measured_steps_ = std::min(measured_steps_, step_ + 1);
@@ -223,7 +242,10 @@ void AppState::apply(const Drag& e) {
 
 void AppState::apply(const ReplacePath& e) {
   drag_active_ = false;
-  { std::lock_guard lock(path_mutex_); path_ = e.path; }
+  {
+    std::lock_guard lock(path_mutex_);
+    path_ = e.path;
+  }
   measured_steps_ = static_cast<int>(path_.size());
   step_ = -1;
   for (Slot& s : slots_) rewind_slot(s);

@@ -34,14 +34,14 @@
 namespace sb {
 
 struct AppStateConfig {
-  int checkpoint_every = 16;                      // steps between model clones (seek cost <= this many steps)
-  double max_substep_translation_m = 0.25e-3;     // a drag moves at most this far per model step ...
-  double max_substep_rotation_rad = 0.035;        // ... and turns at most this much (2 degrees)
+  int checkpoint_every = 16;                   // steps between model clones (seek cost <= this many steps)
+  double max_substep_translation_m = 0.25e-3;  // a drag moves at most this far per model step ...
+  double max_substep_rotation_rad = 0.035;     // ... and turns at most this much (2 degrees)
 };
 
 struct StepTiming {
   double last_ms = 0;
-  double mean_ms = 0;   // exponential mean over recent steps
+  double mean_ms = 0;  // exponential mean over recent steps
   long count = 0;
 };
 
@@ -55,22 +55,21 @@ struct ModelView {
 // What the UI draws: a copy, consistent (all models at the same step).
 struct AppSnapshot {
   int step = -1;
-  int num_steps = 0;                // path length
-  int measured_steps = 0;           // steps [0, measured_steps) still follow the original (dataset) path
-  Pose X_EI = Pose::Identity();     // pose at `step` (path[0] before the first step)
+  int num_steps = 0;             // path length
+  int measured_steps = 0;        // steps [0, measured_steps) still follow the original (dataset) path
+  Pose X_EI = Pose::Identity();  // pose at `step` (path[0] before the first step)
   double dt_s = 0.02;
   bool playing = false;
   double speed = 1.0;
   std::vector<ModelView> models;
-  std::uint64_t version = 0;        // bumps on every published change
+  std::uint64_t version = 0;  // bumps on every published change
 };
 
 // Linear interpolation in position, slerp in rotation; t in [0, 1].
 Pose interpolate_pose(const Pose& a, const Pose& b, double t);
 // The poses strictly after `from` up to and including `to`, enough of them that consecutive poses differ
 // by at most max_translation_m and max_rotation_rad (at least one: `to`).
-std::vector<Pose> substep_path(const Pose& from, const Pose& to, double max_translation_m,
-                               double max_rotation_rad);
+std::vector<Pose> substep_path(const Pose& from, const Pose& to, double max_translation_m, double max_rotation_rad);
 
 class AppState {
  public:
@@ -126,15 +125,27 @@ class AppState {
   void set_on_publish(std::function<void()> fn) { on_publish_ = std::move(fn); }
 
  private:
-  struct SetParams { std::size_t model; ParamSet params; };
-  struct Seek { int step; };
-  struct Drag { Pose target; };
-  struct ReplacePath { std::vector<Pose> path; };
-  struct ReplaceModel { std::size_t model; std::shared_ptr<ShearModel> replacement; };
+  struct SetParams {
+    std::size_t model;
+    ParamSet params;
+  };
+  struct Seek {
+    int step;
+  };
+  struct Drag {
+    Pose target;
+  };
+  struct ReplacePath {
+    std::vector<Pose> path;
+  };
+  struct ReplaceModel {
+    std::size_t model;
+    std::shared_ptr<ShearModel> replacement;
+  };
   using Edit = std::variant<SetParams, Seek, Drag, ReplacePath, ReplaceModel>;
 
   struct Checkpoint {
-    std::unique_ptr<ShearModel> model;   // the state after that step (a seek steps on from it)
+    std::unique_ptr<ShearModel> model;  // the state after that step (a seek steps on from it)
   };
   struct Slot {
     std::unique_ptr<ShearModel> model;
@@ -161,7 +172,7 @@ class AppState {
 
   // physics side
   std::vector<Slot> slots_;
-  std::vector<Pose> path_;           // written by the physics thread only, under path_mutex_
+  std::vector<Pose> path_;  // written by the physics thread only, under path_mutex_
   mutable std::mutex path_mutex_;
   int step_ = -1;
   int measured_steps_ = 0;

@@ -14,7 +14,7 @@ void DoubleClickDetector::press(double t_s, double x_px, double y_px) {
   const bool close_in_space = std::hypot(x_px - first_x_, y_px - first_y_) <= kMaxMovePx;
   if (has_first_ && close_in_time && close_in_space) {
     double_clicked_ = true;
-    has_first_ = false;   // a third press starts the next double-click
+    has_first_ = false;  // a third press starts the next double-click
     return;
   }
   has_first_ = true;

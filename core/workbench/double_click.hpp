@@ -14,7 +14,7 @@ class DoubleClickDetector {
   // load the X server itself delivers events late and in bursts (measured: two presses made 0.2 s apart
   // reached the workbench 0.57 s apart with llvmpipe and six busy processes on two cores).
   static constexpr double kMaxGapS = 0.50;
-  static constexpr double kMaxMovePx = 6.0;    // as ImGui's io.MouseDoubleClickMaxDist
+  static constexpr double kMaxMovePx = 6.0;  // as ImGui's io.MouseDoubleClickMaxDist
 
   // Starts the next event poll, after a frame whose work (not counting the wait for events) took busy_s:
   // forgets the previous poll's double-click.
@@ -25,9 +25,9 @@ class DoubleClickDetector {
   bool double_clicked() const { return double_clicked_; }
 
  private:
-  double busy_s_ = 0;             // the work of the frame before the current poll
+  double busy_s_ = 0;  // the work of the frame before the current poll
   bool double_clicked_ = false;
-  bool has_first_ = false;        // a press that may start a double-click
+  bool has_first_ = false;  // a press that may start a double-click
   double first_t_s_ = 0, first_x_ = 0, first_y_ = 0;
 };
 

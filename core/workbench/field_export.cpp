@@ -2,11 +2,11 @@
 
 #include <filesystem>
 
-#include "core/effects/model_spec.hpp"
 #include "core/base/error.hpp"
-#include "core/data/json_read.hpp"
-#include "core/models/model.hpp"
 #include "core/calibration/prediction_export.hpp"
+#include "core/data/json_read.hpp"
+#include "core/effects/model_spec.hpp"
+#include "core/models/model.hpp"
 
 namespace fs = std::filesystem;
 
@@ -83,9 +83,8 @@ void FieldExportJob::start(FieldExportRequest request) {
   FieldExportStatus running;
   running.phase = FieldExportStatus::Phase::Running;
   running.dir = request.dir;
-  job_.start(std::move(running), [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) {
-    run(req, cancel, job);
-  });
+  job_.start(std::move(running),
+             [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) { run(req, cancel, job); });
 }
 
 void FieldExportJob::run(const FieldExportRequest& req, const std::atomic<bool>& cancel, Job& job) {

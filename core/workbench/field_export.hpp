@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "core/base/params.hpp"
-#include "core/geometry/pose.hpp"
 #include "core/base/progress.hpp"
 #include "core/base/status_job.hpp"
+#include "core/geometry/pose.hpp"
 
 namespace sb {
 
@@ -21,18 +21,18 @@ struct Sensor;
 struct Indenter;
 
 struct FieldExportModel {
-  std::string id;       // make_model id
+  std::string id;  // make_model id
   ParamSet params;
 };
 
 struct FieldExportRequest {
-  std::string dir;                   // target folder; <dir>/<id>/ per model
-  std::string title;                 // the session's title (dataset names and provenance)
+  std::string dir;    // target folder; <dir>/<id>/ per model
+  std::string title;  // the session's title (dataset names and provenance)
   std::string sample_id = "path";
   std::shared_ptr<const Sensor> sensor;
   std::shared_ptr<const Indenter> indenter;
   std::vector<FieldExportModel> models;
-  std::vector<Pose> path;            // X_EI per step
+  std::vector<Pose> path;  // X_EI per step
   double dt_s = 0.02;
 };
 
@@ -46,20 +46,20 @@ int export_fields(const FieldExportRequest& req, const Progress& progress = {});
 
 struct FieldExportStatus {
   enum class Phase { Idle, Running, Done, Cancelled, Failed } phase = Phase::Idle;
-  std::string stage;       // model being computed, or "writing"
-  double fraction = 0;     // of all models' steps
-  int written = 0;         // Done: datasets written
-  std::string dir;         // the request's folder
-  std::string error;       // Failed: why
+  std::string stage;    // model being computed, or "writing"
+  double fraction = 0;  // of all models' steps
+  int written = 0;      // Done: datasets written
+  std::string dir;      // the request's folder
+  std::string error;    // Failed: why
   bool running() const { return phase == Phase::Running; }
 };
 
 class FieldExportJob {
  public:
-  void start(FieldExportRequest request);   // cancels a running export first
+  void start(FieldExportRequest request);  // cancels a running export first
   void cancel() { job_.cancel(); }
-  FieldExportStatus status() const { return job_.status(); }   // a copy
-  void wait() const { job_.wait(); }         // blocks until not running (tests, headless renders)
+  FieldExportStatus status() const { return job_.status(); }  // a copy
+  void wait() const { job_.wait(); }                          // blocks until not running (tests, headless renders)
 
  private:
   using Job = StatusJob<FieldExportStatus>;

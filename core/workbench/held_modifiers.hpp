@@ -10,7 +10,7 @@ namespace sb {
 class HeldModifiers {
  public:
   enum Key { kLeftShift, kRightShift, kLeftCtrl, kRightCtrl, kKeys };
-  enum Mod { kShift = 1, kCtrl = 2 };   // the bits of mods(), as GLFW_MOD_SHIFT and GLFW_MOD_CONTROL
+  enum Mod { kShift = 1, kCtrl = 2 };  // the bits of mods(), as GLFW_MOD_SHIFT and GLFW_MOD_CONTROL
 
   void press(Key k) { down_[k] = true; }
   void release(Key k) { down_[k] = false; }

@@ -11,7 +11,8 @@ namespace sb {
 
 namespace fs = std::filesystem;
 
-OpenTarget classify_open_target(const std::string& typed, const std::string& data_root, const std::string& working_dir) {
+OpenTarget classify_open_target(const std::string& typed, const std::string& data_root,
+                                const std::string& working_dir) {
   if (typed.empty()) throw InputError("Open", "no path: type a dataset folder, a scene (.json) or a session file");
   OpenTarget t;
   t.typed = typed;

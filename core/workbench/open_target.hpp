@@ -12,8 +12,8 @@ enum class OpenKind { Dataset, Scene, Session };
 
 struct OpenTarget {
   OpenKind kind = OpenKind::Scene;
-  std::string path;    // resolved: the dataset folder, the scene or the session file
-  std::string typed;   // as the user wrote it (kept for the session file: "data:..." stays portable)
+  std::string path;   // resolved: the dataset folder, the scene or the session file
+  std::string typed;  // as the user wrote it (kept for the session file: "data:..." stays portable)
 };
 
 // Throws InputError naming the resolved path when it does not exist or is none of the three.

@@ -39,7 +39,8 @@ CameraView camera_from_json(const json& j, const std::string& file, const std::s
   jsonin::reject_unknown_keys(j, {"position_mm", "focal_point_mm", "view_up"}, file, ptr);
   CameraView c;
   c.position = vec3_from_json(jsonin::member(j, "position_mm", file, ptr), file, jsonin::child(ptr, "position_mm"));
-  c.focal_point = vec3_from_json(jsonin::member(j, "focal_point_mm", file, ptr), file, jsonin::child(ptr, "focal_point_mm"));
+  c.focal_point =
+      vec3_from_json(jsonin::member(j, "focal_point_mm", file, ptr), file, jsonin::child(ptr, "focal_point_mm"));
   c.view_up = vec3_from_json(jsonin::member(j, "view_up", file, ptr), file, jsonin::child(ptr, "view_up"));
   if ((c.position - c.focal_point).norm() <= 0 || c.view_up.norm() <= 0)
     jsonin::fail(file, ptr, "the camera must sit away from its focal point and have a view-up direction");
@@ -58,10 +59,15 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
   nlohmann::ordered_json j;
   j["format"] = "shearbench-session";
   j["version"] = SessionFile::kFormatVersion;
-  j["open"] = {{"scene", s.open.scene_path},       {"dataset", s.open.dataset_dir},         {"sample", s.open.sample_id},
+  j["open"] = {{"scene", s.open.scene_path},
+               {"dataset", s.open.dataset_dir},
+               {"sample", s.open.sample_id},
                {"hydroshear", s.open.hydroshear_id},
-               {"fots", s.open.fots_id},           {"tacsl", s.open.tacsl_id},              {"indenter_mesh", s.open.indenter_mesh},
-               {"indenter_scale", s.open.indenter_scale}, {"param_set", s.open.param_set}};
+               {"fots", s.open.fots_id},
+               {"tacsl", s.open.tacsl_id},
+               {"indenter_mesh", s.open.indenter_mesh},
+               {"indenter_scale", s.open.indenter_scale},
+               {"param_set", s.open.param_set}};
   // Written only when used, so sessions without it stay readable by builds from before it.
   if (!s.open.beside_hydroshear.empty()) j["open"]["beside_hydroshear"] = s.open.beside_hydroshear;
   j["params"] = s.params;
@@ -72,11 +78,13 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
   j["display"] = {{"auto_scale", s.auto_scale}, {"arrow_gain", s.arrow_gain}, {"colour_max_px", s.colour_max_px}};
   if (s.camera) {
     const auto vec = [](const Vec3& v) { return nlohmann::ordered_json::array({v.x(), v.y(), v.z()}); };
-    j["display"]["camera"] = {{"position_mm", vec(s.camera->position)}, {"focal_point_mm", vec(s.camera->focal_point)},
+    j["display"]["camera"] = {{"position_mm", vec(s.camera->position)},
+                              {"focal_point_mm", vec(s.camera->focal_point)},
                               {"view_up", vec(s.camera->view_up)}};
   }
   if (!s.residual_file.empty())
-    j["residual"] = {{"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
+    j["residual"] = {
+        {"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
   return j;
 }
 
@@ -87,14 +95,17 @@ SessionFile session_from_json(const json& j, const std::string& file) {
     jsonin::fail(file, "/format", "not a shearbench session file");
   const int version = jsonin::integer(jsonin::member(j, "version", file, ""), file, "/version");
   if (version < SessionFile::kOldestReadableVersion || version > SessionFile::kFormatVersion)
-    jsonin::fail(file, "/version", "unsupported session version " + std::to_string(version) + " (this build reads " +
-                                       std::to_string(SessionFile::kOldestReadableVersion) + " to " +
-                                       std::to_string(SessionFile::kFormatVersion) + ")");
+    jsonin::fail(file, "/version",
+                 "unsupported session version " + std::to_string(version) + " (this build reads " +
+                     std::to_string(SessionFile::kOldestReadableVersion) + " to " +
+                     std::to_string(SessionFile::kFormatVersion) + ")");
   if (version < 2 && jsonin::find(j, "residual"))
     jsonin::fail(file, "/residual", "a version 1 session has no residual section");
   SessionFile s;
   const json& open = jsonin::member(j, "open", file, "");
-  jsonin::reject_unknown_keys(open, {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "beside_hydroshear", "indenter_mesh", "indenter_scale", "param_set"},
+  jsonin::reject_unknown_keys(open,
+                              {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "beside_hydroshear",
+                               "indenter_mesh", "indenter_scale", "param_set"},
                               file, "/open");
   s.open.scene_path = optional_string(open, "scene", file, "/open", "");
   s.open.dataset_dir = optional_string(open, "dataset", file, "/open", "");
@@ -123,8 +134,9 @@ SessionFile session_from_json(const json& j, const std::string& file) {
   if (const json* step = jsonin::find(j, "step")) {
     s.step = jsonin::integer(*step, file, "/step");
     if (s.step < -1 || s.step >= static_cast<int>(std::max<std::size_t>(s.path.size(), 1)))
-      jsonin::fail(file, "/step", "step " + std::to_string(s.step) + " is outside the path (" +
-                                      std::to_string(s.path.size()) + " poses)");
+      jsonin::fail(
+          file, "/step",
+          "step " + std::to_string(s.step) + " is outside the path (" + std::to_string(s.path.size()) + " poses)");
   }
   if (const json* d = jsonin::find(j, "display")) {
     jsonin::reject_unknown_keys(*d, {"auto_scale", "arrow_gain", "colour_max_px", "camera"}, file, "/display");
@@ -142,8 +154,10 @@ SessionFile session_from_json(const json& j, const std::string& file) {
   if (const json* r = jsonin::find(j, "residual")) {
     jsonin::reject_unknown_keys(*r, {"file", "residual_fields", "corrected"}, file, "/residual");
     s.residual_file = jsonin::string(jsonin::member(*r, "file", file, "/residual"), file, "/residual/file");
-    if (const json* v = jsonin::find(*r, "residual_fields")) s.residual_fields = jsonin::boolean(*v, file, "/residual/residual_fields");
-    if (const json* v = jsonin::find(*r, "corrected")) s.residual_corrected = jsonin::boolean(*v, file, "/residual/corrected");
+    if (const json* v = jsonin::find(*r, "residual_fields"))
+      s.residual_fields = jsonin::boolean(*v, file, "/residual/residual_fields");
+    if (const json* v = jsonin::find(*r, "corrected"))
+      s.residual_corrected = jsonin::boolean(*v, file, "/residual/corrected");
   }
   return s;
 }
@@ -164,10 +178,11 @@ void require_overwritable_session(const std::string& path) {
   if (!std::filesystem::exists(path, ec)) return;
   if (std::filesystem::is_directory(path, ec))
     throw InputError(path, "is a folder, not a session file: choose a file name such as session.json");
-  if (std::filesystem::file_size(path, ec) == 0 && !ec) return;   // an empty file holds nothing to lose
+  if (std::filesystem::file_size(path, ec) == 0 && !ec) return;  // an empty file holds nothing to lose
   if (!is_session_file(path))
-    throw InputError(path, "exists and is not a shearbench session file (no \"format\": \"shearbench-session\"); "
-                           "not overwritten: choose another session path");
+    throw InputError(path,
+                     "exists and is not a shearbench session file (no \"format\": \"shearbench-session\"); "
+                     "not overwritten: choose another session path");
 }
 
 void save_session_file(const std::string& path, const SessionFile& s) {

@@ -21,19 +21,20 @@ inline constexpr const char* kBesideHydroshearAuto = "auto";
 inline constexpr const char* kBesideHydroshearAutoModel = "hydroshear-contact";
 
 struct SessionSource {
-  std::string scene_path;           // empty: scenes/default.json
-  std::string dataset_dir;          // replay a tsd/1 dataset instead of a scene
-  std::string sample_id;            // empty: the dataset's first sample
-  std::string hydroshear_id = "hydroshear";   // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick, hydroshear-contact
-  std::string fots_id = "fots";     // or fots-reimpl
-  std::string tacsl_id = "tacsl";   // or tacsl-normalized
+  std::string scene_path;   // empty: scenes/default.json
+  std::string dataset_dir;  // replay a tsd/1 dataset instead of a scene
+  std::string sample_id;    // empty: the dataset's first sample
+  std::string hydroshear_id =
+      "hydroshear";                // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick, hydroshear-contact
+  std::string fots_id = "fots";    // or fots-reimpl
+  std::string tacsl_id = "tacsl";  // or tacsl-normalized
   // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form
   // correction with the model it corrects. The first view shows "auto" (above); a session file
   // without the key shows none, as before.
   std::string beside_hydroshear = kBesideHydroshearAuto;
-  std::string indenter_mesh;        // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
-  double indenter_scale = 0.002;    // file units to metres for indenter_mesh
-  std::string param_set;   // the parameter set the models start from (empty: the default for the sensor)
+  std::string indenter_mesh;      // replaces the scene's indenter by this mesh ("data:meshes/cow.obj")
+  double indenter_scale = 0.002;  // file units to metres for indenter_mesh
+  std::string param_set;          // the parameter set the models start from (empty: the default for the sensor)
 };
 
 // The 3D view's camera (millimetres in E, as the view draws): where it is, what it looks at, which way is up.
@@ -56,9 +57,9 @@ struct SessionFile {
   int step = -1;
   // How it is shown.
   bool auto_scale = true;
-  double arrow_gain = 0.0;       // 0: the workbench's default
+  double arrow_gain = 0.0;  // 0: the workbench's default
   double colour_max_px = 0.0;
-  std::optional<CameraView> camera;   // none: the default (iso) view
+  std::optional<CameraView> camera;  // none: the default (iso) view
   // A residual analysis shown in the Residual section (empty: none) and its two switches.
   std::string residual_file;
   bool residual_fields = false;

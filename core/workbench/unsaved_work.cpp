@@ -10,8 +10,10 @@ void UnsavedWork::observe(const std::string& document, double now_s) {
   const std::size_t h = std::hash<std::string>{}(document);
   if (h == current_) return;
   current_ = h;
-  if (h == clean_ || h == autosaved_) dirty_since_s_.reset();
-  else if (!dirty_since_s_) dirty_since_s_ = now_s;   // a continuous drag keeps the first change's time
+  if (h == clean_ || h == autosaved_)
+    dirty_since_s_.reset();
+  else if (!dirty_since_s_)
+    dirty_since_s_ = now_s;  // a continuous drag keeps the first change's time
 }
 
 void UnsavedWork::saved(const std::string& document) {
@@ -39,9 +41,12 @@ namespace {
 std::filesystem::path state_folder() {
   namespace fs = std::filesystem;
   fs::path base;
-  if (const char* x = std::getenv("XDG_STATE_HOME"); x && *x) base = x;
-  else if (const char* h = std::getenv("HOME"); h && *h) base = fs::path(h) / ".local" / "state";
-  else base = fs::current_path();
+  if (const char* x = std::getenv("XDG_STATE_HOME"); x && *x)
+    base = x;
+  else if (const char* h = std::getenv("HOME"); h && *h)
+    base = fs::path(h) / ".local" / "state";
+  else
+    base = fs::current_path();
   return base / "shearbench";
 }
 }  // namespace

@@ -26,10 +26,10 @@ class UnsavedWork {
 
  private:
   double interval_s_;
-  std::size_t clean_ = 0;       // hashes of the documents (0: none yet)
+  std::size_t clean_ = 0;  // hashes of the documents (0: none yet)
   std::size_t current_ = 0;
   std::size_t autosaved_ = 0;
-  std::optional<double> dirty_since_s_;   // when the current unsaved, un-autosaved change began
+  std::optional<double> dirty_since_s_;  // when the current unsaved, un-autosaved change began
 };
 
 // Where the workbench autosaves: $SHEARBENCH_AUTOSAVE, else $XDG_STATE_HOME/shearbench/autosave.json,

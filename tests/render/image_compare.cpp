@@ -59,8 +59,8 @@ int main(int argc, char** argv) {
   }
   const cv::Mat base = cv::imread(baseline, cv::IMREAD_COLOR);
   if (base.size() != act.size()) {
-    std::fprintf(stderr, "image_compare: size %dx%d differs from the baseline's %dx%d\n", act.cols, act.rows,
-                 base.cols, base.rows);
+    std::fprintf(stderr, "image_compare: size %dx%d differs from the baseline's %dx%d\n", act.cols, act.rows, base.cols,
+                 base.rows);
     return 1;
   }
   cv::Mat ga, gb;
@@ -73,7 +73,7 @@ int main(int argc, char** argv) {
   cv::absdiff(base, act, diff);
   diff *= 4;  // small differences made visible
   cv::imwrite(diff_out, diff);
-  std::fprintf(stderr, "image_compare: FAILED: SSIM %.5f < %.3f; actual %s, diff %s\n", ssim, min_ssim,
-               actual.c_str(), diff_out.c_str());
+  std::fprintf(stderr, "image_compare: FAILED: SSIM %.5f < %.3f; actual %s, diff %s\n", ssim, min_ssim, actual.c_str(),
+               diff_out.c_str());
   return 1;
 }
