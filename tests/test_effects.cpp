@@ -64,6 +64,7 @@ class FixedFieldModel final : public ShearModel {
   void set_params(const ParamSet& p) override { params_ = p; }
   void reset() override {}
   void step(const Pose& X_EI, double, FieldOutput* out) override {
+    if (out == nullptr) return;  // no field wanted (ShearModel::step's contract)
     const bool touching = X_EI.translation().z() < kSphereRadius;
     out->disp_px.assign(field_.size(), Vec2::Zero());
     out->marker_in_contact.assign(field_.size(), touching ? 1 : 0);
@@ -447,4 +448,57 @@ TEST_CASE("tilt_pivot: a tilt about a pivot h below the apex moves the indenter 
     m->step(tilted, kDt, &o);
     CHECK((o.disp_px[0] - test_field(9)[0]).norm() < kExact);
   }
+}
+
+TEST_CASE("pin_lever: a pin under a sphere turns with the sphere's face, one outside does not", "[effects]") {
+  // Sphere of radius R = 4 mm pressed 1 mm: centre c = (0, 0, 3 mm). A marker at (1.5, 0, 0) mm is inside it;
+  // the skin there takes the sphere's face, n_new = -(p - c)/|p - c| = (-1.5, 0, 3)/3.3541 (mm), against
+  // n_rest = z. A pin of length L = 1 mm following with g = 1 moves by -L (n_new - z), x: 1.5/3.3541 mm =
+  // 0.44721 mm = 7.0538 px at the default 0.0634 mm/px. A marker at (3, 0, 0) mm is 4.243 mm from c: outside.
+  auto sensor = make_test_sensor({Vec2(0.0015, 0.0), Vec2(0.003, 0.0)});
+  sensor->gel.markers_depth_m = 0.001;
+  const auto sphere = make_test_indenter();
+  auto e = make_effect("pin_lever");
+  REQUIRE(e->acts_on(*sensor));
+  ParamSet p = e->params();
+  p.set("gain", 1.0);
+  e->set_params(p);
+  EffectContext ctx = context_for(sensor.get(), 0.001, true);
+  ctx.indenter = sphere.get();
+  ctx.X_EI = pressed(0.001);
+  std::vector<Vec2> d = {Vec2(0.5, 0.0), Vec2(0.5, 0.0)};
+  e->apply(ctx, d);
+  const double expected_px = 1.5 / std::sqrt(1.5 * 1.5 + 3.0 * 3.0) / 0.0634;
+  CHECK((d[0] - Vec2(0.5 + expected_px, 0.0)).norm() < 1e-9);  // px: the SDF's gradient is exact
+  CHECK((d[1] - Vec2(0.5, 0.0)).norm() == 0.0);
+  sensor->gel.markers_depth_m = 0.0;  // pins on the surface: the identity, and the loop does not try it
+  CHECK_FALSE(e->acts_on(*sensor));
+}
+
+TEST_CASE("EffectModel: steps without a field leave the loading state and the penetration as with one", "[effects]") {
+  // Depths 0.5, 1.0, 1.0 mm then 0.4 mm with a field: unloading from the step before (1.0 mm) whether or not
+  // that step computed its field; last_penetration() after a step without a field is that step's.
+  const auto make = [] {
+    std::vector<std::unique_ptr<Effect>> fx;
+    fx.push_back(std::make_unique<RecordingEffect>());
+    return EffectModel(std::make_unique<FixedFieldModel>(test_field(9)), std::move(fx), make_grid_sensor(),
+                       make_test_indenter());
+  };
+  EffectModel with_fields = make(), sparse = make();
+  const std::vector<double> depths = {0.0005, 0.001, 0.001, 0.0004, 0.0008};
+  FieldOutput a, b;
+  for (std::size_t k = 0; k < depths.size(); ++k) {
+    with_fields.step(pressed(depths[k]), kDt, &a);
+    const bool field = k == 3 || k == 4;
+    sparse.step(pressed(depths[k]), kDt, field ? &b : nullptr);
+    if (k == 2) CHECK(std::abs(sparse.last_penetration().depth_m - 0.001) < kDepthTol);
+  }
+  const auto& all = dynamic_cast<const RecordingEffect&>(with_fields.effect(0)).seen;
+  const auto& some = dynamic_cast<const RecordingEffect&>(sparse.effect(0)).seen;
+  REQUIRE(some.size() == 2);
+  CHECK(!some[0].loading);  // 1.0 -> 0.4 mm
+  CHECK(some[1].loading);   // 0.4 -> 0.8 mm
+  CHECK(some[0].depth_m == all[3].depth_m);
+  CHECK(some[1].time_s == all[4].time_s);
+  CHECK(b.disp_px == a.disp_px);
 }

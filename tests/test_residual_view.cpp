@@ -146,6 +146,29 @@ TEST_CASE("residual summary: the contact-frame tables, none in older reports", "
   CHECK_THAT(load_error(j), Catch::Contains("/residual_before/covariates/1/bins/0/count"));
 }
 
+TEST_CASE("residual summary: the input-response rows, none in older reports or without an analysis",
+          "[residual_view]") {
+  CHECK(load_residual_summary(write_temp("no_ir", residual_json())).input_response.empty());
+  nlohmann::json j = residual_json();
+  j["input_response_before"] = nullptr;  // a split without scored frames
+  CHECK(load_residual_summary(write_temp("null_ir", j)).input_response.empty());
+  j["input_response_before"] = nlohmann::json::parse(R"({"responses": [
+      {"change": "at the reference", "measured_rms_px": 11.0, "model_rms_px": 7.5, "gain": 1.4,
+       "after_gain_rms_px": 2.0},
+      {"change": "travel x +2.9 mm", "measured_rms_px": 5.0, "model_rms_px": 2.25, "gain": 2.2,
+       "after_gain_rms_px": 0.9}], "inputs_only_rmse_px": 2.1, "model_rmse_px": 5.6})");
+  const ResidualSummary s = load_residual_summary(write_temp("ir", j));
+  REQUIRE(s.input_response.size() == 2);
+  CHECK(s.input_response[1].change == "travel x +2.9 mm");
+  CHECK(s.input_response[1].gain == 2.2);
+  CHECK(s.input_response[1].after_gain_rms_px == 0.9);
+  CHECK(s.inputs_only_rmse_px == 2.1);
+  j["input_response_before"]["responses"][1]["gain"] = "two";
+  CHECK_THAT(load_error(j), Catch::Contains("/input_response_before/responses/1/gain"));
+  j["input_response_before"]["responses"] = 3;
+  CHECK_THAT(load_error(j), Catch::Contains("/input_response_before/responses"));
+}
+
 TEST_CASE("residual summary: bad files are InputErrors naming the file and the entry", "[residual_view]") {
   CHECK_THROWS_AS(load_residual_summary("/nonexistent/residual.json"), InputError);
   auto j = residual_json();

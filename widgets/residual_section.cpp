@@ -119,6 +119,34 @@ void ResidualSection::draw_contact_frame_tables(const ResidualSummary& r) {
   ImGui::TreePop();
 }
 
+// How the measured field and the base model respond to one known input at a time (core/loop/input_response.hpp):
+// a gain far from 1 is a magnitude the model misses, a shape error left after the gain a form it lacks.
+void ResidualSection::draw_input_response_table(const ResidualSummary& r) {
+  if (r.input_response.empty() || !ImGui::TreeNodeEx("response to the known inputs", ImGuiTreeNodeFlags_DefaultOpen))
+    return;
+  constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
+                                     ImGuiTableFlags_SizingStretchProp;
+  if (ImGui::BeginTable("##input_response", 5, kFlags)) {
+    ImGui::TableSetupColumn("change", ImGuiTableColumnFlags_WidthStretch, 1.8f);
+    for (const char* c : {"measured", "model", "gain", "shape"})
+      ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
+    ImGui::TableHeadersRow();
+    for (const auto& row : r.input_response) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(row.change.c_str());
+      for (double v : {row.measured_rms_px, row.model_rms_px, row.gain, row.after_gain_rms_px}) {
+        ImGui::TableNextColumn();
+        ImGui::Text("%.2f", v);
+      }
+    }
+    ImGui::EndTable();
+  }
+  ImGui::TextDisabled("RMS px of each change; gain: measured / model; shape: px left after the gain");
+  ImGui::TextDisabled("the inputs alone predict validation to %.2f px", r.inputs_only_rmse_px);
+  ImGui::TreePop();
+}
+
 void ResidualSection::draw(const AppSnapshot& snap, AppState& state, bool have_poses, std::string& message,
                            WorkbenchRequest& req) {
   ImGui::SetNextItemWidth(-60);
@@ -133,6 +161,7 @@ void ResidualSection::draw(const AppSnapshot& snap, AppState& state, bool have_p
   draw_summary(r);
   draw_candidates(r);
   draw_contact_frame_tables(r);
+  draw_input_response_table(r);
   draw_switches(snap, state, have_poses, message);
 }
 

@@ -248,7 +248,13 @@ class StageCost final : public ceres::CostFunction {
       xp[k] = std::min(x[k] + h, map_->hi[k]);
       xm[k] = std::max(x[k] - h, map_->lo[k]);
       const auto run = map_->field_only[k] ? StageEvaluator::Run::FromScored : StageEvaluator::Run::Full;
-      if (!ev_->residuals(xp.data(), rp.data(), nullptr, nullptr, run)) return cancelled();
+      // At a bound the difference is one-sided and its side is the central run itself: no second run of the
+      // same point (HydroShear's mu sits at its upper bound on the TacTip: one whole-split run per Jacobian).
+      if (xp[k] == x[k]) {
+        std::copy(residuals, residuals + n, rp.begin());
+      } else if (!ev_->residuals(xp.data(), rp.data(), nullptr, nullptr, run)) {
+        return cancelled();
+      }
       if (xm[k] == x[k]) {
         std::copy(residuals, residuals + n, rm.begin());
       } else if (!ev_->residuals(xm.data(), rm.data(), nullptr, nullptr, run)) {

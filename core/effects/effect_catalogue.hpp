@@ -16,6 +16,7 @@ std::unique_ptr<Effect> make_load_stiffening();
 std::unique_ptr<Effect> make_tracker_bias();
 std::unique_ptr<Effect> make_camera_misalignment();
 std::unique_ptr<Effect> make_tilt_pivot();
+std::unique_ptr<Effect> make_pin_lever();
 
 // Throws std::invalid_argument when disp_px and the sensor's markers differ in count.
 void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& disp_px, const char* effect_id);

@@ -39,7 +39,7 @@ class PinLever final : public Effect {
       s.gel_sdf->value_and_gradient(p_EM, &n_rest);
       if (n_rest.squaredNorm() == 0.0) continue;
       n_rest.normalize();
-      const Vec3 n_new = -(R_EI * grad_I).normalized();   // the skin faces the indenter's face
+      const Vec3 n_new = -(R_EI * grad_I).normalized();  // the skin faces the indenter's face
       const Vec3 tip = p_EM - L * n_rest;
       disp_px[j] += s.camera.project(tip - g * L * (n_new - n_rest)) - s.camera.project(tip);
     }

@@ -178,6 +178,7 @@ void EffectModel::reset() {
   time_s_ = 0.0;
   previous_depth_m_ = 0.0;
   last_penetration_ = Penetration{};
+  pending_.reset();
   step_index_ = 0;
 }
 
@@ -190,27 +191,21 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   for (const auto& e : effects_) X_EI_seen = e->corrected_pose(X_EI_seen);
   base_->step(X_EI_seen, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
-  // The penetration depends on the pose alone and costs more than the base model for a finely sampled
-  // indenter; fits replay the same pose sequence from reset() hundreds of times, so it is remembered per
-  // step and reused when the pose is bit-identical (the result is then identical too).
-  if (step_index_ < penetration_cache_.size() && penetration_cache_[step_index_].first.matrix() == X_EI_seen.matrix()) {
-    last_penetration_ = penetration_cache_[step_index_].second;
-  } else {
-    last_penetration_ = indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI_seen);
-    if (step_index_ >= penetration_cache_.size()) penetration_cache_.resize(step_index_ + 1);
-    penetration_cache_[step_index_] = {X_EI_seen, last_penetration_};
-  }
-  ++step_index_;
-  if (out == nullptr) {  // no field wanted, none of the effects carries state: only the loading state advances
-    previous_depth_m_ = last_penetration_.depth_m;
+  const std::size_t step = step_index_++;
+  if (out == nullptr) {  // no field wanted, none of the effects carries state: the penetration can wait
+    pending_.emplace(step, X_EI_seen);
     return;
   }
+  if (pending_) previous_depth_m_ = penetration_at(pending_->first, pending_->second).depth_m;
+  pending_.reset();
+  last_penetration_ = penetration_at(step, X_EI_seen);
 
   EffectContext ctx;
   ctx.sensor = sensor_.get();
   ctx.dt_s = dt;
   ctx.time_s = time_s_;
   ctx.X_EI = X_EI_seen;
+  ctx.indenter = indenter_.get();
   ctx.depth_m = last_penetration_.depth_m;
   ctx.contact_centre_E = last_penetration_.centre_E;
   ctx.marker_in_contact = &out->marker_in_contact;
@@ -223,6 +218,26 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   for (auto& e : effects_) e->apply(ctx, out->disp_px);
 }
 
+// The penetration depends on the pose alone and costs more than the base model for a finely sampled
+// indenter (the TacTip's flat surface: 15k points); fits replay the same pose sequence from reset() hundreds of
+// times, so it is remembered per step and reused when the pose is bit-identical (the result is then identical).
+const Penetration& EffectModel::penetration_at(std::size_t step, const Pose& X_EI) const {
+  if (step < penetration_cache_.size() && penetration_cache_[step].first.matrix() == X_EI.matrix())
+    return penetration_cache_[step].second;
+  if (step >= penetration_cache_.size()) penetration_cache_.resize(step + 1);
+  penetration_cache_[step] = {X_EI, indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI)};
+  return penetration_cache_[step].second;
+}
+
+const Penetration& EffectModel::last_penetration() const {
+  if (pending_) {
+    last_penetration_ = penetration_at(pending_->first, pending_->second);
+    previous_depth_m_ = last_penetration_.depth_m;
+    pending_.reset();
+  }
+  return last_penetration_;
+}
+
 std::unique_ptr<ShearModel> EffectModel::clone() const {
   std::vector<std::unique_ptr<Effect>> effects;
   for (const auto& e : effects_) effects.push_back(e->clone());
@@ -230,6 +245,7 @@ std::unique_ptr<ShearModel> EffectModel::clone() const {
   copy->time_s_ = time_s_;
   copy->previous_depth_m_ = previous_depth_m_;
   copy->last_penetration_ = last_penetration_;
+  copy->pending_ = pending_;
   // Not the penetration cache: it only saves time, gives identical results when rebuilt, and grows with the
   // steps taken, so copying it made the workbench's checkpoints (a clone every 16 steps) cost O(path) each.
   copy->step_index_ = step_index_;
@@ -254,6 +270,7 @@ const std::vector<Registered>& registry() {
       {"tracker_bias", effects::make_tracker_bias},
       {"camera_misalignment", effects::make_camera_misalignment},
       {"tilt_pivot", effects::make_tilt_pivot},
+      {"pin_lever", effects::make_pin_lever},
   };
   return r;
 }

@@ -6,6 +6,7 @@
 // "no effect", so a wrapped model at default parameters reproduces its base model exactly. The
 // physics of each effect, its parameters and the attribution rule are in docs/effects.md.
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -43,6 +44,7 @@ struct EffectContext {
   Vec2 contact_centre_E{0.0, 0.0};                               // xy in E (metres)
   bool loading = false;                                          // depth increased this step (else held/unloading)
   const std::vector<std::uint8_t>* marker_in_contact = nullptr;  // the base model's flags; may be empty
+  const Indenter* indenter = nullptr;                            // its shape (phi_I) at X_EI
 };
 
 class Effect {
@@ -63,6 +65,9 @@ class Effect {
   // A pose effect corrects the recorded pose before the base model steps (the robot's real pivot): the
   // pose the base sees, in effect order. The others return X_EI and act on the field only.
   virtual bool acts_on_pose() const { return false; }
+  // False when the effect is the identity on every field of this sensor (pins on the surface for pin_lever):
+  // the loop does not try it there.
+  virtual bool acts_on(const Sensor& /*sensor*/) const { return true; }
   virtual Pose corrected_pose(const Pose& X_EI) const { return X_EI; }
   // Modifies the field in place. disp_px has one entry per sensor marker (std::invalid_argument
   // otherwise, for effects that use marker positions).
@@ -102,7 +107,7 @@ class EffectModel final : public ShearModel {
   const Effect& effect(std::size_t i) const { return *effects_.at(i); }
   std::vector<std::string> effect_ids() const;
   // The context of the last step (for diagnostics and the GUI).
-  const Penetration& last_penetration() const { return last_penetration_; }
+  const Penetration& last_penetration() const;
 
  private:
   void rebuild_param_table();
@@ -113,11 +118,15 @@ class EffectModel final : public ShearModel {
   std::shared_ptr<const Indenter> indenter_;
   ParamSet params_;
   double time_s_ = 0.0;
-  double previous_depth_m_ = 0.0;
-  Penetration last_penetration_;
-  std::size_t step_index_ = 0;                                   // steps since reset()
-  std::vector<std::pair<Pose, Penetration>> penetration_cache_;  // per step index: pose and its penetration
-  FieldOutput scratch_field_;                                    // a stateful effect's field when none is wanted
+  mutable double previous_depth_m_ = 0.0;
+  mutable Penetration last_penetration_;
+  // A step without a field (and no stateful effect) leaves its penetration for later: the next step with a
+  // field needs its depth (the loading state), last_penetration() its whole. Step index and corrected pose.
+  mutable std::optional<std::pair<std::size_t, Pose>> pending_;
+  const Penetration& penetration_at(std::size_t step, const Pose& X_EI) const;
+  std::size_t step_index_ = 0;                                           // steps since reset()
+  mutable std::vector<std::pair<Pose, Penetration>> penetration_cache_;  // per step index: pose and its penetration
+  FieldOutput scratch_field_;  // a stateful effect's field when none is wanted
 };
 
 // True when one of `effect_ids` corrects the pose (Effect::acts_on_pose): the base must run under it, a

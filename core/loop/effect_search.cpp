@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <utility>
 
 #include "core/base/elapsed.hpp"
 #include "core/base/format.hpp"
@@ -145,7 +146,7 @@ std::vector<std::string> EffectSearch::hold_fingerprint(const std::string& candi
                                                         ParamSet* start) {
   std::vector<std::string> held;
   for (const auto& [name, value] : fp.held) {
-    const std::string full = candidate + kEffectParamSeparator + name;
+    const std::string full = (candidate + kEffectParamSeparator).append(name);
     const ParamSpec& sp = start->specs()[static_cast<std::size_t>(start->index_of(full))];
     start->set(full, std::clamp(value, sp.min, sp.max));
     held.push_back(full);
@@ -212,7 +213,7 @@ EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const s
   const std::string model = ModelSpec{form_, ids}.id();
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
   const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
-    return make_spec_model(model, in_.sensor, ind);
+    return make_spec_model(model, in_.sensor, std::move(ind));
   };
   const CalibrationResult r = run_fit_stages(model, make, stage, in_.calibration, from, fo_);
   throw_if_cancelled(r, o_.progress);
@@ -237,7 +238,7 @@ FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
   if (auto it = fits_.find(key); it != fits_.end()) return it->second.fit;
   const auto t0 = std::chrono::steady_clock::now();
   Start start = start_of(ids);
-  const std::string candidate = ids.back();
+  const std::string& candidate = ids.back();
   // The candidate's fingerprint, against the reference (the warm start's model). Found: its parameters are
   // held at the estimate (evidence beyond model form), or fitted as without a fingerprint and checked against
   // its band (evidence model form can mimic: it may add a verdict, never lift one). Not found: fitted alone.

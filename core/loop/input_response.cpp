@@ -219,6 +219,7 @@ InputResponseAnalysis analyse_input_response(const std::vector<ScoredInputFrame>
   std::array<double, kPoseInputCount> ref{}, step{};
   for (int i = 0; i < kPoseInputCount; ++i) {
     std::vector<double> v;
+    v.reserve(x.size());
     for (const auto& xi : x) v.push_back(as_array(xi)[i]);
     const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
     double sum = 0, sq = 0;

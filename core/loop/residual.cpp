@@ -1,6 +1,7 @@
 // The residual loop's pipeline (residual.hpp): fit_base, model_form_round, effect_rounds, final_fit, score.
 #include "core/loop/residual.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -41,10 +42,15 @@ bool any_tilt(const ResidualInputs& in) {
   return false;
 }
 
-// Every catalogued effect that can change this data's model (the caller's list when it gives one).
+// Every catalogued effect that can change this data's model: not one that is the identity on this sensor
+// (Effect::acts_on) or a pose effect on a set without tilt (the caller's list when it gives one).
 std::vector<std::string> default_candidates(const ResidualInputs& in) {
   std::vector<std::string> out = effect_ids();
-  if (!any_tilt(in)) std::erase_if(out, [](const std::string& id) { return any_acts_on_pose({id}); });
+  const bool tilted = any_tilt(in);
+  std::erase_if(out, [&](const std::string& id) {
+    const auto e = make_effect(id);
+    return !e->acts_on(*in.sensor) || (e->acts_on_pose() && !tilted);
+  });
   return out;
 }
 
@@ -122,8 +128,9 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
   if (!sc.accepted || sc.rmse_px >= best_rmse_px) return round;
   round.held = hold;
   round.joint_rmse_px = best_rmse_px;
-  for (auto& c : round.scores)
-    if (c.candidate == round.selected) c = std::move(sc);
+  const auto it = std::find_if(round.scores.begin(), round.scores.end(),
+                               [&](const auto& c) { return c.candidate == round.selected; });
+  if (it != round.scores.end()) *it = std::move(sc);  // one score per variant: moved once
   round.fits[round.selected] = std::move(ef);
   return round;
 }

@@ -79,6 +79,25 @@ ResidualCandidateView read_candidate(const nlohmann::json& c, const std::string&
 namespace {
 
 // The contact-frame tables of "residual_before" (reports written before they existed have none).
+// The base model's input-response rows; none when the report has no analysis (older, or a split without frames).
+void read_input_response(const nlohmann::json& j, const std::string& path, ResidualSummary* s) {
+  const auto* a = jsonin::find(j, "input_response_before");
+  if (a == nullptr || a->is_null()) return;
+  const nlohmann::json& rows = jsonin::member(*a, "responses", path, "/input_response_before");
+  if (!rows.is_array()) jsonin::fail(path, "/input_response_before/responses", "expected an array");
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const std::string ptr = jsonin::child("/input_response_before/responses", i);
+    const auto num = [&](const char* key) {
+      return jsonin::finite_number(jsonin::member(rows[i], key, path, ptr), path, ptr + "/" + key);
+    };
+    s->input_response.push_back({jsonin::string(jsonin::member(rows[i], "change", path, ptr), path, ptr + "/change"),
+                                 num("measured_rms_px"), num("model_rms_px"), num("gain"), num("after_gain_rms_px")});
+  }
+  s->inputs_only_rmse_px =
+      jsonin::finite_number(jsonin::member(*a, "inputs_only_rmse_px", path, "/input_response_before"), path,
+                            "/input_response_before/inputs_only_rmse_px");
+}
+
 std::vector<ContactFrameTableView> read_contact_frame(const nlohmann::json& j, const std::string& path) {
   std::vector<ContactFrameTableView> out;
   const auto* before = jsonin::find(j, "residual_before");
@@ -168,6 +187,7 @@ ResidualSummary load_residual_summary(const std::string& path) {
     jsonin::fail(path, "/after/params", e.what());
   }
   s.contact_frame = read_contact_frame(j, path);
+  read_input_response(j, path, &s);
   return s;
 }
 

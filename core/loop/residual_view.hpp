@@ -36,6 +36,13 @@ struct ContactFrameTableView {
   std::vector<double> rms_px, mean_radial_px, mean_along_px;
 };
 
+// One row of the input-response table (core/loop/input_response.hpp): how the measured field and the base
+// model change when one known input changes (the first row: the fields at the reference inputs).
+struct InputResponseRowView {
+  std::string change;
+  double measured_rms_px = 0, model_rms_px = 0, gain = 0, after_gain_rms_px = 0;
+};
+
 struct ResidualSummary {
   std::string file;  // the JSON it came from
   std::string dataset;
@@ -51,6 +58,8 @@ struct ResidualSummary {
   nlohmann::json before_params;                   // the base model fitted alone (or as given)
   nlohmann::json after_params;                    // the corrected model's whole parameter table
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
+  std::vector<InputResponseRowView> input_response;  // the base model's responses (empty: older reports, or none)
+  double inputs_only_rmse_px = 0;                    // what the inputs alone predict on validation (with the above)
 };
 
 // Reads the residual JSON. Throws InputError naming the file and the JSON pointer of a missing or bad
