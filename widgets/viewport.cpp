@@ -511,6 +511,38 @@ void Viewport3D::set_scene(const Sensor& sensor, const Indenter& indenter) {
   s.dirty = true;
 }
 
+namespace {
+
+// The model's tracked points coloured by state, their anchors, and a line from each anchor to its point.
+void show_tracked_points(const FieldOutput* out, PointCloud& tracked, PointCloud& anchors, vtkPolyData* links) {
+  tracked.clear();
+  anchors.clear();
+  vtkNew<vtkPoints> link_pts;
+  vtkNew<vtkCellArray> link_lines;
+  if (out != nullptr) {
+    for (std::size_t i = 0; i < out->p_EP.size(); ++i) {
+      const PointState st = i < out->point_state.size() ? out->point_state[i] : PointState::Free;
+      const auto& rgb = st == PointState::Stick ? kStickRgb : st == PointState::Slip ? kSlipRgb : kFreeRgb;
+      tracked.add(out->p_EP[i] * kMmPerM, rgb);
+      if (st != PointState::Free && i < out->anchor_EP.size()) {
+        anchors.add(out->anchor_EP[i] * kMmPerM, kAnchorRgb);
+        const Vec3 a = out->anchor_EP[i] * kMmPerM, b = out->p_EP[i] * kMmPerM;
+        const vtkIdType ia = link_pts->InsertNextPoint(a.data());
+        const vtkIdType ib = link_pts->InsertNextPoint(b.data());
+        const vtkIdType ids[2] = {ia, ib};
+        link_lines->InsertNextCell(2, ids);
+      }
+    }
+  }
+  tracked.commit();
+  anchors.commit();
+  links->SetPoints(link_pts);
+  links->SetLines(link_lines);
+  links->Modified();
+}
+
+}  // namespace
+
 void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_max_px) {
   Impl& s = *impl_;
   if (s.sensor == nullptr) return;
@@ -587,31 +619,7 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
   }
   s.markers.commit();
 
-  // Tracked points and their anchors.
-  s.tracked.clear();
-  s.anchors.clear();
-  vtkNew<vtkPoints> link_pts;
-  vtkNew<vtkCellArray> link_lines;
-  if (out != nullptr) {
-    for (std::size_t i = 0; i < out->p_EP.size(); ++i) {
-      const PointState st = i < out->point_state.size() ? out->point_state[i] : PointState::Free;
-      const auto& rgb = st == PointState::Stick ? kStickRgb : st == PointState::Slip ? kSlipRgb : kFreeRgb;
-      s.tracked.add(out->p_EP[i] * kMmPerM, rgb);
-      if (st != PointState::Free && i < out->anchor_EP.size()) {
-        s.anchors.add(out->anchor_EP[i] * kMmPerM, kAnchorRgb);
-        const Vec3 a = out->anchor_EP[i] * kMmPerM, b = out->p_EP[i] * kMmPerM;
-        const vtkIdType ia = link_pts->InsertNextPoint(a.data());
-        const vtkIdType ib = link_pts->InsertNextPoint(b.data());
-        const vtkIdType ids[2] = {ia, ib};
-        link_lines->InsertNextCell(2, ids);
-      }
-    }
-  }
-  s.tracked.commit();
-  s.anchors.commit();
-  s.links->SetPoints(link_pts);
-  s.links->SetLines(link_lines);
-  s.links->Modified();
+  show_tracked_points(out, s.tracked, s.anchors, s.links);
 }
 
 void Viewport3D::set_camera(CameraPreset preset) {
@@ -680,9 +688,11 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   s.render(low ? static_cast<int>(w * kMotionScale) : w, low ? static_cast<int>(h * kMotionScale) : h);
 
   const ImVec2 origin = ImGui::GetCursorScreenPos();
-  // VTK's texture rows start at the bottom: flip V.
-  ImGui::Image(reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(s.texture)), ImVec2(float(w), float(h)),
-               ImVec2(0, 1), ImVec2(1, 0));
+  // VTK's texture rows start at the bottom: flip V. ImGui's texture handle is a void* that carries the GL
+  // texture's name, so the integer-to-pointer cast is the API's, not an optimisation to lose.
+  const auto texture_id =
+      reinterpret_cast<ImTextureID>(static_cast<std::uintptr_t>(s.texture));  // NOLINT(performance-no-int-to-ptr)
+  ImGui::Image(texture_id, ImVec2(float(w), float(h)), ImVec2(0, 1), ImVec2(1, 0));
   if (!interactive) return std::nullopt;
 
   ImGuiIO& io = ImGui::GetIO();

@@ -181,6 +181,27 @@ ceres::Solver::Options pin_fit_solver_options() {
 }
 }  // namespace
 
+namespace {
+
+// The fitted model's pins against the detected ones: sets fit->rms_px and fit->max_px, returns the squared sum.
+double score_fitted_pins(const std::vector<Vec2>& pins_px, double dome_radius_m, double pin_depth_m,
+                         TactipGeometryFit* fit) {
+  double sse = 0;
+  for (std::size_t j = 0; j < pins_px.size(); ++j) {
+    const TactipPinSite& site = fit->rings.sites[j];
+    if (site.ring < 0) continue;
+    const Vec2 model_px =
+        tactip_pin_px(fit->camera, dome_radius_m, pin_depth_m, fit->ring_pitch_rad, fit->azimuth_rad, site);
+    const double e = (model_px - pins_px[j]).norm();
+    sse += e * e;
+    fit->max_px = std::max(fit->max_px, e);
+  }
+  fit->rms_px = std::sqrt(sse / fit->pins_used);
+  return sse;
+}
+
+}  // namespace
+
 TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const TactipGeometryFitOptions& options,
                                       const std::string& where) {
   const Camera& c0 = options.initial;
@@ -235,17 +256,7 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
   fit.camera.k1 = x[kK1];
   fit.azimuth_rad = x[kPhi0];
   fit.ring_pitch_rad = x[kTheta];
-  double sse = 0;
-  for (std::size_t j = 0; j < pins_px.size(); ++j) {
-    const TactipPinSite& site = fit.rings.sites[j];
-    if (site.ring < 0) continue;
-    const double e =
-        (tactip_pin_px(fit.camera, R, options.pin_depth_m, fit.ring_pitch_rad, fit.azimuth_rad, site) - pins_px[j])
-            .norm();
-    sse += e * e;
-    fit.max_px = std::max(fit.max_px, e);
-  }
-  fit.rms_px = std::sqrt(sse / fit.pins_used);
+  const double sse = score_fitted_pins(pins_px, R, options.pin_depth_m, &fit);
 
   // Covariance of the free parameters: (J^T J)^-1 times the residual variance, J the Jacobian at the optimum
   // with its columns scaled to unit norm for the rank test (f in px and D in metres differ by 1e4).
