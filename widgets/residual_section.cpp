@@ -127,7 +127,7 @@ void ResidualSection::draw_input_response_table(const ResidualSummary& r) {
   constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
                                      ImGuiTableFlags_SizingStretchProp;
   if (ImGui::BeginTable("##input_response", 5, kFlags)) {
-    ImGui::TableSetupColumn("change", ImGuiTableColumnFlags_WidthStretch, 1.8f);
+    ImGui::TableSetupColumn("change", ImGuiTableColumnFlags_WidthStretch, 2.4f);
     for (const char* c : {"measured", "model", "gain", "shape"})
       ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
     ImGui::TableHeadersRow();
@@ -142,7 +142,8 @@ void ResidualSection::draw_input_response_table(const ResidualSummary& r) {
     }
     ImGui::EndTable();
   }
-  ImGui::TextDisabled("RMS px of each change; gain: measured / model; shape: px left after the gain");
+  ImGui::TextDisabled("px RMS; gain = measured / model;");
+  ImGui::TextDisabled("shape = px left after the gain");
   ImGui::TextDisabled("the inputs alone predict validation to %.2f px", r.inputs_only_rmse_px);
   ImGui::TreePop();
 }
