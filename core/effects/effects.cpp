@@ -122,6 +122,8 @@ ParamSet combined_param_table(const ParamSet& base, const std::vector<const Effe
 ParamSet combined_param_table(const ParamSet& base, const std::vector<std::string>& effect_ids) {
   std::vector<std::unique_ptr<Effect>> owned;
   std::vector<const Effect*> effects;
+  owned.reserve(effect_ids.size());
+  effects.reserve(effect_ids.size());
   for (const auto& id : effect_ids) effects.push_back(owned.emplace_back(make_effect(id)).get());
   return combined_param_table(base, effects);
 }
@@ -302,6 +304,7 @@ std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base,
                                                std::shared_ptr<const Sensor> sensor,
                                                std::shared_ptr<const Indenter> indenter) {
   std::vector<std::unique_ptr<Effect>> effects;
+  effects.reserve(ids.size());
   for (const auto& id : ids) effects.push_back(make_effect(id));
   return std::make_unique<EffectModel>(std::move(base), std::move(effects), std::move(sensor), std::move(indenter));
 }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <numeric>
 #include <set>
@@ -738,7 +739,8 @@ void HydroShearBatch::add_shear_term(const ShearTerm& term, Scratch& sc) const {
   k.max_total_exponent = fact ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
   k.shift_x = sc.shift_x, k.shift_y = sc.shift_y;
   double* lead = sc.args.data();
-  kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + 2 * mp, sc.fast.data());
+  kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + std::ptrdiff_t{2} * mp,
+                          sc.fast.data());
   // Local pointers: the loops below then vectorise, and the slow path's calls do not reload them.
   double* wvx = sc.wvx.data();
   double* wvy = sc.wvy.data();
@@ -888,8 +890,8 @@ void HydroShearBatch::shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp)
   sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
   sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
   const double* e = sc.args.data();
-  kernels::shear_matrices(e, e + mp, e + 2 * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows, cols,
-                          term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data(),
+  kernels::shear_matrices(e, e + mp, e + std::ptrdiff_t{2} * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows,
+                          cols, term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data(),
                           term.with_weights ? sc.ww.data() : nullptr);
   kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
   const int nm = rows * cols;
