@@ -1,5 +1,6 @@
 // How the measured and a model's fields respond to the known inputs (input_response.hpp).
 #include "core/loop/input_response.hpp"
+#include "core/base/median.hpp"
 
 #include <tbb/parallel_for.h>
 
@@ -98,11 +99,6 @@ std::vector<Vec2> minus(const std::vector<Vec2>& a, const std::vector<Vec2>& b) 
   std::vector<Vec2> out(a.size());
   for (std::size_t m = 0; m < a.size(); ++m) out[m] = a[m] - b[m];
   return out;
-}
-
-double median(std::vector<double> v) {
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
 }
 
 // "depth +1.2 mm", "tilt x +9.6 deg", "travel y +2.1 mm", "twist +2.9 deg".

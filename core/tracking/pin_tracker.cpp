@@ -1,4 +1,5 @@
 #include "core/tracking/pin_tracker.hpp"
+#include "core/base/median.hpp"
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -17,15 +18,6 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNeighbourRadius = 1.6;  // pitches: the first ring of a hexagonal lattice
-
-double median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const std::size_t n = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + n, v.end());
-  if (v.size() % 2) return v[n];
-  const double hi = v[n];
-  return 0.5 * (*std::max_element(v.begin(), v.begin() + n) + hi);
-}
 
 Vec2 median2(const std::vector<Vec2>& v) {
   std::vector<double> x, y;

@@ -1,4 +1,5 @@
 #include "core/tracking/tracker.hpp"
+#include "core/base/median.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -64,15 +65,6 @@ constexpr double kRestMatchPitch = 0.3;
 constexpr double kRowGapPitch = 0.5;
 
 bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
-
-double median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + mid, v.end());
-  if (v.size() % 2) return v[mid];
-  const double hi = v[mid];
-  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + mid));
-}
 
 // Brightness = per-pixel max over the colour channels; red overlay pixels filled from their surroundings.
 cv::Mat brightness(const cv::Mat& frame, const TrackerOptions& options) {
