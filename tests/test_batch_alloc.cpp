@@ -19,15 +19,16 @@
 #include "core/sensor/sensor.hpp"
 #include "tests/asan_detect.hpp"
 
+// Everything up to the test cases counts allocations: none of it exists under AddressSanitizer, which
+// supplies its own operator new (the release pass runs these tests; the sanitizer pass skips them).
+#ifndef SB_TEST_ASAN
 namespace {
 std::atomic<bool> g_counting{false};
 std::atomic<long> g_allocations{0};
 std::atomic<long> g_bytes{0};
 }  // namespace
 
-// The replacement allocator counts while g_counting is set. Not under AddressSanitizer, which
-// supplies its own operator new (the release pass runs this test; the sanitizer pass skips it).
-#ifndef SB_TEST_ASAN
+// The replacement allocator counts while g_counting is set.
 void* operator new(std::size_t n) {
   if (g_counting.load(std::memory_order_relaxed)) {
     g_allocations.fetch_add(1, std::memory_order_relaxed);
@@ -55,7 +56,6 @@ void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-#endif
 
 namespace {
 
@@ -117,6 +117,7 @@ long clone_bytes_of(const ShearModel& model) {
 }
 
 }  // namespace
+#endif  // SB_TEST_ASAN
 
 TEST_CASE("the batched models allocate nothing per step once warm", "[models][alloc]") {
 #ifdef SB_TEST_ASAN
