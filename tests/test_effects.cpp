@@ -502,3 +502,78 @@ TEST_CASE("EffectModel: steps without a field leave the loading state and the pe
   CHECK(some[1].time_s == all[4].time_s);
   CHECK(b.disp_px == a.disp_px);
 }
+
+TEST_CASE("dome_sway: the slide in contact, clipped at the stick length, shifts every pin of a flat gel alike",
+          "[effects]") {
+  // Flat pad: every pin has polar angle 0 (w = 1) and the contact normal is z (no tilt load). With c = 0.1 mm,
+  // mu = 0.5, q = 2 at 1 mm depth (load 1): u = c mu s, s = travel / t0 with |travel| <= t0 = 0.3 mm.
+  //   slid 0.1 mm: u = 0.1 * 0.5 * (0.1 / 0.3) mm = 0.0166667 mm = 0.262881 px at 0.0634 mm/px;
+  //   slid 0.5 mm: clipped, u = 0.05 mm = 0.788644 px. Lifted out of contact and pressed again: no slide, no shift.
+  const auto sensor = make_grid_sensor();
+  auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"dome_sway"}, sensor,
+                             make_test_indenter());
+  ParamSet p = m->params();
+  p.set("dome_sway.compliance_m", 1e-4);
+  p.set("dome_sway.friction", 0.5);
+  m->set_params(p);
+  constexpr double kPxPerM = 1.0 / 0.0634e-3;
+  FieldOutput o;
+  const auto shift_after = [&](const Pose& X_EI) {
+    m->step(X_EI, kDt, &o);
+    return Vec2(o.disp_px[4] - test_field(9)[4]);
+  };
+  CHECK(shift_after(pressed(0.001)).norm() < kExact);
+  CHECK((shift_after(pressed(0.001, 0.0001)) - Vec2(0.0166667e-3 * kPxPerM, 0.0)).norm() < 1e-4);
+  m->step(pressed(0.001, 0.0003), kDt, nullptr);  // a step without a field still counts the slide
+  CHECK((shift_after(pressed(0.001, 0.0005)) - Vec2(0.05e-3 * kPxPerM, 0.0)).norm() < 1e-9);
+  CHECK((o.disp_px[0] - test_field(9)[0] - Vec2(0.05e-3 * kPxPerM, 0.0)).norm() < 1e-9);  // all pins alike
+  m->step(pressed(-0.001, 0.0005), kDt, nullptr);  // lifted: the slide starts again at the next contact
+  CHECK(shift_after(pressed(0.001, 0.0005)).norm() < kExact);
+  SECTION("a clone carries the slide") {
+    m->step(pressed(0.001, 0.0007), kDt, &o);
+    auto copy = m->clone();
+    FieldOutput oc;
+    m->step(pressed(0.001, 0.0008), kDt, &o);
+    copy->step(pressed(0.001, 0.0008), kDt, &oc);
+    CHECK(oc.disp_px == o.disp_px);
+  }
+}
+
+TEST_CASE("dome_sway: a normal load off the apex of a dome pushes the tip away, the pins by cos(pi/2 theta/90 deg)",
+          "[effects]") {
+  // Hemisphere R = 20 mm (rim at 90 deg). The contact centre at xy = (10, 0) mm projects onto the sphere along
+  // (10, 0, 20)/22.3607: n_xy = (1/sqrt 5, 0). At depth 2 mm with q = 2 the load is 4, so with c = 0.1 mm and no
+  // slide the apex shift is u = -0.4/sqrt(5) mm = -0.178885 mm = -2.821532 px (orthographic, 0.0634 mm/px); a pin
+  // at polar angle 45 deg moves by cos(pi/4) of it, -1.995108 px. Nothing along y.
+  constexpr double R = 0.02, kPxPerM = 1.0 / 0.0634e-3;
+  auto s = std::make_shared<Sensor>();
+  s->gel.surface = "spherical_cap";
+  s->gel.radius_m = R;
+  s->gel.footprint_radius_m = R;
+  s->gel.thickness_m = 0.025;
+  s->gel_sdf = make_spherical_cap_sdf(R, R, 0.025);
+  const double q = R * std::sqrt(0.5);
+  s->p_EM = {Vec3(0, 0, 0), Vec3(q, 0, q - R)};
+  for (const Vec3& p : s->p_EM) s->markers_rest_px.push_back(s->camera.px_from_E(p.head<2>()));
+  auto e = make_effect("dome_sway");
+  ParamSet p = e->params();
+  p.set("compliance_m", 1e-4);
+  e->set_params(p);
+  EffectContext ctx = context_for(s.get(), 0.002, true);
+  ctx.contact_centre_E = Vec2(0.01, 0.0);
+  std::vector<Vec2> d(2, Vec2::Zero());
+  e->apply(ctx, d);
+  const double apex_px = -0.4e-3 / std::sqrt(5.0) * kPxPerM;
+  // The normals are central differences of the SDF with h = 10 um: relative error ~ (h / R)^2 = 2.5e-7, i.e.
+  // 7e-7 px of 2.8 px.
+  constexpr double kFdNormalTolPx = 2e-6;
+  CHECK((d[0] - Vec2(apex_px, 0.0)).norm() < kFdNormalTolPx);
+  CHECK((d[1] - Vec2(std::cos(std::numbers::pi / 4) * apex_px, 0.0)).norm() < kFdNormalTolPx);
+  SECTION("no compliance, no contact: the identity") {
+    std::vector<Vec2> z(2, Vec2(1.0, 2.0));
+    p.set("compliance_m", 0.0);
+    e->set_params(p);
+    e->apply(ctx, z);
+    CHECK(z == std::vector<Vec2>(2, Vec2(1.0, 2.0)));
+  }
+}

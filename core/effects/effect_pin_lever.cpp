@@ -35,10 +35,8 @@ class PinLever final : public Effect {
       const Vec3& p_EM = s.p_EM[j];
       Vec3 grad_I;
       if (ctx.indenter->sdf->value_and_gradient(X_IE * p_EM, &grad_I) >= 0.0 || grad_I.squaredNorm() == 0.0) continue;
-      Vec3 n_rest;
-      s.gel_sdf->value_and_gradient(p_EM, &n_rest);
+      const Vec3 n_rest = gel_normal_at(*s.gel_sdf, p_EM);
       if (n_rest.squaredNorm() == 0.0) continue;
-      n_rest.normalize();
       const Vec3 n_new = -(R_EI * grad_I).normalized();  // the skin faces the indenter's face
       const Vec3 tip = p_EM - L * n_rest;
       disp_px[j] += s.camera.project(tip - g * L * (n_new - n_rest)) - s.camera.project(tip);

@@ -32,6 +32,18 @@ void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& dis
     throw std::invalid_argument(std::string(effect_id) + ": field has " + std::to_string(disp_px.size()) +
                                 " markers, the sensor " + std::to_string(ctx.sensor->markers_rest_px.size()));
 }
+
+// Central differences of the distance, not value_and_gradient: on the surface itself an analytic SDF's nearest
+// point is the point, and the direction of a zero-length difference is rounding noise (the spherical cap's).
+Vec3 gel_normal_at(const Sdf& gel_sdf_E, const Vec3& p_E) {
+  constexpr double h = 1e-5;  // m: well inside the smallest feature of a gel (a 0.1 mm grid cell), above rounding
+  Vec3 g;
+  for (int i = 0; i < 3; ++i) {
+    const Vec3 dp = h * Vec3::Unit(i);
+    g[i] = gel_sdf_E.value(p_E + dp) - gel_sdf_E.value(p_E - dp);
+  }
+  return g.squaredNorm() == 0.0 ? Vec3::Zero() : Vec3(g.normalized());
+}
 }  // namespace effects
 
 // ---------------------------------------------------------------------------------------- depth
@@ -194,6 +206,8 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   base_->step(X_EI_seen, dt, out);  // throws on a non-finite pose before any state here changes
   time_s_ += dt;
   const std::size_t step = step_index_++;
+  for (auto& e : effects_)
+    if (e->observes_steps()) e->observe_step(X_EI_seen, penetration_at(step, X_EI_seen));
   if (out == nullptr) {  // no field wanted, none of the effects carries state: the penetration can wait
     pending_.emplace(step, X_EI_seen);
     return;
@@ -273,6 +287,7 @@ const std::vector<Registered>& registry() {
       {"camera_misalignment", effects::make_camera_misalignment},
       {"tilt_pivot", effects::make_tilt_pivot},
       {"pin_lever", effects::make_pin_lever},
+      {"dome_sway", effects::make_dome_sway},
   };
   return r;
 }

@@ -69,6 +69,11 @@ class Effect {
   // the loop does not try it there.
   virtual bool acts_on(const Sensor& /*sensor*/) const { return true; }
   virtual Pose corrected_pose(const Pose& X_EI) const { return X_EI; }
+  // True for an effect that follows the path between fields (dome_sway's slide): it is shown every step's pose
+  // (as the base saw it) and penetration, before apply() and also at steps that want no field. Cheaper than
+  // stateful(): the base computes no field for it.
+  virtual bool observes_steps() const { return false; }
+  virtual void observe_step(const Pose& /*X_EI*/, const Penetration& /*penetration*/) {}
   // Modifies the field in place. disp_px has one entry per sensor marker (std::invalid_argument
   // otherwise, for effects that use marker positions).
   virtual void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) = 0;

@@ -1,0 +1,98 @@
+// dome_sway: a lateral load on a soft dome bends the whole tip: every pin moves with it, most at the apex.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "core/effects/effect_catalogue.hpp"
+
+namespace sb::effects {
+namespace {
+
+constexpr double kReferenceDepthM = 0.001;  // the load's unit: the normal load at 1 mm of penetration
+
+// The unit normal of the gel's surface nearest to p_E: p_E moved onto the zero level set along the normal there
+// (one step: exact for the analytic sphere and pad, close for a grid SDF).
+Vec3 surface_normal_near(const Sdf& gel_sdf_E, const Vec3& p_E) {
+  const Vec3 n = gel_normal_at(gel_sdf_E, p_E);
+  return gel_normal_at(gel_sdf_E, p_E - gel_sdf_E.value(p_E) * n);
+}
+
+// Polar angle from the apex (about +z_E) at which the skin is clamped: a spherical cap's footprint rim; a flat or
+// mesh gel is treated as clamped at 90 degrees (on a flat gel every pin has polar angle 0: a uniform shift).
+double rim_polar_rad(const GelSpec& gel) {
+  if (gel.surface == "spherical_cap" && gel.radius_m > 0)
+    return std::asin(std::min(1.0, gel.footprint_radius_m / gel.radius_m));
+  return 0.5 * std::numbers::pi;
+}
+
+class DomeSway final : public Effect {
+ public:
+  // Ranges: the apex shift per unit load from none to 2 mm (the whole 4-5 mm deep TacTip press moves the field by
+  // ~1 mm); an effective sliding friction up to 3 (silicone on a rough plate); the load's growth with depth
+  // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm.
+  DomeSway()
+      : Effect({{"compliance_m", "m", 0.0, 0.0, 0.002,
+                 "apex pin's lateral shift per unit lateral load (the load at 1 mm depth, along the slide or the tilt)"},
+                {"friction", "", 1.0, 0.0, 3.0, "sliding friction: the lateral load per unit normal load along the slide"},
+                {"load_exponent", "", 2.0, 0.5, 3.0,
+                 "normal load ~ depth^q (hydroelastic pressure on a dome: 2; Hertz: 1.5)"},
+                {"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"}}) {}
+
+  std::string id() const override { return "dome_sway"; }
+  std::string physics() const override {
+    return "A soft dome clamped at its rim bends as a whole under a lateral load, so every pin shifts with the "
+           "tip, most at the apex and none at the clamp: u(pin) = w(theta) c (delta / 1 mm)^q (mu s - n_xy), "
+           "w = cos(pi/2 theta / theta_rim), theta the pin's polar angle. The normal load ~ delta^q pushes along the "
+           "skin's normal at the contact (its lateral part -n_xy: a tilted flat on a dome); sliding friction adds "
+           "mu times it along the slide s (|s| <= 1: the travel in contact over the stick length, clipped as the "
+           "contact slips). Kernel models of a half-space (HydroShear, FOTS, TacSL) have no such global mode.";
+  }
+  bool observes_steps() const override { return true; }
+  void reset() override {
+    travel_E_ = Vec2::Zero();
+    last_xy_E_.reset();
+  }
+
+  // The slide s: the indenter's travel in contact, the anchor dragged along once it exceeds the stick length.
+  void observe_step(const Pose& X_EI, const Penetration& penetration) override {
+    const Vec2 xy = X_EI.translation().head<2>();
+    if (!penetration.penetrating) {
+      reset();
+      return;
+    }
+    if (last_xy_E_) travel_E_ += xy - *last_xy_E_;
+    last_xy_E_ = xy;
+    const double t0 = params_.get("stick_travel_m");
+    if (travel_E_.norm() > t0) travel_E_ *= t0 / travel_E_.norm();
+  }
+
+  void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
+    const double c = params_.get("compliance_m");
+    if (c == 0.0 || !ctx.in_contact || ctx.depth_m <= 0.0) return;
+    require_marker_count(ctx, disp_px, "dome_sway");
+    const Sensor& s = *ctx.sensor;
+    const Vec3 n_contact = surface_normal_near(*s.gel_sdf, Vec3(ctx.contact_centre_E.x(), ctx.contact_centre_E.y(), 0));
+    const Vec2 slide = travel_E_ / params_.get("stick_travel_m");
+    const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, params_.get("load_exponent")) *
+                      (params_.get("friction") * slide - n_contact.head<2>());
+    const Vec3 u_apex(c * load.x(), c * load.y(), 0.0);
+    const double rim = rim_polar_rad(s.gel);
+    for (std::size_t j = 0; j < disp_px.size(); ++j) {
+      const Vec3 n_rest = surface_normal_near(*s.gel_sdf, s.p_EM[j]);
+      const double theta = std::acos(std::clamp(n_rest.z(), -1.0, 1.0));
+      const double w = std::cos(0.5 * std::numbers::pi * std::min(1.0, theta / rim));
+      const Vec3 tip = s.p_EM[j] - s.gel.markers_depth_m * n_rest;
+      disp_px[j] += s.camera.project(tip + w * u_apex) - s.camera.project(tip);
+    }
+  }
+  std::unique_ptr<Effect> clone() const override { return std::make_unique<DomeSway>(*this); }
+
+ private:
+  Vec2 travel_E_ = Vec2::Zero();     // the slide in contact, |travel| <= stick length
+  std::optional<Vec2> last_xy_E_;    // the indenter's xy at the last step in contact
+};
+
+}  // namespace
+std::unique_ptr<Effect> make_dome_sway() { return std::make_unique<DomeSway>(); }
+}  // namespace sb::effects
