@@ -510,8 +510,8 @@ TEST_CASE("dome_sway: the slide in contact, clipped at the stick length, shifts 
   //   slid 0.1 mm: u = 0.1 * 0.5 * (0.1 / 0.3) mm = 0.0166667 mm = 0.262881 px at 0.0634 mm/px;
   //   slid 0.5 mm: clipped, u = 0.05 mm = 0.788644 px. Lifted out of contact and pressed again: no slide, no shift.
   const auto sensor = make_grid_sensor();
-  auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"dome_sway"}, sensor,
-                             make_test_indenter());
+  auto m =
+      wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"dome_sway"}, sensor, make_test_indenter());
   ParamSet p = m->params();
   p.set("dome_sway.compliance_m", 1e-4);
   p.set("dome_sway.friction", 0.5);

@@ -32,12 +32,13 @@ class DomeSway final : public Effect {
   // ~1 mm); an effective sliding friction up to 3 (silicone on a rough plate); the load's growth with depth
   // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm.
   DomeSway()
-      : Effect({{"compliance_m", "m", 0.0, 0.0, 0.002,
-                 "apex pin's lateral shift per unit lateral load (the load at 1 mm depth, along the slide or the tilt)"},
-                {"friction", "", 1.0, 0.0, 3.0, "sliding friction: the lateral load per unit normal load along the slide"},
-                {"load_exponent", "", 2.0, 0.5, 3.0,
-                 "normal load ~ depth^q (hydroelastic pressure on a dome: 2; Hertz: 1.5)"},
-                {"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"}}) {}
+      : Effect(
+            {{"compliance_m", "m", 0.0, 0.0, 0.002,
+              "apex pin's lateral shift per unit lateral load (the load at 1 mm depth, along the slide or the tilt)"},
+             {"friction", "", 1.0, 0.0, 3.0, "sliding friction: the lateral load per unit normal load along the slide"},
+             {"load_exponent", "", 2.0, 0.5, 3.0,
+              "normal load ~ depth^q (hydroelastic pressure on a dome: 2; Hertz: 1.5)"},
+             {"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"}}) {}
 
   std::string id() const override { return "dome_sway"; }
   std::string physics() const override {
@@ -89,8 +90,8 @@ class DomeSway final : public Effect {
   std::unique_ptr<Effect> clone() const override { return std::make_unique<DomeSway>(*this); }
 
  private:
-  Vec2 travel_E_ = Vec2::Zero();     // the slide in contact, |travel| <= stick length
-  std::optional<Vec2> last_xy_E_;    // the indenter's xy at the last step in contact
+  Vec2 travel_E_ = Vec2::Zero();   // the slide in contact, |travel| <= stick length
+  std::optional<Vec2> last_xy_E_;  // the indenter's xy at the last step in contact
 };
 
 }  // namespace
