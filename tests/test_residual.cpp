@@ -265,6 +265,38 @@ TEST_CASE("residual structure: a rank-one residual is one principal component, b
   CHECK(in_contact <= st.marker_frames);
   CHECK(sides == in_contact);
   CHECK(load == in_contact);
+
+  // The binned mean fields: depth, travel and tilt bins each partition the frames in contact, so their
+  // frame-weighted means agree (the mean of a_k over those frames, along u_j); the slide goes +x only, and
+  // the sphere never tilts.
+  REQUIRE(st.binned_fields.size() == 3);
+  std::vector<double> weighted_mean;
+  std::vector<long> total_frames;
+  for (const auto& b : st.binned_fields) {
+    INFO(b.name);
+    REQUIRE(b.mean_px.size() == b.labels.size());
+    long n = 0;
+    double sum = 0;
+    for (std::size_t k = 0; k < b.labels.size(); ++k) {
+      n += b.frames[k];
+      sum += b.frames[k] * b.mean_px[k][0].x();
+      if (b.frames[k] > 0) CHECK(b.mean_px[k][1].y() == Approx(b.mean_px[k][0].x()).margin(kTol));
+      if (b.frames[k] > 0) CHECK(std::abs(b.mean_px[k][0].y()) < kTol);
+    }
+    total_frames.push_back(n);
+    weighted_mean.push_back(n > 0 ? sum / n : -1);
+  }
+  CHECK(total_frames[0] > 0);
+  CHECK(total_frames[1] == total_frames[0]);
+  CHECK(total_frames[2] == total_frames[0]);
+  CHECK(weighted_mean[0] > 0.1 - kTol);
+  CHECK(weighted_mean[0] < 0.3 + kTol);
+  CHECK(weighted_mean[1] == Approx(weighted_mean[0]).margin(kTol));
+  CHECK(weighted_mean[2] == Approx(weighted_mean[0]).margin(kTol));
+  const auto& travel = st.binned_fields[1];
+  CHECK(travel.frames[1] > 0);                              // +x
+  CHECK(travel.frames[3] == 0);                             // -x
+  CHECK(st.binned_fields[2].frames[0] == total_frames[0]);  // all untilted
 }
 
 // The contact-frame tables read a residual in the contact's own frame. Two residuals are added to the

@@ -309,33 +309,19 @@ std::string sphere_obj(double r, int slices, int stacks) {
   return o.str();
 }
 
-ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) {
-  require_dir(in_dir);
-  const FotsCsv press = read_fots_csv((fs::path(in_dir) / "press.csv").string());
-  const FotsCsv shear = read_fots_csv((fs::path(in_dir) / "shear.csv").string());
-  if (press.rest.size() != shear.rest.size())
-    throw InputError((fs::path(in_dir) / "shear.csv").string(), "marker count differs from press.csv");
-  for (std::size_t i = 0; i < press.rest.size(); ++i)
-    if ((press.rest[i] - shear.rest[i]).norm() > 0.5)
-      throw InputError((fs::path(in_dir) / "shear.csv").string(), int(i) + 2, 1,
-                       "rest position differs from press.csv");
-
-  // Scale: marker_calib.py uses 0.0266 mm/px on images downsampled by 2 (ball_r = 3 / (0.0266*2)), i.e.
-  // 0.0532 mm/px; params.py's 19.58 px/mm is 0.0511 mm/px. We write 0.0532 and carry the 4 % spread.
-  constexpr double kMmPerPx = 0.0532, kMmPerPxAlt = 1.0 / 19.58;
-  const double radii_mm[2] = {2.35, 3.0};  // params.py diameter 4.70 mm; marker_calib.py radius 3 mm
-  const double pitch = pitch_of(press.rest);
-  const SphereContactEstimate ep = estimate_sphere_contact(press.rest, press.disp, pitch);
-  // In the shear image the tangential field swamps the radial ring, so its own radius estimate is not
-  // meaningful: the shear state reuses the press radius (same press, then a sideways move) and averages the
-  // travel over the markers inside that radius around the shear field's centre.
-  SphereContactEstimate es = estimate_sphere_contact(shear.rest, shear.disp, pitch);
-  es = estimate_sphere_contact_with_radius(shear.rest, shear.disp, es.centre_px, ep.a_px, ep.a_sigma_px);
-
+namespace {
+// Scale: marker_calib.py uses 0.0266 mm/px on images downsampled by 2 (ball_r = 3 / (0.0266*2)), i.e.
+// 0.0532 mm/px; params.py's 19.58 px/mm is 0.0511 mm/px. We write 0.0532 and carry the 4 % spread.
+constexpr double kMmPerPx = 0.0532, kMmPerPxAlt = 1.0 / 19.58;
+constexpr double kFotsRadiiMm[2] = {2.35, 3.0};  // params.py diameter 4.70 mm; marker_calib.py radius 3 mm
+constexpr double kFotsSphereRadiusM = 0.003;
+// What the pair is, how its poses were estimated, and the estimates (the tsd/1 provenance text).
+std::string fots_provenance(std::size_t markers, double pitch, const SphereContactEstimate& ep,
+                            const SphereContactEstimate& es) {
   std::ostringstream prov;
   prov << "FOTS marker calibration pair from Rancho-zhao/FOTS (MIT), marker_calib/data/, see "
           "raw/fots_marker_calib/SOURCE.md. markers_rest_px = the CSV's Mx,My (integer px, "
-       << press.rest.size() << " markers, 11 cols x 9 rows, pitch " << format_number(pitch, "%.1f")
+       << markers << " markers, 11 cols x 9 rows, pitch " << format_number(pitch, "%.1f")
        << " px); each sample has frame 0 = rest (zero displacement, written by us) and frame 1 = the CSV's dx,dy "
           "(integers: 1 px quantisation). Scale 0.0532 mm/px (marker_calib.py: 0.0266 mm/px x 2 for its "
           "downsampled images; params.py's 19.58 px/mm = 0.0511 mm/px differs by 4 %). "
@@ -355,7 +341,7 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
          << format_number(e.drift_px.y(), "%.2f") << ") px, a = " << format_number(e.a_px, "%.1f") << " +- "
          << format_number(e.a_sigma_px, "%.1f") << " px = " << format_number(e.a_px * kMmPerPx, "%.2f") << " +- "
          << format_number(e.a_sigma_px * kMmPerPx, "%.2f") << " mm";
-    for (double R : radii_mm) {
+    for (double R : kFotsRadiiMm) {
       const double a = e.a_px * kMmPerPx, s = e.a_sigma_px * kMmPerPx;
       prov << "; R = " << R << " mm: d = " << format_number(sphere_depth_from_contact_radius(R, a), "%.3f")
            << " mm (range " << format_number(sphere_depth_from_contact_radius(R, std::max(0.0, a - s)), "%.3f")
@@ -375,6 +361,57 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
        << " mm/px changes "
           "lengths by 4 %.";
 
+  return prov.str();
+}
+
+// One state of the pair: rest then the CSV's field, the sphere posed over the estimated contact.
+TsdSampleOut fots_sample(const char* id, const FotsCsv& c, const SphereContactEstimate& e, bool sheared,
+                         const Camera& cam) {
+  TsdSampleOut s;
+  s.id = id;
+  s.motion = sheared ? "shear" : "dilation";
+  s.indenter = "sphere_r3";
+  s.dt_s = 1.0;  // two states, no timing in the source
+  s.disp_px = {std::vector<Vec2>(c.rest.size(), Vec2::Zero()), c.disp};
+  const Vec2 p0 = cam.E_from_px(e.centre_px - (sheared ? e.travel_px : Vec2::Zero()));
+  const Vec2 p1 = cam.E_from_px(e.centre_px);
+  const double depth = sphere_depth_from_contact_radius(kFotsSphereRadiusM * 1e3, e.a_px * kMmPerPx) * 1e-3;
+  s.X_EI = {
+      make_pose(Vec3(p0.x(), p0.y(), kFotsSphereRadiusM), Quat::Identity()),
+      make_pose(Vec3(p1.x(), p1.y(), kFotsSphereRadiusM - (std::isfinite(depth) ? depth : 0.0)), Quat::Identity())};
+  nlohmann::json est;
+  est["contact_centre_px"] = {e.centre_px.x(), e.centre_px.y()};
+  est["contact_radius_px"] = e.a_px;
+  est["contact_radius_sigma_px"] = e.a_sigma_px;
+  est["travel_px"] = {e.travel_px.x(), e.travel_px.y()};
+  est["travel_sigma_px"] = e.travel_sigma_px;
+  for (double Rm : kFotsRadiiMm)
+    est["depth_mm_for_R_mm"][format_number(Rm, "%.2f")] = sphere_depth_from_contact_radius(Rm, e.a_px * kMmPerPx);
+  s.extra = {{"pose_estimate", est}};
+  return s;
+}
+
+}  // namespace
+
+ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) {
+  require_dir(in_dir);
+  const FotsCsv press = read_fots_csv((fs::path(in_dir) / "press.csv").string());
+  const FotsCsv shear = read_fots_csv((fs::path(in_dir) / "shear.csv").string());
+  if (press.rest.size() != shear.rest.size())
+    throw InputError((fs::path(in_dir) / "shear.csv").string(), "marker count differs from press.csv");
+  for (std::size_t i = 0; i < press.rest.size(); ++i)
+    if ((press.rest[i] - shear.rest[i]).norm() > 0.5)
+      throw InputError((fs::path(in_dir) / "shear.csv").string(), int(i) + 2, 1,
+                       "rest position differs from press.csv");
+
+  const double pitch = pitch_of(press.rest);
+  const SphereContactEstimate ep = estimate_sphere_contact(press.rest, press.disp, pitch);
+  // In the shear image the tangential field swamps the radial ring, so its own radius estimate is not
+  // meaningful: the shear state reuses the press radius (same press, then a sideways move) and averages the
+  // travel over the markers inside that radius around the shear field's centre.
+  SphereContactEstimate es = estimate_sphere_contact(shear.rest, shear.disp, pitch);
+  es = estimate_sphere_contact_with_radius(shear.rest, shear.disp, es.centre_px, ep.a_px, ep.a_sigma_px);
+
   TsdDatasetOut ds;
   ds.name = "fots_marker_calib";
   ds.kind = "real";
@@ -384,35 +421,11 @@ ImportReport import_fots(const std::string& in_dir, const std::string& out_dir) 
   ds.markers_rest_px = press.rest;
   ds.indenters = {{"sphere_r3", {{"mesh", "meshes/sphere_r3.obj"}}}};
   ds.mesh_files = {{"meshes/sphere_r3.obj", sphere_obj(0.003)}};
-  ds.provenance = prov.str();
-  const double R = 0.003;
+  ds.provenance = fots_provenance(press.rest.size(), pitch, ep, es);
   Camera cam;
   cam.mm_per_px = kMmPerPx;
   cam.principal_px = ds.principal_px;
-  auto make = [&](const char* id, const FotsCsv& c, const SphereContactEstimate& e, bool sheared) {
-    TsdSampleOut s;
-    s.id = id;
-    s.motion = sheared ? "shear" : "dilation";
-    s.indenter = "sphere_r3";
-    s.dt_s = 1.0;  // two states, no timing in the source
-    s.disp_px = {std::vector<Vec2>(c.rest.size(), Vec2::Zero()), c.disp};
-    const Vec2 p0 = cam.E_from_px(e.centre_px - (sheared ? e.travel_px : Vec2::Zero()));
-    const Vec2 p1 = cam.E_from_px(e.centre_px);
-    const double depth = sphere_depth_from_contact_radius(R * 1e3, e.a_px * kMmPerPx) * 1e-3;
-    s.X_EI = {make_pose(Vec3(p0.x(), p0.y(), R), Quat::Identity()),
-              make_pose(Vec3(p1.x(), p1.y(), R - (std::isfinite(depth) ? depth : 0.0)), Quat::Identity())};
-    nlohmann::json est;
-    est["contact_centre_px"] = {e.centre_px.x(), e.centre_px.y()};
-    est["contact_radius_px"] = e.a_px;
-    est["contact_radius_sigma_px"] = e.a_sigma_px;
-    est["travel_px"] = {e.travel_px.x(), e.travel_px.y()};
-    est["travel_sigma_px"] = e.travel_sigma_px;
-    for (double Rm : radii_mm)
-      est["depth_mm_for_R_mm"][format_number(Rm, "%.2f")] = sphere_depth_from_contact_radius(Rm, e.a_px * kMmPerPx);
-    s.extra = {{"pose_estimate", est}};
-    return s;
-  };
-  ds.samples = {make("press", press, ep, false), make("shear", shear, es, true)};
+  ds.samples = {fots_sample("press", press, ep, false, cam), fots_sample("shear", shear, es, true, cam)};
   write_tsd_dataset(ds, out_dir);
   ImportReport report;
   report.datasets.push_back(out_dir);
@@ -823,13 +836,9 @@ std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double 
   return path;
 }
 
-ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
-                                 const TactipImportOptions& options) {
-  require_dir(in_dir);
-  const fs::path in(in_dir);
-  const std::string ref_path = (in / "calibration" / "images" / "image_0.png").string();
-  const PinReference ref = make_pin_reference(read_grey(ref_path), options.tracker, ref_path);
-  const cv::Mat ref_img = read_grey(ref_path);
+namespace {
+// The dataset's sensor and indenter blocks: the dome, its pins and the camera fitted to the reference's rings.
+TsdDatasetOut tactip_dataset(const PinReference& ref, const cv::Mat& ref_img, const TactipGeometryFit& geometry) {
   TsdDatasetOut ds;
   ds.name = "tactip_shear";
   ds.kind = "real";
@@ -837,7 +846,6 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
   ds.sensor_model = "TacTip midi";
   ds.width_px = ref_img.cols;
   ds.height_px = ref_img.rows;
-  const TactipGeometryFit geometry = fit_tactip_camera(ref.rest_px, ds.width_px, ds.height_px, ref_path);
   ds.camera = geometry.camera;
   ds.principal_px = geometry.camera.principal_px;
   ds.gel_surface = "spherical_cap";
@@ -860,6 +868,113 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
        {{"mesh", "meshes/flat_surface.obj"},
         {"note", "the 'square' stimulus: a flat surface, face z_I = 0, body z_I > 0 (80 x 80 x 10 mm box)"}}}};
   ds.mesh_files = {{"meshes/flat_surface.obj", box_obj(0.08, 0.08, 0.01)}};
+  return ds;
+}
+
+// One split's samples tracked against the reference (and the prior) into `ds`, with a summary line in `report`.
+void add_tactip_split(const TactipSplit& sp, const PinReference& ref, const PinFieldPrior& prior,
+                      const cv::Mat& ref_img, const fs::path& in, const TactipImportOptions& options, TsdDatasetOut& ds,
+                      ImportReport& report) {
+  std::vector<double> kept;
+  int worst_number = -1, slipped_samples = 0, empty_samples = 0;
+  double worst = 2.0;
+  for (std::size_t k = 0; k < sp.targets.size(); ++k) {
+    const TactipTarget& t = sp.targets[k];
+    const CheckedPins pins = track_checked(ref, sp.detections[k], prior.predict(tactip_covariates(t)), options);
+    const std::vector<Vec2>& disp = pins.disp;
+    slipped_samples += !pins.check.clean();
+    const int found = pins.kept();
+    empty_samples += found == 0;
+    const double frac = double(found) / double(disp.size());
+    kept.push_back(frac);
+    if (frac < worst) {
+      worst = frac;
+      worst_number = t.number;
+    }
+    TsdSampleOut s = tactip_sample(sp.name, t, disp, options, options.frames ? ref_img : cv::Mat(), in);
+    s.extra = {{"image", sp.name + "/images/" + t.image},
+               {"pins_tracked", found},
+               {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
+               {"targets",
+                {{"depth_mm", t.depth_mm},
+                 {"tilt_deg", {t.rx_deg, t.ry_deg}},
+                 {"shear_mm", {t.sx_mm, t.sy_mm}},
+                 {"twist_deg", t.twist_deg}}}};
+    ds.samples.push_back(std::move(s));
+  }
+  std::sort(kept.begin(), kept.end());
+  const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
+  report.lines.push_back(
+      sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(ref.rest_px.size()) +
+      " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
+      "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
+      format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " + std::to_string(below) +
+      "; images not clean under the lattice check: " + std::to_string(slipped_samples));
+  if (empty_samples > 0)
+    report.lines.push_back("WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " +
+                           std::to_string(kept.size()) + " samples have no pin tracked (0 of " +
+                           std::to_string(ref.rest_px.size()) + ")" +
+                           (prior.empty() && options.use_prior
+                                ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
+                                      " calibration samples (--max-samples " +
+                                      std::to_string(tactip_prior_min_calibration_samples()) + " or more, or 0 for all)"
+                                : std::string()));
+}
+
+// What the dataset is and how it was made (the tsd/1 provenance text).
+std::string tactip_provenance(const PinReference& ref, const TactipImportOptions& options) {
+  return "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "
+         "raw/tactip_shear/SOURCE.md): a flat surface pressed 1-5 mm at a tilt up to 25 deg, slid up to 5 mm and "
+         "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
+         "(identical in validation/), " +
+         std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
+         " px. Pins tracked by shearbench's pin tracker (blob detection, global "
+         "affine then local nearest-neighbour correspondence, lost pins NaN)" +
+         std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
+                                         "regression fitted on the calibration split alone (continuation from "
+                                         "shallow to deep presses)"
+                                       : "") +
+         std::string(options.lattice_check ? "; pins the lattice-slip check doubts (a skipped lattice site, a "
+                                             "crossing, a jump between neighbours, a detached island, a whole-field "
+                                             "shift) are lost: see 'lattice_check' per sample"
+                                           : "") +
+         ". poses.csv is the collection procedure: "
+         "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." +
+         std::to_string(options.slide_steps + 1) +
+         " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
+         "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "
+         "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) "
+         "Ry(pose_Ry) "
+         "Rx(pose_Rx) "
+         "static Euler as the robot library's sxyz; E = Rz(" +
+         format_number(kTactipImageFromToolDeg, "%.1f") +
+         " deg) S so that "
+         "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per "
+         "mm "
+         "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
+         format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " +
+         format_number(kTactipPinDepthM * 1e3, "%.0f") +
+         " mm below the contact surface, seen by a pinhole camera (focal length from a " +
+         format_number(kTactipFieldOfViewDeg, "%.0f") +
+         " deg field of view, no distortion) whose distance and principal point are fitted to the reference image's "
+         "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the "
+         "larger "
+         "normalised magnitude "
+         "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
+         "under 'targets' (mm, deg).";
+}
+
+}  // namespace
+
+ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
+                                 const TactipImportOptions& options) {
+  require_dir(in_dir);
+  const fs::path in(in_dir);
+  const std::string ref_path = (in / "calibration" / "images" / "image_0.png").string();
+  const PinReference ref = make_pin_reference(read_grey(ref_path), options.tracker, ref_path);
+  const cv::Mat ref_img = read_grey(ref_path);
+  const TactipGeometryFit geometry = fit_tactip_camera(ref.rest_px, ref_img.cols, ref_img.rows, ref_path);
+  TsdDatasetOut ds = tactip_dataset(ref, ref_img, geometry);
   ImportReport report;
   report.lines.push_back(geometry_fit_line(geometry));
   std::vector<TactipSplit> splits;
@@ -871,89 +986,8 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
     prior = fit.prior;
     report_prior(fit, splits.front().targets.size(), report);
   }
-  for (const auto& sp : splits) {
-    std::vector<double> kept;
-    int worst_number = -1, slipped_samples = 0, empty_samples = 0;
-    double worst = 2.0;
-    for (std::size_t k = 0; k < sp.targets.size(); ++k) {
-      const TactipTarget& t = sp.targets[k];
-      const CheckedPins pins = track_checked(ref, sp.detections[k], prior.predict(tactip_covariates(t)), options);
-      const std::vector<Vec2>& disp = pins.disp;
-      slipped_samples += !pins.check.clean();
-      const int found = pins.kept();
-      empty_samples += found == 0;
-      const double frac = double(found) / double(disp.size());
-      kept.push_back(frac);
-      if (frac < worst) {
-        worst = frac;
-        worst_number = t.number;
-      }
-      TsdSampleOut s = tactip_sample(sp.name, t, disp, options, options.frames ? ref_img : cv::Mat(), in);
-      s.extra = {{"image", sp.name + "/images/" + t.image},
-                 {"pins_tracked", found},
-                 {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
-                 {"targets",
-                  {{"depth_mm", t.depth_mm},
-                   {"tilt_deg", {t.rx_deg, t.ry_deg}},
-                   {"shear_mm", {t.sx_mm, t.sy_mm}},
-                   {"twist_deg", t.twist_deg}}}};
-      ds.samples.push_back(std::move(s));
-    }
-    std::sort(kept.begin(), kept.end());
-    const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-    report.lines.push_back(
-        sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(ref.rest_px.size()) +
-        " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
-        "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
-        format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " + std::to_string(below) +
-        "; images not clean under the lattice check: " + std::to_string(slipped_samples));
-    if (empty_samples > 0)
-      report.lines.push_back(
-          "WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " + std::to_string(kept.size()) +
-          " samples have no pin tracked (0 of " + std::to_string(ref.rest_px.size()) + ")" +
-          (prior.empty() && options.use_prior
-               ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
-                     " calibration samples (--max-samples " + std::to_string(tactip_prior_min_calibration_samples()) +
-                     " or more, or 0 for all)"
-               : std::string()));
-  }
-  ds.provenance =
-      "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "
-      "raw/tactip_shear/SOURCE.md): a flat surface pressed 1-5 mm at a tilt up to 25 deg, slid up to 5 mm and "
-      "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
-      "(identical in validation/), " +
-      std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
-      " px. Pins tracked by shearbench's pin tracker (blob detection, global "
-      "affine then local nearest-neighbour correspondence, lost pins NaN)" +
-      std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
-                                      "regression fitted on the calibration split alone (continuation from "
-                                      "shallow to deep presses)"
-                                    : "") +
-      std::string(options.lattice_check ? "; pins the lattice-slip check doubts (a skipped lattice site, a "
-                                          "crossing, a jump between neighbours, a detached island, a whole-field "
-                                          "shift) are lost: see 'lattice_check' per sample"
-                                        : "") +
-      ". poses.csv is the collection procedure: "
-      "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." +
-      std::to_string(options.slide_steps + 1) +
-      " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
-      "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "
-      "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) Ry(pose_Ry) "
-      "Rx(pose_Rx) "
-      "static Euler as the robot library's sxyz; E = Rz(" +
-      format_number(kTactipImageFromToolDeg, "%.1f") +
-      " deg) S so that "
-      "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per mm "
-      "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
-      format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " +
-      format_number(kTactipPinDepthM * 1e3, "%.0f") +
-      " mm below the contact surface, seen by a pinhole camera (focal length from a " +
-      format_number(kTactipFieldOfViewDeg, "%.0f") +
-      " deg field of view, no distortion) whose distance and principal point are fitted to the reference image's "
-      "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the larger "
-      "normalised magnitude "
-      "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
-      "under 'targets' (mm, deg).";
+  for (const auto& sp : splits) add_tactip_split(sp, ref, prior, ref_img, in, options, ds, report);
+  ds.provenance = tactip_provenance(ref, options);
   write_tsd_dataset(ds, out_dir);
   report.datasets.push_back(out_dir);
   return report;

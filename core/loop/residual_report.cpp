@@ -98,13 +98,24 @@ nlohmann::ordered_json structure_json(const ResidualStructure& s) {
   nlohmann::ordered_json mean = nlohmann::ordered_json::array(), pc1 = nlohmann::ordered_json::array();
   for (const auto& v : s.mean_field_px) mean.push_back({v.x(), v.y()});
   for (const auto& v : s.pc1_px) pc1.push_back({v.x(), v.y()});
+  nlohmann::ordered_json binned = nlohmann::ordered_json::array();
+  for (const auto& b : s.binned_fields) {
+    nlohmann::ordered_json bins = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < b.labels.size(); ++k) {
+      nlohmann::ordered_json field = nlohmann::ordered_json::array();
+      for (const auto& v : b.mean_px[k]) field.push_back({v.x(), v.y()});
+      bins.push_back({{"bin", b.labels[k]}, {"frames", b.frames[k]}, {"mean_px", field}});
+    }
+    binned.push_back({{"covariate", b.name}, {"bins", bins}});
+  }
   return {{"rmse_px", num(s.rmse_px)},
           {"marker_frames", s.marker_frames},
           {"frames", s.frames},
           {"explained_variance_pc1_3", s.explained_variance},
           {"covariates", cov},
           {"mean_field_px", mean},
-          {"pc1_px", pc1}};
+          {"pc1_px", pc1},
+          {"binned_mean_fields", binned}};
 }
 
 nlohmann::ordered_json fingerprint_json(const FingerprintCheck& f) {
@@ -183,13 +194,16 @@ cv::Mat covariate_plot(const CovariateTable& before, const CovariateTable* after
   return img;
 }
 
-// Arrows of a per-marker field at the markers' image positions, scaled so the longest is 0.8 pitch.
-cv::Mat quiver_plot(const Sensor& sensor, const std::vector<Vec2>& field, const std::string& title) {
+// Arrows of a per-marker field at the markers' image positions, scaled so the longest is 0.8 pitch (or, with
+// `longest_px` > 0, an arrow that long: one scale for panels that are compared).
+cv::Mat quiver_plot(const Sensor& sensor, const std::vector<Vec2>& field, const std::string& title,
+                    double longest_px = 0) {
   const int S = 2, top = 40;
   const int W = sensor.camera.width_px * S, H = sensor.camera.height_px * S + top;
   cv::Mat img(H, W, CV_8UC3, cv::Scalar(255, 255, 255));
   double longest = 0;
   for (const auto& v : field) longest = std::max(longest, v.norm());
+  if (longest_px > 0) longest = longest_px;
   double pitch = std::numeric_limits<double>::infinity();
   const auto& m = sensor.markers_rest_px;
   for (std::size_t i = 1; i < m.size(); ++i) pitch = std::min(pitch, (m[i] - m[0]).norm());
@@ -338,6 +352,29 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   return j;
 }
 
+namespace {
+// One row of quiver panels, a bin each, on one arrow scale (the longest mean arrow of any bin), halved in size.
+cv::Mat binned_fields_plot(const Sensor& sensor, const BinnedMeanFields& b, const std::string& model_id) {
+  double longest = 0;
+  for (const auto& field : b.mean_px)
+    for (const auto& v : field) longest = std::max(longest, v.norm());
+  std::vector<cv::Mat> panels;
+  for (std::size_t k = 0; k < b.labels.size(); ++k) {
+    const std::string title = b.name + ": " + b.labels[k] + " (" + std::to_string(b.frames[k]) + " frames)";
+    cv::Mat panel = quiver_plot(sensor, b.mean_px[k], title, longest);
+    cv::resize(panel, panel, cv::Size(), 0.5, 0.5, cv::INTER_AREA);
+    panels.push_back(panel);
+  }
+  cv::Mat row;
+  cv::hconcat(panels, row);
+  cv::Mat header(28, row.cols, row.type(), cv::Scalar(255, 255, 255));
+  text(header, "mean residual (measured - " + model_id + ") per bin of " + b.name + "; one arrow scale", {10, 19}, 0.5);
+  cv::Mat out;
+  cv::vconcat(header, row, out);
+  return out;
+}
+}  // namespace
+
 std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir,
                                               const std::string& stem) {
   std::vector<std::string> names;
@@ -365,6 +402,17 @@ std::vector<std::string> write_residual_plots(const ResidualReport& r, const std
     write_png((std::filesystem::path(dir) / name).string(),
               quiver_plot(*r.sensor, suffix == "pc1" ? structure->pc1_px : structure->mean_field_px, title));
     names.push_back(name);
+  }
+  for (const auto& [structure, model, suffix] :
+       {std::tuple{&r.structure_before, r.model_id, std::string()},
+        std::tuple{&r.structure_after, r.after_model, std::string("_after")}}) {
+    if (structure == &r.structure_after && !changed) continue;
+    for (const auto& b : structure->binned_fields) {
+      if (b.labels.empty()) continue;
+      const std::string name = stem + "_mean_by_" + slug(b.name.substr(0, b.name.find(" ("))) + suffix + ".png";
+      write_png((std::filesystem::path(dir) / name).string(), binned_fields_plot(*r.sensor, b, model));
+      names.push_back(name);
+    }
   }
   return names;
 }
@@ -402,6 +450,29 @@ std::string answer_markdown(const ResidualReport& r) {
   return md;
 }
 
+// Per bin of depth, travel and tilt direction: the mean residual's size and its mean over the markers (a shift of
+// the whole field shows there), beside the maps (write_residual_plots).
+std::string binned_fields_markdown(const ResidualStructure& sb) {
+  if (sb.binned_fields.empty()) return "";
+  std::string md =
+      "### The mean residual per bin (maps: the `mean_by_` plots below)\n\n"
+      "| covariate | bin | frames | RMS of the mean px | mean over markers px | largest arrow px "
+      "|\n|---|---|---:|---:|---|---:|\n";
+  for (const auto& b : sb.binned_fields)
+    for (std::size_t k = 0; k < b.labels.size(); ++k) {
+      if (b.frames[k] == 0) continue;
+      double ss = 0, longest = 0;
+      Vec2 shift = Vec2::Zero();
+      for (const auto& v : b.mean_px[k]) ss += v.squaredNorm(), longest = std::max(longest, v.norm()), shift += v;
+      const double n = std::max<double>(1.0, double(b.mean_px[k].size()));
+      shift /= n;
+      md += "| " + b.name + " | " + b.labels[k] + " | " + std::to_string(b.frames[k]) + " | " + f3(std::sqrt(ss / n)) +
+            " | (" + format_number(shift.x(), "%.2f") + ", " + format_number(shift.y(), "%.2f") + ") | " + f3(longest) +
+            " |\n";
+    }
+  return md + "\n";
+}
+
 std::string structure_markdown(const ResidualStructure& sb, const std::vector<std::string>& plots) {
   std::string md = "## What the residual looked like\n\n";
   md += "Base residual RMS " + f3(sb.rmse_px) + " px over " + std::to_string(sb.marker_frames) + " marker-frames (" +
@@ -415,6 +486,7 @@ std::string structure_markdown(const ResidualStructure& sb, const std::vector<st
   for (const auto& v : sb.mean_field_px) mean_norm = std::max(mean_norm, v.norm());
   md += "Largest mean-residual arrow: " + f3(mean_norm) + " px.\n\n";
   md += contact_frame_markdown(sb);
+  md += binned_fields_markdown(sb);
   for (const auto& t : sb.covariates) {
     if (t.contact_frame) continue;
     md += "**" + t.name + (t.unit.empty() ? "" : " (" + t.unit + ")") + "** — RMS px per bin: ";

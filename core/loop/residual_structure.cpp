@@ -142,6 +142,7 @@ CovariateTable contact_load_table(const std::vector<Point>& pts) {
 struct FrameContact {
   std::vector<double> depth_m, radius_m, t_contact_s, travel_m;
   std::vector<Vec2> centre_E, travel_dir_E;
+  std::vector<Vec2> tilt_E;  // xy of the indenter's approach axis (R_EI z): its length is the tilt's sine
   std::vector<LoadingState> loading;
   std::vector<ContactPhase> phase;
 };
@@ -172,6 +173,7 @@ FrameContact frame_contacts(const Sensor& sensor, const FitSample& s) {
     c.depth_m.push_back(p.depth_m);
     c.radius_m.push_back(p.radius_m);
     c.centre_E.push_back(p.centre_E);
+    c.tilt_E.push_back((s.X_EI[k].linear() * Vec3::UnitZ()).head<2>());
     if (first < 0 && p.penetrating) first = static_cast<int>(k);
     c.loading.push_back(loading_state(p, k ? c.depth_m[k - 1] : 0.0));
     c.phase.push_back(contact_phase(c.loading.back(), k && !held_still(s.X_EI[k - 1], s.X_EI[k])));
@@ -210,10 +212,18 @@ Point marker_point(const Sensor& sensor, const FrameContact& fc, std::size_t k, 
   return pt;
 }
 
+// A scored frame's covariates for the binned mean fields.
+struct FrameKey {
+  bool in_contact = false;
+  double depth_mm = 0;
+  Vec2 travel_dir_E = Vec2::Zero(), tilt_E = Vec2::Zero();
+};
+
 // One sample's scored marker-frames (points) and its scored frames as rows of 2M residual components.
 struct SampleResidual {
   std::vector<Point> points;
   std::vector<Eigen::VectorXd> rows;
+  std::vector<FrameKey> keys;  // per row
 };
 
 SampleResidual sample_residual(const std::string& model_id, const ParamSet& params,
@@ -227,7 +237,11 @@ SampleResidual sample_residual(const std::string& model_id, const ParamSet& para
   int last_frame = -1;
   for (int f : active_marker_frames(s.meas_px)) {
     const int k = f / M, j = f % M;
-    if (k != last_frame) out.rows.push_back(Eigen::VectorXd::Zero(2 * M)), last_frame = k;
+    if (k != last_frame) {
+      out.rows.push_back(Eigen::VectorXd::Zero(2 * M));
+      out.keys.push_back({fc.depth_m[k] > 0, 1e3 * fc.depth_m[k], fc.travel_dir_E[k], fc.tilt_E[k]});
+      last_frame = k;
+    }
     const Vec2 e = s.meas_px[k][j] - pred[k][j];
     out.rows.back().segment<2>(2 * j) = e;
     out.points.push_back(marker_point(*sensor, fc, k, j, e));
@@ -248,6 +262,63 @@ std::vector<CovariateTable> covariate_tables(const std::vector<Point>& all, int 
   t.push_back(contact_phase_table(all));
   t.push_back(contact_load_table(all));
   return t;
+}
+
+// The direction bins: 0 none (below `none_below`), then the nearest of +x, +y, -x, -y.
+int direction_bin(const Vec2& v, double none_below) {
+  if (v.norm() < none_below) return 0;
+  if (std::abs(v.x()) >= std::abs(v.y())) return v.x() > 0 ? 1 : 3;
+  return v.y() > 0 ? 2 : 4;
+}
+
+// Means of the rows whose bin (bin_of, -1: none) is each of `labels`.
+BinnedMeanFields mean_per_bin(std::string name, std::vector<std::string> labels,
+                              const std::vector<Eigen::VectorXd>& rows, const std::function<int(std::size_t)>& bin_of,
+                              std::size_t M) {
+  BinnedMeanFields b;
+  b.name = std::move(name);
+  b.labels = std::move(labels);
+  const std::size_t B = b.labels.size();
+  std::vector<Eigen::VectorXd> sum(B, Eigen::VectorXd::Zero(2 * M));
+  b.frames.assign(B, 0);
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    const int k = bin_of(r);
+    if (k < 0) continue;
+    sum[k] += rows[r];
+    ++b.frames[k];
+  }
+  b.mean_px.assign(B, std::vector<Vec2>(M, Vec2::Zero()));
+  for (std::size_t k = 0; k < B; ++k)
+    for (std::size_t j = 0; b.frames[k] > 0 && j < M; ++j)
+      b.mean_px[k][j] = Vec2(sum[k](2 * j), sum[k](2 * j + 1)) / double(b.frames[k]);
+  return b;
+}
+
+std::vector<BinnedMeanFields> binned_mean_fields(const std::vector<Eigen::VectorXd>& rows,
+                                                 const std::vector<FrameKey>& keys, std::size_t M, int bins) {
+  constexpr double kTiltNoneSin = 0.0349;  // sin 2 deg: below it, untilted
+  const std::vector<std::string> directions = {"none", "+x (+u)", "+y (+v)", "-x (-u)", "-y (-v)"};
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const auto& k : keys)
+    if (k.in_contact) lo = std::min(lo, k.depth_mm), hi = std::max(hi, k.depth_mm);
+  hi = std::max(hi, lo + 1e-9);
+  std::vector<std::string> depth_labels;
+  for (int b = 0; b < bins && std::isfinite(lo); ++b)
+    depth_labels.push_back(format_number(lo + (hi - lo) * b / bins, "%.3g") + "-" +
+                           format_number(lo + (hi - lo) * (b + 1) / bins, "%.3g"));
+  const auto depth_bin = [&](std::size_t r) {
+    if (!keys[r].in_contact) return -1;
+    return std::clamp(static_cast<int>((keys[r].depth_mm - lo) / (hi - lo) * bins), 0, bins - 1);
+  };
+  const auto travel_bin = [&](std::size_t r) {
+    return keys[r].in_contact ? direction_bin(keys[r].travel_dir_E, 0.5) : -1;
+  };
+  const auto tilt_bin = [&](std::size_t r) {
+    return keys[r].in_contact ? direction_bin(keys[r].tilt_E, kTiltNoneSin) : -1;
+  };
+  return {mean_per_bin("penetration depth (mm)", depth_labels, rows, depth_bin, M),
+          mean_per_bin("travel direction", directions, rows, travel_bin, M),
+          mean_per_bin("tilt direction", directions, rows, tilt_bin, M)};
 }
 
 // The mean field, the explained variance of the first three principal components of the centred rows
@@ -285,8 +356,10 @@ ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& 
                     [&](int i) { per_sample[i] = sample_residual(model_id, params, sensor, samples[i]); });
   std::vector<Point> all;
   std::vector<Eigen::VectorXd> rows;
+  std::vector<FrameKey> keys;
   for (auto& s : per_sample) {
     all.insert(all.end(), s.points.begin(), s.points.end());
+    keys.insert(keys.end(), s.keys.begin(), s.keys.end());
     rows.insert(rows.end(), std::make_move_iterator(s.rows.begin()), std::make_move_iterator(s.rows.end()));
   }
   ResidualStructure out;
@@ -297,6 +370,7 @@ ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& 
   out.rmse_px = all.empty() ? kNaN : std::sqrt(sse / all.size());
   out.covariates = covariate_tables(all, bins);
   principal_components(rows, sensor->markers_rest_px.size(), &out);
+  out.binned_fields = binned_mean_fields(rows, keys, sensor->markers_rest_px.size(), std::max(1, bins / 2));
   return out;
 }
 

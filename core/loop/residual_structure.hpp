@@ -31,6 +31,15 @@ struct CovariateTable {
   std::vector<double> mean_radial_px, mean_along_px;
 };
 
+// The mean residual field per bin of one frame covariate: a map per bin of where on the sensor, and which way,
+// the model is wrong when the press is deep, the slide goes +x, the indenter tilts towards -y ...
+struct BinnedMeanFields {
+  std::string name;                        // "penetration depth (mm)", "travel direction", "tilt direction"
+  std::vector<std::string> labels;         // one per bin
+  std::vector<long> frames;                // scored frames in the bin
+  std::vector<std::vector<Vec2>> mean_px;  // [bin][marker] mean residual (zero for an empty bin)
+};
+
 struct ResidualStructure {
   double rmse_px = 0;
   long marker_frames = 0;
@@ -39,6 +48,10 @@ struct ResidualStructure {
   std::vector<double> explained_variance;  // first 3 principal components of the centred residual, fractions
   std::vector<Vec2> mean_field_px;         // per marker, mean residual over scored frames
   std::vector<Vec2> pc1_px;                // first component, scaled to its RMS amplitude (s1 / sqrt(frames))
+  // Frames in contact binned by their depth (half as many equal widths as the covariate tables), by the direction of
+  // the travel since first contact and by the direction the indenter's approach axis tilts (each: none, +x, +y, -x, -y
+  // in E, which are the image's +u, +v, -u, -v): the mean residual per bin.
+  std::vector<BinnedMeanFields> binned_fields;
 };
 
 // The residual structure of model `model_id` (core/effects/model_spec.hpp: a form and effects) at `params`
