@@ -169,6 +169,29 @@ TEST_CASE("residual summary: the input-response rows, none in older reports or w
   CHECK_THAT(load_error(j), Catch::Contains("/input_response_before/responses"));
 }
 
+TEST_CASE("residual summary: the mean residual per bin, its RMS and whole-field shift, empty bins left out",
+          "[residual_view]") {
+  CHECK(load_residual_summary(write_temp("no_bins", residual_json())).binned_means.empty());
+  nlohmann::json j = residual_json();
+  // Two markers: means (3, 4) and (1, 0) px. RMS = sqrt((25 + 1) / 2) = sqrt(13); shift = (2, 2).
+  j["residual_before"]["binned_mean_fields"] = nlohmann::json::parse(R"json([
+    {"covariate": "travel direction", "bins": [
+      {"bin": "none", "frames": 0, "mean_px": [[0, 0], [0, 0]]},
+      {"bin": "+x (+u)", "frames": 12, "mean_px": [[3, 4], [1, 0]]}]}])json");
+  const ResidualSummary s = load_residual_summary(write_temp("bins", j));
+  REQUIRE(s.binned_means.size() == 1);
+  const BinnedMeanView& b = s.binned_means[0];
+  CHECK(b.covariate == "travel direction");
+  CHECK(b.bin == "+x (+u)");
+  CHECK(b.frames == 12);
+  CHECK(b.rms_px == Approx(std::sqrt(13.0)).epsilon(1e-12));
+  CHECK((b.shift_px - Vec2(2.0, 2.0)).norm() < 1e-12);
+  j["residual_before"]["binned_mean_fields"][0]["bins"][1]["mean_px"][1] = {1};
+  CHECK_THAT(load_error(j), Catch::Contains("/residual_before/binned_mean_fields/0/bins/1/mean_px/1"));
+  j["residual_before"]["binned_mean_fields"] = "maps";
+  CHECK_THAT(load_error(j), Catch::Contains("/residual_before/binned_mean_fields"));
+}
+
 TEST_CASE("residual summary: bad files are InputErrors naming the file and the entry", "[residual_view]") {
   CHECK_THROWS_AS(load_residual_summary("/nonexistent/residual.json"), InputError);
   auto j = residual_json();

@@ -54,6 +54,7 @@ class ResidualSection {
   void draw_candidates(const ResidualSummary& r) const;
   void draw_contact_frame_tables(const ResidualSummary& r);
   void draw_input_response_table(const ResidualSummary& r);
+  static void draw_binned_means_table(const ResidualSummary& r);
   void draw_switches(const AppSnapshot& snap, AppState& state, bool have_poses, std::string& message);
 
   std::optional<ResidualSummary> residual_;

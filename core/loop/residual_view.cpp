@@ -125,6 +125,45 @@ std::vector<ContactFrameTableView> read_contact_frame(const nlohmann::json& j, c
   return out;
 }
 
+// The base model's mean residual per bin of depth, travel and tilt direction, summarised per bin (the report's
+// maps are PNGs beside it). Empty bins are left out.
+std::vector<BinnedMeanView> read_binned_means(const nlohmann::json& j, const std::string& path) {
+  std::vector<BinnedMeanView> out;
+  const auto* before = jsonin::find(j, "residual_before");
+  const auto* binned = before ? jsonin::find(*before, "binned_mean_fields") : nullptr;
+  if (binned == nullptr) return out;
+  if (!binned->is_array()) jsonin::fail(path, "/residual_before/binned_mean_fields", "expected an array");
+  for (std::size_t i = 0; i < binned->size(); ++i) {
+    const std::string ptr = jsonin::child("/residual_before/binned_mean_fields", i);
+    const std::string name =
+        jsonin::string(jsonin::member((*binned)[i], "covariate", path, ptr), path, ptr + "/covariate");
+    const nlohmann::json& bins = jsonin::member((*binned)[i], "bins", path, ptr);
+    if (!bins.is_array()) jsonin::fail(path, ptr + "/bins", "expected an array");
+    for (std::size_t b = 0; b < bins.size(); ++b) {
+      const std::string bp = jsonin::child(ptr + "/bins", b);
+      BinnedMeanView v{name, jsonin::string(jsonin::member(bins[b], "bin", path, bp), path, bp + "/bin")};
+      v.frames =
+          static_cast<long>(jsonin::finite_number(jsonin::member(bins[b], "frames", path, bp), path, bp + "/frames"));
+      const nlohmann::json& field = jsonin::member(bins[b], "mean_px", path, bp);
+      if (!field.is_array()) jsonin::fail(path, bp + "/mean_px", "expected an array of [x, y]");
+      double ss = 0;
+      for (std::size_t m = 0; m < field.size(); ++m) {
+        const std::string mp = jsonin::child(bp + "/mean_px", m);
+        if (!field[m].is_array() || field[m].size() != 2) jsonin::fail(path, mp, "expected [x, y]");
+        const Vec2 d(jsonin::finite_number(field[m][0], path, mp + "/0"),
+                     jsonin::finite_number(field[m][1], path, mp + "/1"));
+        ss += d.squaredNorm();
+        v.shift_px += d;
+      }
+      if (v.frames == 0 || field.empty()) continue;
+      v.rms_px = std::sqrt(ss / double(field.size()));
+      v.shift_px /= double(field.size());
+      out.push_back(std::move(v));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 ResidualSummary load_residual_summary(const std::string& path) {
@@ -187,6 +226,7 @@ ResidualSummary load_residual_summary(const std::string& path) {
     jsonin::fail(path, "/after/params", e.what());
   }
   s.contact_frame = read_contact_frame(j, path);
+  s.binned_means = read_binned_means(j, path);
   read_input_response(j, path, &s);
   return s;
 }

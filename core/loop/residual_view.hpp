@@ -43,6 +43,15 @@ struct InputResponseRowView {
   double measured_rms_px = 0, model_rms_px = 0, gain = 0, after_gain_rms_px = 0;
 };
 
+// One bin of the base model's mean residual per frame covariate (residual_structure.hpp, BinnedMeanFields): its
+// frames, the RMS of the mean field over the markers, and its mean over them (a shift of the whole field).
+struct BinnedMeanView {
+  std::string covariate, bin;
+  long frames = 0;
+  double rms_px = 0;
+  Vec2 shift_px = Vec2::Zero();
+};
+
 struct ResidualSummary {
   std::string file;  // the JSON it came from
   std::string dataset;
@@ -60,6 +69,7 @@ struct ResidualSummary {
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
   std::vector<InputResponseRowView> input_response;  // the base model's responses (empty: older reports, or none)
   double inputs_only_rmse_px = 0;                    // what the inputs alone predict on validation (with the above)
+  std::vector<BinnedMeanView> binned_means;          // the base's mean residual per bin (empty: older reports)
 };
 
 // Reads the residual JSON. Throws InputError naming the file and the JSON pointer of a missing or bad
