@@ -151,30 +151,30 @@ void ResidualSection::draw_input_response_table(const ResidualSummary& r) {
 // The base model's mean residual per bin of depth, travel and tilt direction: a whole-field shift that follows a
 // direction (the TacTip's dome sway) reads off the shift column; the maps are the report's mean_by_ PNGs.
 void ResidualSection::draw_binned_means_table(const ResidualSummary& r) {
-  if (r.binned_means.empty() || !ImGui::TreeNodeEx("mean residual per bin", ImGuiTreeNodeFlags_None)) return;
+  if (r.binned_means.empty() || !ImGui::TreeNodeEx("mean residual per bin", ImGuiTreeNodeFlags_DefaultOpen)) return;
   constexpr ImGuiTableFlags kFlags = ImGuiTableFlags_RowBg | ImGuiTableFlags_BordersInnerV |
                                      ImGuiTableFlags_SizingStretchProp;
-  if (ImGui::BeginTable("##binned_means", 4, kFlags)) {
-    ImGui::TableSetupColumn("bin", ImGuiTableColumnFlags_WidthStretch, 2.2f);
-    for (const char* c : {"frames", "RMS", "shift"})
-      ImGui::TableSetupColumn(c, ImGuiTableColumnFlags_WidthStretch, 1.0f);
+  if (ImGui::BeginTable("##binned_means", 3, kFlags)) {
+    ImGui::TableSetupColumn("bin", ImGuiTableColumnFlags_WidthStretch, 1.9f);
+    ImGui::TableSetupColumn("RMS", ImGuiTableColumnFlags_WidthStretch, 0.7f);
+    ImGui::TableSetupColumn("shift x y", ImGuiTableColumnFlags_WidthStretch, 1.4f);
     ImGui::TableHeadersRow();
     for (const auto& b : r.binned_means) {
       ImGui::TableNextRow();
       ImGui::TableNextColumn();
-      ImGui::Text("%s %s", b.covariate.substr(0, b.covariate.find(' ')).c_str(), b.bin.c_str());
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", b.covariate.c_str(), b.bin.c_str());
-      ImGui::TableNextColumn();
-      ImGui::Text("%ld", b.frames);
+      const std::string first_word = b.covariate.substr(0, b.covariate.find(' '));
+      ImGui::Text("%s %s", first_word == "penetration" ? "depth" : first_word.c_str(), b.bin.c_str());
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s, %ld frames", b.covariate.c_str(), b.bin.c_str(), b.frames);
       ImGui::TableNextColumn();
       ImGui::Text("%.2f", b.rms_px);
       ImGui::TableNextColumn();
-      ImGui::Text("%+.1f,%+.1f", b.shift_px.x(), b.shift_px.y());
+      ImGui::Text("%+.1f %+.1f", b.shift_px.x(), b.shift_px.y());
     }
     ImGui::EndTable();
   }
-  ImGui::TextDisabled("px, mean of measured - model over the bin's frames;");
-  ImGui::TextDisabled("shift = its mean over the markers (maps: the report's PNGs)");
+  ImGui::TextDisabled("px, measured - model, mean over the bin's");
+  ImGui::TextDisabled("frames; shift: its mean over the markers");
+  ImGui::TextDisabled("(maps: the report's mean_by_ PNGs)");
   ImGui::TreePop();
 }
 
