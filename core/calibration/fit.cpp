@@ -178,8 +178,9 @@ class StageEvaluator {
       const double q = e.squaredNorm();
       sse += q;
       const Vec2 re = e * robust_factor(robust_, robust_scale_, q);
-      r[2 * i] = re.x();
-      r[2 * i + 1] = re.y();
+      const std::ptrdiff_t k = 2 * static_cast<std::ptrdiff_t>(i);
+      r[k] = re.x();
+      r[k + 1] = re.y();
     }
     if (scale_out) *scale_out = s;
     if (sse_out) *sse_out = sse;
@@ -187,7 +188,7 @@ class StageEvaluator {
   }
   // 1/2 sum r^2 (the Ceres cost), or +inf when cancelled.
   double cost(const double* x, double* scale_out = nullptr, double* sse_out = nullptr) {
-    std::vector<double> r(2 * n_);
+    std::vector<double> r(2 * static_cast<std::size_t>(n_));
     if (!residuals(x, r.data(), scale_out, sse_out)) return std::numeric_limits<double>::infinity();
     double c = 0;
     for (double v : r) c += v * v;
@@ -233,7 +234,7 @@ class StageCost final : public ceres::CostFunction {
     // iteration callback then aborts, and run_fit_stages discards the stage.
     const auto cancelled = [&] {
       std::fill(residuals, residuals + n, 0.0);
-      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * P, 0.0);
+      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + static_cast<std::ptrdiff_t>(n) * P, 0.0);
       return true;
     };
     const bool columns = jacobians && jacobians[0];
@@ -306,6 +307,7 @@ std::vector<double> coarse_scan(StageEvaluator& ev, const ParamSet& p, const Par
   if (P > 2) return x0;
   const int points = P == 1 ? kScanPoints1d : kScanPoints2d;
   std::vector<std::vector<double>> axes;
+  axes.reserve(P);
   for (int k = 0; k < P; ++k) axes.push_back(scan_axis(p.specs()[map.index[k]], map, k, points));
   double best = ev.cost(x0.data());
   std::vector<double> best_x = x0;
@@ -647,6 +649,7 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
                        std::any_of(table.begin(), table.end(), [&](const FitStage& s) { return s.name == name; });
     if (!known) {
       std::vector<std::string> names;
+      names.reserve(table.size());
       for (const auto& s : table) names.push_back(s.name);
       throw std::invalid_argument("fit: model '" + model_id + "' has no stage '" + name +
                                   "' (stages: " + join(names, ", ") + ", joint)");
@@ -660,12 +663,12 @@ CalibrationResult fit_model(const std::string& model_id, std::shared_ptr<const S
   if (o.joint || (!o.stages.empty() && wanted("joint"))) stages.push_back(joint_stage(model_id, o.fit_px_scale));
   hold_after_first_stage(o.hold, &stages);
   const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
-    return make_spec_model(model_id, sensor, ind);
+    return make_spec_model(model_id, sensor, std::move(ind));
   };
   return run_fit_stages(model_id, make, stages, samples, start, o);
 }
 
-double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+double fit_rmse_px(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor,
                    const std::vector<FitSample>& samples, const ParamSet& params) {
   double sse = 0;
   long n = 0;

@@ -160,7 +160,7 @@ void simulate_frames(ShearModel& model, const FitSample& sample, std::size_t fir
                      const std::function<void(std::size_t)>& before_frame = {});
 
 // RMSE (px) of `params` over the scored marker-frames of `samples` (no robust loss, no rescale).
-double fit_rmse_px(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
+double fit_rmse_px(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor,
                    const std::vector<FitSample>& samples, const ParamSet& params);
 
 }  // namespace sb

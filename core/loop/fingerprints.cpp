@@ -191,6 +191,7 @@ std::vector<std::vector<Vec2>> sls_glassy_field(const std::vector<std::vector<Ve
 CreepFingerprint creep_fingerprint(const std::vector<FingerprintSample>& samples) {
   for (const auto& s : samples) require_flags(s, "creep_fingerprint");
   std::vector<CreepEvidence> per_sample;
+  per_sample.reserve(samples.size());
   for (const auto& s : samples) per_sample.emplace_back(s);
   const auto evidence = [&](double tau, double c) {
     CreepTerms sum;
@@ -272,11 +273,13 @@ Eigen::MatrixXd lens_nuisance(const Sensor& sensor, const Vec2& centre_px, doubl
     const Vec2 radial = rho > 1e-9 ? Vec2(out / rho) : Vec2(1, 0), tangential(-radial.y(), radial.x());
     for (int b = 0; b < hats; ++b) {
       const double w = std::max(0.0, 1.0 - std::abs(rho / pitch_px - b));
-      N.block<2, 1>(r, 2 * b) = w * radial;
-      N.block<2, 1>(r, 2 * b + 1) = w * tangential;
+      const Eigen::Index col = 2 * Eigen::Index{b};
+      N.block<2, 1>(r, col) = w * radial;
+      N.block<2, 1>(r, col + 1) = w * tangential;
     }
-    N(r, 2 * hats) = 1;
-    N(r + 1, 2 * hats + 1) = 1;
+    const Eigen::Index shift_col = 2 * Eigen::Index{hats};
+    N(r, shift_col) = 1;
+    N(r + 1, shift_col + 1) = 1;
     const Vec2 p = sensor.p_EM[j].head<2>();
     const double dx = half.x() - std::abs(p.x()), dy = half.y() - std::abs(p.y());
     const Vec2 normal = dx < dy ? Vec2(1, 0) : Vec2(0, 1);

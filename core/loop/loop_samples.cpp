@@ -17,7 +17,7 @@ bool held_still(const Pose& before, const Pose& after) {
   return moved_m < kHeldStillM && turned_rad < kHeldStillRad;
 }
 
-SampleModelFactory spec_model_factory(const std::string& model_id, std::shared_ptr<const Sensor> sensor) {
+SampleModelFactory spec_model_factory(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor) {
   return [model_id, sensor](const FitSample& s, std::size_t) { return make_spec_model(model_id, sensor, s.indenter); };
 }
 
@@ -136,7 +136,7 @@ std::vector<RecordedField> record_field(const std::string& model_id, const Param
 
 SampleModelFactory replay_factory(const std::string& form_id, const std::vector<std::string>& effect_ids,
                                   const ParamSet& form_params, const std::vector<RecordedField>* recorded,
-                                  std::shared_ptr<const Sensor> sensor) {
+                                  const std::shared_ptr<const Sensor>& sensor) {
   ParamSet own = model_spec_params(form_id);  // the form's own table (EffectModel splits the combined one by it)
   copy_shared(form_params, &own);
   return

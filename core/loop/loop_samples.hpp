@@ -26,7 +26,7 @@ bool held_still(const Pose& before, const Pose& after);
 // A model for sample i of a split (a fresh one per call).
 using SampleModelFactory = std::function<std::unique_ptr<ShearModel>(const FitSample&, std::size_t)>;
 // The model `model_id` (core/effects/model_spec.hpp: a form and effects) for every sample.
-SampleModelFactory spec_model_factory(const std::string& model_id, std::shared_ptr<const Sensor> sensor);
+SampleModelFactory spec_model_factory(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor);
 
 // Per-sample squared error and marker-frame count over the scored set, the metric accumulators and the
 // held-drift sums (FitResult::held_*).
@@ -49,7 +49,7 @@ std::vector<RecordedField> record_field(const std::string& model_id, const Param
 // outlive the factory.
 SampleModelFactory replay_factory(const std::string& form_id, const std::vector<std::string>& effect_ids,
                                   const ParamSet& form_params, const std::vector<RecordedField>* recorded,
-                                  std::shared_ptr<const Sensor> sensor);
+                                  const std::shared_ptr<const Sensor>& sensor);
 
 // The fingerprints' view of the samples, without a model's field: contact, held frames (held_still), the
 // contact centre in the image and its travel since first contact.

@@ -143,7 +143,7 @@ const EffectFit* fit_of(const ResidualReport& r, const std::vector<std::string>&
 
 const cv::Scalar kInk(40, 40, 40), kGrid(215, 215, 215), kBlue(200, 90, 30), kRed(40, 40, 210), kGrey(150, 150, 150);
 
-void text(cv::Mat& img, const std::string& s, cv::Point p, double scale = 0.45, cv::Scalar c = kInk) {
+void text(cv::Mat& img, const std::string& s, cv::Point p, double scale = 0.45, const cv::Scalar& c = kInk) {
   cv::putText(img, s, p, cv::FONT_HERSHEY_SIMPLEX, scale, c, 1, cv::LINE_AA);
 }
 
@@ -168,7 +168,7 @@ cv::Mat covariate_plot(const CovariateTable& before, const CovariateTable* after
     text(img, g3(v), {5, py(v) + 4}, 0.4);
   }
   cv::rectangle(img, {L, T}, {W - R, H - B}, kInk);
-  const auto series = [&](const CovariateTable& t, cv::Scalar c) {
+  const auto series = [&](const CovariateTable& t, const cv::Scalar& c) {
     cv::Point prev(-1, -1);
     for (int b = 0; b < n; ++b) {
       if (!std::isfinite(t.rms_px[b])) {

@@ -238,12 +238,12 @@ SampleResidual sample_residual(const std::string& model_id, const ParamSet& para
   for (int f : active_marker_frames(s.meas_px)) {
     const int k = f / M, j = f % M;
     if (k != last_frame) {
-      out.rows.push_back(Eigen::VectorXd::Zero(2 * M));
+      out.rows.push_back(Eigen::VectorXd::Zero(2 * Eigen::Index{M}));
       out.keys.push_back({fc.depth_m[k] > 0, 1e3 * fc.depth_m[k], fc.travel_dir_E[k], fc.tilt_E[k]});
       last_frame = k;
     }
     const Vec2 e = s.meas_px[k][j] - pred[k][j];
-    out.rows.back().segment<2>(2 * j) = e;
+    out.rows.back().segment<2>(2 * Eigen::Index{j}) = e;
     out.points.push_back(marker_point(*sensor, fc, k, j, e));
   }
   return out;

@@ -53,7 +53,8 @@ bool lattice_steps(const std::vector<Vec2>& p, const std::vector<int>& finite, c
 
 // rest = D(o + A n), templated for Ceres. x = {o (2), A (4, row-major), k1}.
 struct LatticeResidual {
-  LatticeResidual(Vec2 rest, Eigen::Vector2i n, Vec2 c, double hd2) : rest_(rest), n_(n), c_(c), hd2_(hd2) {}
+  LatticeResidual(const Vec2& rest, const Eigen::Vector2i& n, const Vec2& c, double hd2)
+      : rest_(rest), n_(n), c_(c), hd2_(hd2) {}
   template <typename T>
   bool operator()(const T* o, const T* A, const T* k1, T* r) const {
     const T ux = o[0] + A[0] * double(n_.x()) + A[1] * double(n_.y()) - c_.x();
