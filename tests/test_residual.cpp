@@ -208,7 +208,10 @@ TEST_CASE("residual loop selects nothing when the data hold no effect", "[residu
   const auto dir = sbtest::temp_path("sb_test_residual_plots");
   std::filesystem::create_directories(dir);
   const auto plots = sb::write_residual_plots(r, dir.string(), "r");
-  CHECK(plots.size() == r.structure_before.covariates.size() + 2);
+  // One per covariate table, the mean residual and PC1, and one panel row per binned covariate (depth, travel and
+  // tilt direction); nothing was selected, so no "after" plots.
+  REQUIRE(r.structure_before.binned_fields.size() == 3);
+  CHECK(plots.size() == r.structure_before.covariates.size() + 2 + 3);
   for (const auto& name : plots) CHECK(std::filesystem::file_size(dir / name) > 0);
   CHECK(sb::residual_to_markdown(r, plots).find("Selected: nothing") != std::string::npos);
   std::filesystem::remove_all(dir);
