@@ -78,18 +78,32 @@ class DomeSway final : public Effect {
     const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, params_.get("load_exponent")) *
                       (params_.get("friction") * slide - n_contact.head<2>());
     const Vec3 u_apex(c * load.x(), c * load.y(), 0.0);
-    const double rim = rim_polar_rad(s.gel);
-    for (std::size_t j = 0; j < disp_px.size(); ++j) {
-      const Vec3 n_rest = surface_normal_near(*s.gel_sdf, s.p_EM[j]);
-      const double theta = std::acos(std::clamp(n_rest.z(), -1.0, 1.0));
-      const double w = std::cos(0.5 * std::numbers::pi * std::min(1.0, theta / rim));
-      const Vec3 tip = s.p_EM[j] - s.gel.markers_depth_m * n_rest;
-      disp_px[j] += s.camera.project(tip + w * u_apex) - s.camera.project(tip);
-    }
+    cache_pins(s);
+    for (std::size_t j = 0; j < disp_px.size(); ++j)
+      disp_px[j] += s.camera.project(tips_E_[j] + weights_[j] * u_apex) - s.camera.project(tips_E_[j]);
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<DomeSway>(*this); }
 
  private:
+  // The pins' tips and profile weights depend on the sensor alone: computed once per sensor, not per field (a
+  // fit applies the effect at every scored frame of every sample, hundreds of times).
+  void cache_pins(const Sensor& s) {
+    if (cached_for_ == &s && tips_E_.size() == s.p_EM.size()) return;
+    const double rim = rim_polar_rad(s.gel);
+    tips_E_.clear();
+    weights_.clear();
+    for (const Vec3& p_EM : s.p_EM) {
+      const Vec3 n_rest = surface_normal_near(*s.gel_sdf, p_EM);
+      const double theta = std::acos(std::clamp(n_rest.z(), -1.0, 1.0));
+      weights_.push_back(std::cos(0.5 * std::numbers::pi * std::min(1.0, theta / rim)));
+      tips_E_.push_back(p_EM - s.gel.markers_depth_m * n_rest);
+    }
+    cached_for_ = &s;
+  }
+
+  const Sensor* cached_for_ = nullptr;
+  std::vector<Vec3> tips_E_;       // pin tips, L below the surface along the rest normal
+  std::vector<double> weights_;    // cos(pi/2 theta / theta_rim)
   Vec2 travel_E_ = Vec2::Zero();   // the slide in contact, |travel| <= stick length
   std::optional<Vec2> last_xy_E_;  // the indenter's xy at the last step in contact
 };

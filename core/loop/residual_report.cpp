@@ -461,14 +461,10 @@ std::string binned_fields_markdown(const ResidualStructure& sb) {
   for (const auto& b : sb.binned_fields)
     for (std::size_t k = 0; k < b.labels.size(); ++k) {
       if (b.frames[k] == 0) continue;
-      double ss = 0, longest = 0;
-      Vec2 shift = Vec2::Zero();
-      for (const auto& v : b.mean_px[k]) ss += v.squaredNorm(), longest = std::max(longest, v.norm()), shift += v;
-      const double n = std::max<double>(1.0, double(b.mean_px[k].size()));
-      shift /= n;
-      md += "| " + b.name + " | " + b.labels[k] + " | " + std::to_string(b.frames[k]) + " | " + f3(std::sqrt(ss / n)) +
-            " | (" + format_number(shift.x(), "%.2f") + ", " + format_number(shift.y(), "%.2f") + ") | " + f3(longest) +
-            " |\n";
+      const FieldSummary f = summarise_field(b.mean_px[k]);
+      md += "| " + b.name + " | " + b.labels[k] + " | " + std::to_string(b.frames[k]) + " | " + f3(f.rms_px) + " | (" +
+            format_number(f.shift_px.x(), "%.2f") + ", " + format_number(f.shift_px.y(), "%.2f") + ") | " +
+            f3(f.longest_px) + " |\n";
     }
   return md + "\n";
 }

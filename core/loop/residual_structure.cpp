@@ -348,6 +348,17 @@ void principal_components(const std::vector<Eigen::VectorXd>& rows, std::size_t 
 
 }  // namespace
 
+FieldSummary summarise_field(const std::vector<Vec2>& field_px) {
+  FieldSummary f;
+  if (field_px.empty()) return f;
+  double ss = 0;
+  for (const Vec2& v : field_px)
+    ss += v.squaredNorm(), f.longest_px = std::max(f.longest_px, v.norm()), f.shift_px += v;
+  f.rms_px = std::sqrt(ss / double(field_px.size()));
+  f.shift_px /= double(field_px.size());
+  return f;
+}
+
 ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
                                    std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples,
                                    int bins) {

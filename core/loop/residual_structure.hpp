@@ -40,6 +40,14 @@ struct BinnedMeanFields {
   std::vector<std::vector<Vec2>> mean_px;  // [bin][marker] mean residual (zero for an empty bin)
 };
 
+// A per-marker field in three numbers: its RMS over the markers, its mean (a shift of the whole field) and its
+// longest arrow (px).
+struct FieldSummary {
+  double rms_px = 0, longest_px = 0;
+  Vec2 shift_px = Vec2::Zero();
+};
+FieldSummary summarise_field(const std::vector<Vec2>& field_px);
+
 struct ResidualStructure {
   double rmse_px = 0;
   long marker_frames = 0;

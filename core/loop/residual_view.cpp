@@ -10,6 +10,7 @@
 #include "core/data/json_read.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
+#include "core/loop/residual_structure.hpp"
 
 namespace sb {
 
@@ -146,18 +147,18 @@ std::vector<BinnedMeanView> read_binned_means(const nlohmann::json& j, const std
           static_cast<long>(jsonin::finite_number(jsonin::member(bins[b], "frames", path, bp), path, bp + "/frames"));
       const nlohmann::json& field = jsonin::member(bins[b], "mean_px", path, bp);
       if (!field.is_array()) jsonin::fail(path, bp + "/mean_px", "expected an array of [x, y]");
-      double ss = 0;
+      std::vector<Vec2> mean;
+      mean.reserve(field.size());
       for (std::size_t m = 0; m < field.size(); ++m) {
         const std::string mp = jsonin::child(bp + "/mean_px", m);
         if (!field[m].is_array() || field[m].size() != 2) jsonin::fail(path, mp, "expected [x, y]");
-        const Vec2 d(jsonin::finite_number(field[m][0], path, mp + "/0"),
-                     jsonin::finite_number(field[m][1], path, mp + "/1"));
-        ss += d.squaredNorm();
-        v.shift_px += d;
+        mean.emplace_back(jsonin::finite_number(field[m][0], path, mp + "/0"),
+                          jsonin::finite_number(field[m][1], path, mp + "/1"));
       }
-      if (v.frames == 0 || field.empty()) continue;
-      v.rms_px = std::sqrt(ss / double(field.size()));
-      v.shift_px /= double(field.size());
+      if (v.frames == 0 || mean.empty()) continue;
+      const FieldSummary f = summarise_field(mean);
+      v.rms_px = f.rms_px;
+      v.shift_px = f.shift_px;
       out.push_back(std::move(v));
     }
   }
