@@ -41,8 +41,8 @@ int run_assets(const AssetsArgs& args, const GlobalOptions& global) {
 
 void add_flags(CLI::App& sub, AssetsArgs& a) { sub.add_option("--out", a.out, "output directory (default: assets)"); }
 
-const Subcommand<AssetsArgs> kSubcommand{"assets", "write the procedural indenter meshes (OBJ, metres) the scenes use",
-                                         80, add_flags, run_assets};
+const Subcommand<AssetsArgs> kAssetsCommand{
+    "assets", "write the procedural indenter meshes (OBJ, metres) the scenes use", 80, add_flags, run_assets};
 
 }  // namespace
 }  // namespace sb::app

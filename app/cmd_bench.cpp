@@ -161,7 +161,7 @@ void add_flags(CLI::App& sub, BenchArgs& a) {
   sub.add_option("--json", a.json_out, "write the results as JSON (atomically)");
 }
 
-const Subcommand<BenchArgs> kSubcommand{
+const Subcommand<BenchArgs> kBenchCommand{
     "bench", "time the shear models on the BENCH_WORKLOAD peg grasp (ms per batched step)", 80, add_flags, run_bench};
 
 }  // namespace

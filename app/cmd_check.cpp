@@ -83,8 +83,8 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, CheckArgs& a) { add_dataset_flag(sub, a.dataset); }
 
-const Subcommand<CheckArgs> kSubcommand{"check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)", 40,
-                                        add_flags, run_check};
+const Subcommand<CheckArgs> kCheckCommand{"check", "validate a tsd/1 dataset and print a summary (exit 2 on errors)",
+                                          40, add_flags, run_check};
 
 }  // namespace
 }  // namespace sb::app

@@ -83,9 +83,9 @@ void add_flags(CLI::App& sub, EvaluateArgs& a) {
                  "write every scored marker's measured and predicted displacement as CSV (one model)");
 }
 
-const Subcommand<EvaluateArgs> kSubcommand{"evaluate",
-                                           "score shear models against a tsd/1 dataset (RMSE and CS per motion type)",
-                                           35, add_flags, run_evaluate};
+const Subcommand<EvaluateArgs> kEvaluateCommand{
+    "evaluate", "score shear models against a tsd/1 dataset (RMSE and CS per motion type)", 35, add_flags,
+    run_evaluate};
 
 }  // namespace
 }  // namespace sb::app

@@ -133,7 +133,7 @@ void add_flags(CLI::App& sub, FitArgs& a) {
   sub.add_option("--checkpoint", a.checkpoint, "also write the completed stages here after every stage");
 }
 
-const Subcommand<FitArgs> kSubcommand{
+const Subcommand<FitArgs> kFitCommand{
     "fit", "calibrate a shear model on a dataset's calibration split (staged least squares)", 36, add_flags, run_fit};
 
 }  // namespace

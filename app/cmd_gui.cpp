@@ -130,7 +130,7 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
       "folder, i.e. build/; in the working folder for an installed one)");
 }
 
-const Subcommand<GuiArgs> kSubcommand{"gui", "the interactive workbench (default command); headless without a display",
+const Subcommand<GuiArgs> kGuiCommand{"gui", "the interactive workbench (default command); headless without a display",
                                       5, add_flags, run_gui};
 
 }  // namespace

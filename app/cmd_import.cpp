@@ -74,7 +74,7 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
       "video sources and tactip_shear: also store the frames as PNG (the workbench shows them behind the panels)");
 }
 
-const Subcommand<ImportArgs> kSubcommand{
+const Subcommand<ImportArgs> kImportCommand{
     "import", "convert a raw recording folder (gsrobotics, incipient_slip, fots, feats, tactip_shear) into tsd/1", 41,
     add_flags, run_import};
 

@@ -111,7 +111,7 @@ void add_flags(CLI::App& sub, InjectArgs& a) {
   sub.add_option("--out", a.out, "new dataset folder (refused when it already holds a dataset)")->required();
 }
 
-const Subcommand<InjectArgs> kSubcommand{
+const Subcommand<InjectArgs> kInjectCommand{
     "inject", "a copy of a dataset with a known effect put into its measurements (checks the residual loop)", 41,
     add_flags, run_inject};
 

@@ -179,7 +179,7 @@ void add_flags(CLI::App& sub, ParamsArgs& a) {
                  "where --rebuild writes (default: assets/params in shearbench's home, see --home)");
 }
 
-const Subcommand<ParamsArgs> kSubcommand{
+const Subcommand<ParamsArgs> kParamsCommand{
     "params", "the shipped parameter sets and their provenance; --rebuild refits them", 38, add_flags, run_params};
 
 }  // namespace

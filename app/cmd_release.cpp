@@ -98,7 +98,7 @@ void add_flags(CLI::App& sub, ReleaseArgs& a) {
   sub.add_option("--report", a.report_out, "Markdown table (written atomically)")->required();
 }
 
-const Subcommand<ReleaseArgs> kSubcommand{
+const Subcommand<ReleaseArgs> kReleaseCommand{
     "release", "the release phase of pose-unknown recordings: what is left after unloading, and how it fades", 40,
     add_flags, run_release};
 

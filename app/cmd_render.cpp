@@ -130,7 +130,7 @@ void add_flags(CLI::App& sub, RenderArgs& a) {
   sub.add_flag("--residual-fields", a.residual_fields, "draw measured - model instead of the model fields");
 }
 
-const Subcommand<RenderArgs> kSubcommand{
+const Subcommand<RenderArgs> kRenderCommand{
     "render", "draw the workbench headless (what `gui` shows) at one step into a PNG", 60, add_flags, run_render};
 
 }  // namespace

@@ -57,7 +57,7 @@ void add_flags(CLI::App& sub, ReportArgs& a) {
   sub.add_option("--out", a.out, "Markdown file to write")->required();
 }
 
-const Subcommand<ReportArgs> kSubcommand{
+const Subcommand<ReportArgs> kReportCommand{
     "report", "fit every model on calibration, score on validation, write the fidelity table", 37, add_flags,
     run_report};
 

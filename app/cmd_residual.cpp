@@ -139,7 +139,7 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--report", a.report_out, "Markdown report; PNG plots are written beside it")->required();
 }
 
-const Subcommand<ResidualArgs> kSubcommand{
+const Subcommand<ResidualArgs> kResidualCommand{
     "residual", "attribute a model's residual to catalogued effects (fit, analyse, select, report)", 39, add_flags,
     run_residual};
 

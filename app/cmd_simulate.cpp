@@ -105,7 +105,7 @@ void add_flags(CLI::App& sub, SimulateArgs& a) {
   sub.add_option("--out", a.out, "output dataset folder")->required();
 }
 
-const Subcommand<SimulateArgs> kSubcommand{
+const Subcommand<SimulateArgs> kSimulateCommand{
     "simulate", "run a shear model over a scene and write the predicted field as a tsd/1 dataset", 30, add_flags,
     run_simulate};
 

@@ -121,7 +121,7 @@ void add_flags(CLI::App& sub, TrackArgs& a) {
   sub.add_option("--reference-tsd", a.reference_tsd, "tsd/1 sample directory with exact markers.csv");
 }
 
-const Subcommand<TrackArgs> kSubcommand{
+const Subcommand<TrackArgs> kTrackCommand{
     "track", "track the markers of a video or frames directory into a tsd/1 dataset", 40, add_flags, run_track};
 
 }  // namespace

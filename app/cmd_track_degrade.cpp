@@ -182,7 +182,7 @@ void add_flags(CLI::App& sub, TrackDegradeArgs& a) {
   sub.add_flag("--per-clip", a.per_clip, "also print one table per clip");
 }
 
-const Subcommand<TrackDegradeArgs> kSubcommand{
+const Subcommand<TrackDegradeArgs> kTrackDegradeCommand{
     "track-degrade",
     "the marker tracker under blur, noise, drift, JPEG, dropped frames and occlusion, vs the clean track", 41,
     add_flags, run_track_degrade};

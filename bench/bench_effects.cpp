@@ -8,7 +8,7 @@
 
 namespace {
 
-constexpr double kRadius = 0.004;
+constexpr double kIndenterRadius = 0.004;
 
 class FixedField final : public sb::ShearModel {
  public:
@@ -40,11 +40,12 @@ std::shared_ptr<sb::Sensor> grid_sensor(int rows, int cols, double pitch_m) {
 // A sphere sampled on a Fibonacci lattice at about the HydroShear spacing (0.75 mm): ~360 points.
 std::shared_ptr<sb::Indenter> sphere_indenter() {
   auto ind = std::make_shared<sb::Indenter>();
-  ind->sdf = sb::make_sphere_sdf(kRadius);
+  ind->sdf = sb::make_sphere_sdf(kIndenterRadius);
   const int n = 360;
   for (int i = 0; i < n; ++i) {
     const double z = 1.0 - 2.0 * (i + 0.5) / n, rho = std::sqrt(1.0 - z * z), phi = 2.399963229728653 * i;
-    ind->samples.p_IS.emplace_back(kRadius * rho * std::cos(phi), kRadius * rho * std::sin(phi), kRadius * z);
+    ind->samples.p_IS.emplace_back(kIndenterRadius * rho * std::cos(phi), kIndenterRadius * rho * std::sin(phi),
+                                   kIndenterRadius * z);
   }
   return ind;
 }
@@ -73,7 +74,7 @@ void run(benchmark::State& state, bool with_effects, bool wrapper_only = false) 
   int k = 0;
   for (auto _ : state) {
     sb::Pose X = sb::Pose::Identity();
-    X.translation() = sb::Vec3(0.0, 0.0, kRadius - 0.001 * (1.0 + std::sin(0.01 * k++)));
+    X.translation() = sb::Vec3(0.0, 0.0, kIndenterRadius - 0.001 * (1.0 + std::sin(0.01 * k++)));
     model->step(X, 0.01, &out);
     benchmark::DoNotOptimize(out.disp_px.data());
   }

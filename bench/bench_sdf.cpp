@@ -11,11 +11,11 @@
 
 namespace {
 
-constexpr double kRadius = 0.005;             // 10 mm sphere
-constexpr double kVoxel = 2 * kRadius / 100;  // 1/100 of its size: 0.1 mm
+constexpr double kSphereRadius = 0.005;             // 10 mm sphere
+constexpr double kVoxel = 2 * kSphereRadius / 100;  // 1/100 of its size: 0.1 mm
 
 const sb::TriMesh& sphere_mesh() {
-  static const sb::TriMesh mesh = sb::make_sphere_mesh(kRadius, 5);  // 10,242 vertices
+  static const sb::TriMesh mesh = sb::make_sphere_mesh(kSphereRadius, 5);  // 10,242 vertices
   return mesh;
 }
 
@@ -38,7 +38,7 @@ BENCHMARK(BM_MeshSdfBuild)->Arg(1)->Arg(4)->Unit(benchmark::kMillisecond)->UseRe
 void BM_MeshSdfQuery(benchmark::State& state) {
   static const sb::SdfPtr sdf = sb::make_mesh_sdf(sphere_mesh(), options_with_band(0.004));
   std::mt19937 rng(static_cast<unsigned>(state.thread_index()) + 1);
-  std::uniform_real_distribution<double> u(-kRadius - 0.001, kRadius + 0.001);
+  std::uniform_real_distribution<double> u(-kSphereRadius - 0.001, kSphereRadius + 0.001);
   std::vector<sb::Vec3> p(1'000'000);
   for (auto& q : p) q = sb::Vec3(u(rng), u(rng), u(rng));
   std::vector<double> phi(p.size());

@@ -1,4 +1,4 @@
-// The real TacTip path (issue 32's goals: each model fitted on the whole calibration split within 5 min on 2
+// The real TacTip path (the goals: each model fitted on the whole calibration split within 5 min on 2
 // cores): one sample's steps (the press, the slide, the one scored frame), a whole-split evaluation, and the
 // fit of every model as `params --rebuild --set tactip_shear` runs it (its stages, then the joint refinement,
 // at most 10 iterations per stage). Needs the data root ($SHEARBENCH_DATA or ../shared/data); the import

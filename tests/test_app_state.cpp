@@ -5,6 +5,10 @@
 
 #include "core/workbench/app_state.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_app_state {
+
 using namespace sb;
 
 namespace {
@@ -234,3 +238,5 @@ TEST_CASE("a replaced model replays the path to the current step; the other slot
   CHECK_THROWS_AS(state->request_model(5, std::make_unique<HistoryModel>()), std::out_of_range);
   CHECK_THROWS_AS(state->request_model(0, nullptr), std::invalid_argument);
 }
+
+}  // namespace test_app_state

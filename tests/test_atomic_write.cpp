@@ -10,6 +10,10 @@
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_atomic_write {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -84,3 +88,5 @@ TEST_CASE("write_png_atomic writes a PNG that decodes to the same pixels", "[ato
   CHECK_THROWS_AS(sb::write_png_atomic((dir / "bad.png").string(), 2, 3, 2, grey), sb::InputError);
   fs::remove_all(dir);
 }
+
+}  // namespace test_atomic_write

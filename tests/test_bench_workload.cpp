@@ -3,6 +3,10 @@
 
 #include "core/models/bench_workload.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_bench_workload {
+
 using namespace sb;
 
 namespace {
@@ -51,3 +55,5 @@ TEST_CASE("the peg presses each pad by exactly the drawn depth at step 10", "[be
     }
   }
 }
+
+}  // namespace test_bench_workload

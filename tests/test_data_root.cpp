@@ -7,6 +7,10 @@
 
 #include "core/base/data_root.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_data_root {
+
 namespace fs = std::filesystem;
 
 TEST_CASE("data_path shows a file under the data root as data:<relative>, others unchanged", "[data_root]") {
@@ -64,3 +68,5 @@ TEST_CASE("a typed relative path falls back to the data root when it is not in t
   fs::remove_all(root);
   fs::remove_all(work);
 }
+
+}  // namespace test_data_root

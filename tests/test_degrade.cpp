@@ -10,6 +10,10 @@
 #include "core/tracking/degrade_study.hpp"
 #include "marker_render.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_degrade {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -219,3 +223,5 @@ TEST_CASE("a study on a synthetic clip: dropped frames score exactly, an occlude
   CHECK(occ.max_px < kRimErrorPx);
   CHECK(occ.compared + occ.lost == occ.marker_frames);
 }
+
+}  // namespace test_degrade

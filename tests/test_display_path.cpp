@@ -5,6 +5,10 @@
 
 #include "core/base/display_path.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_display_path {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -25,3 +29,5 @@ TEST_CASE("display_path: data: inside the data root, relative inside the working
   CHECK(display_path("data:twin/set", root, repo) == "data:twin/set");
   fs::remove_all(tmp);
 }
+
+}  // namespace test_display_path

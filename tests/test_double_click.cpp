@@ -2,6 +2,10 @@
 
 #include <catch2/catch.hpp>
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_double_click {
+
 using sb::DoubleClickDetector;
 
 // Presses are fed as the window's event poll delivers them: begin_poll(busy) once per frame (busy: the
@@ -54,3 +58,5 @@ TEST_CASE("presses far apart in time or space are two clicks", "[double_click]")
   d.press(30.9, 17, 10);  // a third press starts a new pair; it is not a second double-click
   CHECK_FALSE(d.double_clicked());
 }
+
+}  // namespace test_double_click

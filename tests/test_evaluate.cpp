@@ -7,6 +7,10 @@
 
 #include "core/calibration/evaluate.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_evaluate {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -154,3 +158,5 @@ TEST_CASE("scored_fields_csv: one row per scored marker, NaN where the tracker l
         "val_0001,shear,11,0,1.0000,-2.5000,1.2500,-2.0000\n"
         "val_0001,shear,11,1,nan,nan,0.5000,0.5000\n");
 }
+
+}  // namespace test_evaluate

@@ -3,6 +3,10 @@
 
 #include "core/workbench/field_display.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_field_display {
+
 using namespace sb;
 
 TEST_CASE("off_scale_note speaks only beyond 5x the colour scale", "[field_display]") {
@@ -33,3 +37,5 @@ TEST_CASE("drawn_arrow scales by the gain and cuts at the longest length, keepin
   CHECK_FALSE(cut);
   CHECK((a - Vec2(600, 800)).norm() < kTol);
 }
+
+}  // namespace test_field_display

@@ -11,6 +11,10 @@
 #include "core/workbench/field_export.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_field_export {
+
 namespace fs = std::filesystem;
 using namespace sbtest;
 
@@ -151,3 +155,5 @@ TEST_CASE("the export job ends Done, Failed or Cancelled and says so", "[field_e
     CHECK_FALSE(fs::exists(tmp.path));
   }
 }
+
+}  // namespace test_field_export

@@ -4,12 +4,17 @@
 // a smooth residual concentrated near the contact).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
 #include "core/effects/effects.hpp"
 #include "core/loop/fingerprints.hpp"
 #include "core/loop/rest_grid_lens.hpp"
+
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_fingerprints {
 
 using sb::FingerprintSample;
 using sb::Vec2;
@@ -519,3 +524,20 @@ TEST_CASE("subsurface fingerprint: a depth counts only where the model explains 
     CHECK(single->verdict.find("no tracker noise") != std::string::npos);
   }
 }
+
+// The registry is keyed by catalogue ids: a key that names no effect (a typo) would never be asked for.
+TEST_CASE("every fingerprint in the registry belongs to a catalogued effect", "[fingerprint]") {
+  const std::vector<std::string>& catalogue = sb::effect_ids();
+  const std::vector<std::string> keys = sb::fingerprinted_effects();
+  CHECK(keys == std::vector<std::string>{"viscoelastic_creep", "lens_distortion", "subsurface_markers"});
+  for (const std::string& id : keys) {
+    INFO(id);
+    CHECK(std::find(catalogue.begin(), catalogue.end(), id) != catalogue.end());
+    CHECK(sb::has_fingerprint(id));
+  }
+  CHECK_FALSE(sb::has_fingerprint("dome_sway"));
+  CHECK_FALSE(sb::fingerprint_needs_model("dome_sway", sensor()));
+  CHECK_FALSE(sb::fingerprint_check("dome_sway", sensor(), {}, {}).has_value());
+}
+
+}  // namespace test_fingerprints

@@ -439,6 +439,10 @@ TEST_CASE("the contact variant is fitted in double whatever its precision parame
 #include "core/data/tsd.hpp"
 #include "core/geometry/mesh.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_fit {
+
 namespace {
 
 // A tsd/1 dataset in a temporary folder: the 4 mm sphere's trajectories, simulated by HydroShear with
@@ -503,3 +507,5 @@ TEST_CASE("a fit reads only the calibration split: corrupt or absent validation 
   CHECK_THROWS(sb::read_sample(sb::read_dataset(dir), "dil_v"));
   std::filesystem::remove_all(dir);
 }
+
+}  // namespace test_fit

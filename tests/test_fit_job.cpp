@@ -8,6 +8,10 @@
 #include "core/calibration/fit_job.hpp"
 #include "core/models/model.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_fit_job {
+
 namespace {
 
 std::string data_root() {
@@ -73,3 +77,5 @@ TEST_CASE("a cancelled fit says so and a bad dataset fails with its path", "[fit
   CHECK(s.phase == sb::FitJobStatus::Phase::Failed);
   CHECK_THAT(s.error, Catch::Contains("/nonexistent/dataset"));
 }
+
+}  // namespace test_fit_job

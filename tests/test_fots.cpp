@@ -7,6 +7,10 @@
 #include "core/models/fots.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_fots {
+
 using sbtest::kMiniMarkers;
 
 using namespace sbtest;
@@ -169,3 +173,5 @@ TEST_CASE("FOTS Reimpl: the anchor is set when the normal approach ends (the aut
     CHECK(rolled[marker_at(0, 0)].y() == Approx(kPxPerM * h * std::sin(kRoll)).epsilon(1e-9));
   }
 }
+
+}  // namespace test_fots

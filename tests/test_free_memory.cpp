@@ -9,6 +9,10 @@
 #include "core/base/free_memory.hpp"
 #include "tests/asan_detect.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_free_memory {
+
 TEST_CASE("return_free_memory_to_os hands a freed burst of small blocks back", "[base][memory]") {
 #if defined(SB_TEST_ASAN) || !defined(__GLIBC__)
   WARN("skipped: needs glibc's allocator (the release pass on Linux runs this test)");
@@ -42,3 +46,5 @@ TEST_CASE("return_free_memory_to_os hands a freed burst of small blocks back", "
   CHECK(before - after > kBurstKb / 2);
 #endif
 }
+
+}  // namespace test_free_memory

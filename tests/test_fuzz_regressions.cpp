@@ -9,6 +9,10 @@
 
 #include "fuzz/fuzz_inputs.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_fuzz_regressions {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -48,3 +52,5 @@ TEST_CASE("inputs that crashed the fuzzers are handled", "[fuzz-regress]") {
   CHECK(replay("fuzz_params", sb::fuzz::one_params) >= 1);
   CHECK(replay("fuzz_session", sb::fuzz::one_session) >= 1);  // and in a session file
 }
+
+}  // namespace test_fuzz_regressions

@@ -3,6 +3,10 @@
 
 #include "core/workbench/held_modifiers.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_held_modifiers {
+
 using sb::HeldModifiers;
 
 TEST_CASE("a key pressed before Ctrl in the same poll does not carry Ctrl", "[workbench][keys]") {
@@ -29,3 +33,5 @@ TEST_CASE("left and right modifier keys are held apart", "[workbench][keys]") {
   h.release(HeldModifiers::kRightCtrl);
   CHECK(h.mods() == 0);
 }
+
+}  // namespace test_held_modifiers

@@ -6,6 +6,10 @@
 #include "core/models/hydroshear.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_hydroshear {
+
 using sbtest::kMiniMarkers;
 
 using namespace sbtest;
@@ -273,3 +277,5 @@ TEST_CASE("HydroShear: a batch of slots equals independent single models", "[mod
     }
   }
 }
+
+}  // namespace test_hydroshear

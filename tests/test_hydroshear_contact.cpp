@@ -12,6 +12,10 @@
 
 #include "hydroshear_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_hydroshear_contact {
+
 using namespace sbtest;
 
 namespace {
@@ -212,3 +216,5 @@ TEST_CASE("a field-only parameter changed mid-path gives the field of a path run
     }
   }
 }
+
+}  // namespace test_hydroshear_contact

@@ -9,6 +9,10 @@
 #include "core/models/hydroshear_kernels.hpp"
 #include "core/models/model_common.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_hydroshear_kernels {
+
 using namespace sb;
 namespace kernels = sb::hydroshear_kernels;
 
@@ -274,3 +278,5 @@ TEST_CASE("dilation_sum adds the depth-weighted kernel rows of the inside marker
   }
   for (int j = markers; j < stride; ++j) CHECK(dx[j] == 0.0);  // the zero padding stays zero
 }
+
+}  // namespace test_hydroshear_kernels

@@ -8,6 +8,10 @@
 
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_hydroshear_layer {
+
 using namespace sbtest;
 
 namespace {
@@ -62,3 +66,5 @@ TEST_CASE("hydroshear-layer adds the shear kernel's near-field term linearly", "
   }
   CHECK(near_s > 0.01);  // the near-field term acts on this path (the check is not of zeros)
 }
+
+}  // namespace test_hydroshear_layer

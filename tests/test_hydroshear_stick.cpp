@@ -10,6 +10,10 @@
 
 #include "hydroshear_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_hydroshear_stick {
+
 using namespace sbtest;
 
 namespace {
@@ -65,3 +69,5 @@ TEST_CASE("hydroshear-stick divides the shear sum by 1 + s W", "[models][hydrosh
     CHECK(largest_sW > 0.3);  // the saturation acts on this path (the check is not of a factor 1)
   }
 }
+
+}  // namespace test_hydroshear_stick

@@ -16,6 +16,10 @@
 #include "core/data/tsd.hpp"
 #include "core/tracking/track_eval.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_importers {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -189,3 +193,5 @@ TEST_CASE("imported datasets pass the tsd/1 reader", "[import]") {
     }
   }
 }
+
+}  // namespace test_importers

@@ -4,6 +4,10 @@
 
 #include "core/geometry/indent.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_indent {
+
 using namespace sb;
 
 namespace {
@@ -40,3 +44,5 @@ TEST_CASE("indent_down follows a tilted indenter's lower face, not its far side"
   CHECK(indent_down(*box, X_EI, p) == 1);
   CHECK(std::abs(p[0].z() - z_edge) < kTolM);
 }
+
+}  // namespace test_indent

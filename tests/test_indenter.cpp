@@ -8,6 +8,10 @@
 #include "core/base/data_root.hpp"
 #include "core/geometry/indenter.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_indenter {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -306,3 +310,5 @@ TEST_CASE("the committed assets/ meshes load clean and match their generators", 
     CHECK(m.signed_volume() == Approx(a.mesh.signed_volume()).epsilon(kFileTol));
   }
 }
+
+}  // namespace test_indenter

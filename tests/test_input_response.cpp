@@ -5,6 +5,10 @@
 #include "core/loop/input_response.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_input_response {
+
 using namespace sb;
 
 namespace {
@@ -110,3 +114,5 @@ TEST_CASE("analyse_input_response: a model at half the law has gain 2 and no sha
   CHECK(a.model_rmse_px == Approx(0.5 * std::sqrt(sq / double(n))).epsilon(1e-9));
   CHECK_THROWS_AS(analyse_input_response({}, val), std::invalid_argument);
 }
+
+}  // namespace test_input_response

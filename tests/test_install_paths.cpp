@@ -13,6 +13,10 @@
 #include "core/base/install_paths.hpp"
 #include "core/data/scene.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_install_paths {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -123,3 +127,5 @@ TEST_CASE("a scene naming data: with no data root says which file and entry aske
                              Catch::Contains("--data") && Catch::Contains("SHEARBENCH_DATA"));
   }
 }
+
+}  // namespace test_install_paths

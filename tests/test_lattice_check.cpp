@@ -9,6 +9,10 @@
 #include "core/tracking/pin_tracker.hpp"
 #include "pin_render.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_lattice_check {
+
 using namespace sb;
 using namespace sb::test;
 
@@ -225,3 +229,5 @@ TEST_CASE("a sweep of fields and priors: no kept pin is a lattice site off", "[t
   INFO("fields under 95 % without a prior: " << blind_under95);
   CHECK(blind_under95 == fields);  // measured: all 12
 }
+
+}  // namespace test_lattice_check

@@ -14,6 +14,10 @@
 #include "core/base/data_root.hpp"
 #include "core/geometry/mesh.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_mesh {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -431,3 +435,5 @@ TEST_CASE("cow.obj (closed, odd Euler characteristic) loads with a warning; spot
   CHECK(spot_report.euler_characteristic == 2);
   CHECK(none.empty());
 }
+
+}  // namespace test_mesh

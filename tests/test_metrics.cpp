@@ -4,6 +4,10 @@
 
 #include "core/calibration/metrics.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_metrics {
+
 using namespace sb;
 
 namespace {
@@ -83,3 +87,5 @@ TEST_CASE("nothing_tracked: every marker lost, and only that", "[metrics]") {
   CHECK_FALSE(sb::nothing_tracked({sb::Vec2(nan, nan), sb::Vec2(0, 0)}));  // one marker kept, at rest
   CHECK_FALSE(sb::nothing_tracked({}));                                    // no row at all: not this case
 }
+
+}  // namespace test_metrics

@@ -16,6 +16,10 @@
 #include "core/models/hydroshear.hpp"
 #include "core/models/tacsl.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_model_kernels {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -466,3 +470,5 @@ TEST_CASE("exp_in_place equals std::exp to a few ulp over the exponent range", "
     CHECK(std::abs(e[i] - std::exp(x[i])) <= kExpTol * std::exp(x[i]));
   }
 }
+
+}  // namespace test_model_kernels

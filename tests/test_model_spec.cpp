@@ -10,6 +10,10 @@
 #include "core/effects/model_spec.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_model_spec {
+
 using namespace sb;
 
 TEST_CASE("model spec: a form and its effects by name, checked part by part", "[model_spec]") {
@@ -61,3 +65,5 @@ TEST_CASE("model spec: a parameter set gives a form with effects its form's fitt
   CHECK(p.get("viscoelastic_creep.tau_s") == 0.4);  // the model's own table on top
   CHECK(set.params("hydroshear-contact+lens_distortion").get("mu") == 0.7);
 }
+
+}  // namespace test_model_spec

@@ -6,6 +6,10 @@
 
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_models {
+
 using sbtest::kMiniMarkers;
 
 using namespace sbtest;
@@ -59,3 +63,5 @@ TEST_CASE("models: moving sensor and indenter together rigidly changes nothing",
     CHECK(seen > 0);  // the trajectory does touch
   }
 }
+
+}  // namespace test_models

@@ -9,6 +9,10 @@
 #include "core/base/error.hpp"
 #include "core/workbench/open_target.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_open_target {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -54,3 +58,5 @@ TEST_CASE("the recent list keeps the newest first, once each", "[open]") {
   for (const char* p : {"a", "b", "a", "c", "d"}) recent.add(p);
   CHECK(recent.paths() == std::vector<std::string>{"d", "c", "a"});
 }
+
+}  // namespace test_open_target

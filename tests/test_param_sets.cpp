@@ -16,6 +16,10 @@
 #include "core/data/tsd.hpp"
 #include "core/models/model.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_param_sets {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -105,3 +109,5 @@ TEST_CASE("each fitted set reproduces its recorded validation RMSE within 2 %", 
     }
   }
 }
+
+}  // namespace test_param_sets

@@ -4,6 +4,10 @@
 #include "core/base/error.hpp"
 #include "core/base/params.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_params {
+
 using namespace sb;
 
 namespace {
@@ -32,3 +36,5 @@ TEST_CASE("out-of-range, unknown and non-numeric parameters are rejected with th
   CHECK_THROWS_WITH(p.update_from_json(nlohmann::json{{"mu", "x"}}, "P.json"), Catch::Contains("not a number"));
   CHECK(p.get("mu") == 0.5);  // a rejected value changes nothing
 }
+
+}  // namespace test_params

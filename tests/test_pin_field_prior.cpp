@@ -7,6 +7,10 @@
 #include "core/tracking/pin_field_prior.hpp"
 #include "pin_render.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_pin_field_prior {
+
 using namespace sb;
 using namespace sb::test;
 
@@ -147,3 +151,5 @@ TEST_CASE("continuation from shallow to deep presses: deep fields tracked with n
   // Without the prior these deep presses are out of reach (else the case tests nothing).
   CHECK(blind_under95 == 8);  // measured: none of the 8 keeps 95 % without the prior
 }
+
+}  // namespace test_pin_field_prior

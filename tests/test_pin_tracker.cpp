@@ -18,6 +18,10 @@
 #include "core/data/tsd.hpp"
 #include "core/tracking/pin_tracker.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_pin_tracker {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -221,3 +225,5 @@ TEST_CASE("tactip_shear import with frames: the reference and the image, none wh
   }
   fs::remove_all(out);
 }
+
+}  // namespace test_pin_tracker

@@ -3,6 +3,10 @@
 
 #include "core/geometry/pose.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_pose {
+
 using namespace sb;
 
 namespace {
@@ -55,3 +59,5 @@ TEST_CASE("quaternion_wxyz returns the w >= 0 hemisphere", "[pose]") {
   CHECK(q[0] >= 0);
   CHECK(std::abs(q[3] - std::sqrt(0.5)) < kTol);
 }
+
+}  // namespace test_pose

@@ -10,6 +10,10 @@
 #include "core/base/progress.hpp"
 #include "core/tracking/tracker.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_progress {
+
 TEST_CASE("Progress::check throws Cancelled only once the flag is set", "[progress]") {
   std::atomic<bool> flag{false};
   sb::Progress p;
@@ -33,3 +37,5 @@ TEST_CASE("a cancelled tracking run throws before reading a frame", "[progress][
   CHECK_THROWS_AS(sb::track_frames_dir(dir.string(), sb::TrackerOptions{}, p), sb::Cancelled);
   fs::remove_all(dir);
 }
+
+}  // namespace test_progress

@@ -6,6 +6,10 @@
 
 #include "core/loop/release_phase.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_release_phase {
+
 using namespace sb;
 
 namespace {
@@ -101,3 +105,5 @@ TEST_CASE("release phase: none while still loaded, after a new contact, or when 
   CHECK_THAT(analyse_release({std::vector<Vec2>(kMarkers, Vec2::Zero())}, kDt).why_not,
              Catch::Contains("no marker moves"));
 }
+
+}  // namespace test_release_phase

@@ -17,6 +17,10 @@
 #include "core/loop/residual.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_residual {
+
 using sb::FitSample;
 using sb::Pose;
 using sb::Vec2;
@@ -361,3 +365,5 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
   CHECK(n_lead > 0);
   CHECK(n_trail > 0);
 }
+
+}  // namespace test_residual

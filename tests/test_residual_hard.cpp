@@ -24,6 +24,10 @@
 #include "core/loop/residual.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_residual_hard {
+
 using sb::FitSample;
 using sb::Vec2;
 
@@ -312,3 +316,5 @@ TEST_CASE("model-form round: HydroShear's own field selects no variant", "[resid
   INFO(sb::residual_to_json(r)["model_forms"].dump(1));
   CHECK(r.model_form.selected.empty());
 }
+
+}  // namespace test_residual_hard

@@ -6,6 +6,10 @@
 
 #include "core/loop/residual_select.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_residual_select {
+
 using namespace sb;
 
 namespace {
@@ -222,3 +226,5 @@ TEST_CASE("selection: evidence beyond model form, the held-drift rule (creep) an
   CHECK_FALSE(m.accepted);
   CHECK(m.reason.find("fingerprint not found (rest grid") != std::string::npos);
 }
+
+}  // namespace test_residual_select

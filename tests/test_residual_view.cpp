@@ -14,6 +14,10 @@
 #include "core/loop/residual_view.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_residual_view {
+
 using namespace sb;
 
 namespace {
@@ -316,3 +320,5 @@ TEST_CASE("field series job: the fields of stepping the model along the path; cl
   job.clear();
   CHECK(job.result().empty());
 }
+
+}  // namespace test_residual_view

@@ -13,6 +13,10 @@
 #include "core/loop/rest_grid_lens.hpp"
 #include "core/sensor/sensor.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_rest_grid_lens {
+
 using sbtest::kMiniMarkers;
 
 using sb::Vec2;
@@ -180,3 +184,5 @@ TEST_CASE("rest grid lens: what is not a lattice", "[rest_grid_lens]") {
     CHECK(fit.markers_used == 6);
   }
 }
+
+}  // namespace test_rest_grid_lens

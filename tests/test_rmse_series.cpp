@@ -8,6 +8,10 @@
 #include "core/calibration/rmse_series.hpp"
 #include "tests/model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_rmse_series {
+
 namespace {
 
 constexpr double kRmseTol = 1e-12;
@@ -66,3 +70,5 @@ TEST_CASE("the series job runs off the caller's thread and keeps the latest requ
     for (double r : s) CHECK(r == Approx(2.0).margin(kRmseTol));
   }
 }
+
+}  // namespace test_rmse_series

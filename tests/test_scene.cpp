@@ -8,6 +8,10 @@
 #include "core/base/data_root.hpp"
 #include "core/data/scene.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_scene {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -180,3 +184,5 @@ TEST_CASE("scene: a TacTip-like sensor (pinhole camera, spherical cap, pins at d
   bad["sensor"]["markers_depth_m"] = "deep";
   CHECK_THAT(error_of(bad), Contains("scenes/x.json: /sensor/markers_depth_m"));
 }
+
+}  // namespace test_scene

@@ -14,6 +14,10 @@
 #include "core/geometry/mesh.hpp"
 #include "core/geometry/sdf.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sdf {
+
 namespace {
 
 using sb::Vec3;
@@ -272,3 +276,5 @@ TEST_CASE("point_triangle_distance in each closest-point region", "[sdf]") {
   // Beyond vertex c along +y and above: |(0, 1, 1)| = sqrt(2).
   CHECK(sb::point_triangle_distance(Vec3(0, 2, 1), a, b, c) == Approx(std::sqrt(2.0)).margin(kTol));
 }
+
+}  // namespace test_sdf

@@ -3,6 +3,10 @@
 
 #include "core/geometry/sdf.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sdf_analytic {
+
 using namespace sb;
 
 namespace {
@@ -110,3 +114,5 @@ TEST_CASE("spherical cap SDF: dome, rim, wall and bottom; against the cap's mesh
     CHECK_THROWS_AS(make_spherical_cap_sdf(R, F, 3e-3), std::invalid_argument);   // ends above the rim
   }
 }
+
+}  // namespace test_sdf_analytic

@@ -7,6 +7,10 @@
 #include "core/geometry/indenter.hpp"
 #include "core/geometry/sdf_cache.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sdf_cache {
+
 using sb::Vec3;
 
 namespace {
@@ -58,3 +62,5 @@ TEST_CASE("mesh SDF cache: holds at most its capacity, dropping the least recent
   CHECK(sb::cached_mesh_sdf(boxes[1], coarse()) != fields[1]);  // rebuilt (the old one lives on in `fields`)
   sb::clear_mesh_sdf_cache();
 }
+
+}  // namespace test_sdf_cache

@@ -6,6 +6,10 @@
 
 #include "core/geometry/sdf.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sdf_grid {
+
 using sb::Vec3;
 
 namespace {
@@ -84,3 +88,5 @@ TEST_CASE("grid SDF trilinear error on a sphere is within the curvature bound", 
   }
   WARN("grid trilinear worst error " << worst / mm << " mm (bound " << kCurvatureBound / mm << " mm)");
 }
+
+}  // namespace test_sdf_grid

@@ -9,6 +9,10 @@
 #include "core/base/data_root.hpp"
 #include "core/sensor/sensor.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sensor {
+
 using sbtest::kMiniMarkers;
 
 using sb::Vec2;
@@ -133,3 +137,5 @@ TEST_CASE("sensor with the mesh gel: markers on the domed surface, mesh SDF", "[
   CHECK_THROWS_AS(sb::make_sensor(camera, spec, {Vec2(-200, 0)}, &gel_E), sb::InputError);
   CHECK_THROWS_AS(sb::make_sensor(camera, spec, {}), std::invalid_argument);
 }
+
+}  // namespace test_sensor

@@ -11,6 +11,10 @@
 #include "core/sensor/sensor.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_sensor_models {
+
 using sb::Camera;
 using sb::CameraModel;
 using sb::GelSpec;
@@ -249,3 +253,5 @@ TEST_CASE("every model's field goes through the sensor's output stage", "[sensor
     CHECK(moved > 0.0);
   }
 }
+
+}  // namespace test_sensor_models

@@ -9,6 +9,10 @@
 #include "core/base/error.hpp"
 #include "core/workbench/session_file.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_session_file {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -143,3 +147,5 @@ TEST_CASE("a save never overwrites a file that is not a session file", "[session
   CHECK_NOTHROW(sb::save_session_file(fresh, s));
   for (const auto& p : {scene, text, old_session, fresh}) fs::remove(p);
 }
+
+}  // namespace test_session_file

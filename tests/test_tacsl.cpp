@@ -6,6 +6,10 @@
 #include "core/models/tacsl.hpp"
 #include "model_fixtures.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_tacsl {
+
 using sbtest::kMiniMarkers;
 
 using namespace sbtest;
@@ -67,3 +71,5 @@ TEST_CASE("TacSL: sliding gives a viscous shear capped by mu kn d; release gives
   const auto slow = run(*norm, box_pose(kBox, 0, -0.101e-3, -1e-3));
   CHECK(max_norm(slow) == 0.0);
 }
+
+}  // namespace test_tacsl

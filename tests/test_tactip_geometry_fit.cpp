@@ -13,6 +13,10 @@
 #include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/tracking/pin_tracker.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_tactip_geometry_fit {
+
 using namespace sb;
 namespace fs = std::filesystem;
 
@@ -325,3 +329,5 @@ TEST_CASE("TacTip reference: what its pin rings determine and what they cannot",
     CHECK(f300.rms_px == Approx(0.556).margin(0.001));
   }
 }
+
+}  // namespace test_tactip_geometry_fit

@@ -18,6 +18,10 @@
 #include "core/tracking/tracker.hpp"
 #include "marker_render.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_tracker {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -176,3 +180,5 @@ TEST_CASE("the vendor tracker CSV is read as frames x (row, col)", "[tracker]") 
   CHECK(v.rest_px[0].x() == Approx(12.16));
   CHECK(v.position_px[0][0].y() == Approx(4.74));
 }
+
+}  // namespace test_tracker

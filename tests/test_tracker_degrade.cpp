@@ -13,6 +13,10 @@
 #include "core/tracking/tracker.hpp"
 #include "marker_render.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_tracker_degrade {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -202,3 +206,5 @@ TEST_CASE("a press grows under an occluder: revealed markers are lost until re-a
   // The centre really moved beyond the gate while hidden.
   CHECK(truth(centre, kLiftAt).x() > TrackerOptions{}.gate_fraction * kPitchPx);
 }
+
+}  // namespace test_tracker_degrade

@@ -14,6 +14,10 @@
 #include "core/base/error.hpp"
 #include "core/data/tsd.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_tsd {
+
 using sbtest::kMiniMarkers;
 
 using namespace sb;
@@ -447,3 +451,5 @@ TEST_CASE("tsd: a calibration list reassigns the splits; with a validation list 
     CHECK_THROWS_WITH(assign_calibration_split(ds, {"y"}, "--calibration"), Catch::Contains("no sample 'y'"));
   }
 }
+
+}  // namespace test_tsd

@@ -5,6 +5,10 @@
 
 #include "core/workbench/unsaved_work.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_unsaved_work {
+
 TEST_CASE("dirty follows the document, not the edits", "[session][autosave]") {
   sb::UnsavedWork w(30.0);
   w.saved("A");
@@ -67,3 +71,5 @@ TEST_CASE("the default session path is in the user's state folder, not the worki
   if (home && *home) CHECK(sb::default_session_path() == std::string(home) + "/.local/state/shearbench/session.json");
   if (old) ::setenv("XDG_STATE_HOME", saved.c_str(), 1);
 }
+
+}  // namespace test_unsaved_work

@@ -69,7 +69,7 @@ NamedParamSet published_param_set() {
   NamedParamSet s;
   s.name = kPublishedParamSet;
   s.provenance = {{"description",
-                   "the authors' values as their code sets them (BASELINES.md), tuned for their "
+                   "the authors' values as their code sets them (docs/models.md), tuned for their "
                    "cameras and units, not fitted to our data"}};
   return s;
 }

@@ -14,6 +14,7 @@
 
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/base/numbers.hpp"
 #include "core/sensor/camera.hpp"
 #include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/tracking/lattice_check.hpp"
@@ -24,7 +25,6 @@ namespace fs = std::filesystem;
 namespace sb {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDefaultFps = 25.0;
 constexpr const char* kUnknownContact =
     "unknown_contact";  // GelSight Mini recordings (SOURCE.md), used when the file has none

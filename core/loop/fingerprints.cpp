@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <stdexcept>
+#include <string_view>
 
 #include "core/effects/effects.hpp"
 #include "core/loop/rest_grid_lens.hpp"
@@ -654,30 +655,74 @@ FingerprintCheck check_subsurface(const Sensor& sensor, const SubsurfaceFingerpr
 
 }  // namespace
 
-bool has_fingerprint(const std::string& effect_id) {
-  return effect_id == "viscoelastic_creep" || effect_id == "lens_distortion" || effect_id == "subsurface_markers";
+namespace {
+
+// The fingerprint registry: one entry per effect that has a fingerprint, keyed by the effect's catalogue id
+// (tests/test_fingerprints.cpp checks every key against the effect catalogue, so a misspelt id fails there).
+// needs_model: whether the check compares the measurement with the model's field on this sensor.
+struct FingerprintEntry {
+  std::string_view effect_id;
+  bool (*needs_model)(const Sensor& sensor);
+  FingerprintCheck (*check)(const Sensor& sensor, const std::vector<FingerprintSample>& calibration,
+                            const std::vector<FingerprintSample>& validation, const FingerprintRules& rules);
+};
+
+FingerprintCheck creep_check(const Sensor& /*sensor*/, const std::vector<FingerprintSample>& calibration,
+                             const std::vector<FingerprintSample>& validation, const FingerprintRules& rules) {
+  return check_creep(creep_fingerprint(calibration), creep_fingerprint(validation), rules);
 }
 
+// On a lattice the rest grid is the evidence (no model needed); elsewhere the residual's asymmetry.
+bool lens_needs_model(const Sensor& sensor) {
+  return !rest_grid_lens(sensor.camera, sensor.markers_rest_px).is_lattice;
+}
+FingerprintCheck lens_check(const Sensor& sensor, const std::vector<FingerprintSample>& calibration,
+                            const std::vector<FingerprintSample>& validation, const FingerprintRules& rules) {
+  const RestGridLens grid = rest_grid_lens(sensor.camera, sensor.markers_rest_px);
+  if (grid.is_lattice) return check_rest_grid_lens(grid, rules);
+  return check_lens(lens_fingerprint(sensor, calibration), lens_fingerprint(sensor, validation), rules, grid);
+}
+
+FingerprintCheck subsurface_check(const Sensor& sensor, const std::vector<FingerprintSample>& calibration,
+                                  const std::vector<FingerprintSample>& validation, const FingerprintRules& rules) {
+  return check_subsurface(sensor, subsurface_fingerprint(sensor, calibration),
+                          subsurface_fingerprint(sensor, validation), rules);
+}
+
+constexpr FingerprintEntry kFingerprints[] = {
+    {"viscoelastic_creep", [](const Sensor&) { return false; }, creep_check},
+    {"lens_distortion", lens_needs_model, lens_check},
+    {"subsurface_markers", [](const Sensor&) { return true; }, subsurface_check},
+};
+
+const FingerprintEntry* find_fingerprint(std::string_view effect_id) {
+  for (const FingerprintEntry& e : kFingerprints)
+    if (e.effect_id == effect_id) return &e;
+  return nullptr;
+}
+
+}  // namespace
+
+std::vector<std::string> fingerprinted_effects() {
+  std::vector<std::string> ids;
+  for (const FingerprintEntry& e : kFingerprints) ids.emplace_back(e.effect_id);
+  return ids;
+}
+
+bool has_fingerprint(const std::string& effect_id) { return find_fingerprint(effect_id) != nullptr; }
+
 bool fingerprint_needs_model(const std::string& effect_id, const Sensor& sensor) {
-  if (effect_id == "lens_distortion") return !rest_grid_lens(sensor.camera, sensor.markers_rest_px).is_lattice;
-  return effect_id == "subsurface_markers";
+  const FingerprintEntry* e = find_fingerprint(effect_id);
+  return e != nullptr && e->needs_model(sensor);
 }
 
 std::optional<FingerprintCheck> fingerprint_check(const std::string& effect_id, const Sensor& sensor,
                                                   const std::vector<FingerprintSample>& calibration,
                                                   const std::vector<FingerprintSample>& validation,
                                                   const FingerprintRules& rules) {
-  if (effect_id == "viscoelastic_creep")
-    return check_creep(creep_fingerprint(calibration), creep_fingerprint(validation), rules);
-  if (effect_id == "lens_distortion") {
-    const RestGridLens grid = rest_grid_lens(sensor.camera, sensor.markers_rest_px);
-    if (grid.is_lattice) return check_rest_grid_lens(grid, rules);
-    return check_lens(lens_fingerprint(sensor, calibration), lens_fingerprint(sensor, validation), rules, grid);
-  }
-  if (effect_id == "subsurface_markers")
-    return check_subsurface(sensor, subsurface_fingerprint(sensor, calibration),
-                            subsurface_fingerprint(sensor, validation), rules);
-  return std::nullopt;
+  const FingerprintEntry* e = find_fingerprint(effect_id);
+  if (e == nullptr) return std::nullopt;
+  return e->check(sensor, calibration, validation, rules);
 }
 
 }  // namespace sb

@@ -149,8 +149,9 @@ struct FingerprintRules {
   double min_noise_px = 0.005;  // subsurface: a noise estimate below this (noise-free data) counts as this
 };
 
-// The effects that have a fingerprint, and whether it compares the measurement with the model's field (the
-// lens does only when the sensor's rest grid is not a lattice).
+// The effects that have a fingerprint (the registry's keys, catalogue ids), and whether it compares the
+// measurement with the model's field (the lens does only when the sensor's rest grid is not a lattice).
+std::vector<std::string> fingerprinted_effects();
 bool has_fingerprint(const std::string& effect_id);
 bool fingerprint_needs_model(const std::string& effect_id, const Sensor& sensor);
 

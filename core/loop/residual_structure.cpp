@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "core/base/format.hpp"
+#include "core/base/numbers.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/loop/loop_samples.hpp"
@@ -17,8 +18,6 @@
 namespace sb {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 struct Point {  // one scored marker-frame and its covariates
   double err_px;

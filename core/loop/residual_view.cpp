@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/base/error.hpp"
+#include "core/base/numbers.hpp"
 #include "core/calibration/prediction_export.hpp"
 #include "core/data/json_read.hpp"
 #include "core/effects/effects.hpp"
@@ -15,8 +16,6 @@
 namespace sb {
 
 namespace {
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A metric the report wrote as null (nothing to score) reads as NaN.
 double number_or_nan(const nlohmann::json& obj, const char* key, const std::string& file, const std::string& ptr) {

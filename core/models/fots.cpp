@@ -12,7 +12,7 @@ namespace sb {
 namespace {
 
 const double kCameraPxPerMetre = Camera{}.px_per_metre();  // GelSight Mini 1/0.0634 mm
-constexpr int kSlotGrain = 32;                             // slots per parallel task (a slot costs about a microsecond)
+constexpr int kFotsSlotGrain = 32;                         // slots per parallel task (a slot costs about a microsecond)
 
 // Python's int(): truncation toward zero.
 double trunc_px(double v, bool integer) { return integer ? std::trunc(v) : v; }
@@ -138,7 +138,7 @@ void FotsBatch::step(std::span<const Pose> X_EI, double /*dt*/, std::span<Vec2> 
       if (!diagnostics.empty()) marker_contact_diagnostics(d, scratch_[i].phi_I, diagnostics[i]);
     }
   };
-  for_each_slot_range(n, kSlotGrain, body);
+  for_each_slot_range(n, kFotsSlotGrain, body);
 }
 
 void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& clock) const {

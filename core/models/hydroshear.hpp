@@ -1,5 +1,5 @@
 #pragma once
-// HydroShear (Dang, Lee et al. 2026) as the authors' code computes it (BASELINES.md §3.3), in the tsd/1
+// HydroShear (Dang, Lee et al. 2026) as the authors' code computes it (docs/models.md), in the tsd/1
 // elastomer frame E (gel z <= 0, +z out of the gel; the authors' frame is this one mirrored in z).
 //
 // Each indenter surface point o_i = X_EI * o_i^I carries a state u_i (metres): the displacement from
@@ -72,9 +72,17 @@ struct HydroShearPoint {
   PointState state;
 };
 
+namespace hydroshear {
+struct HydroShearModel;
+struct Slot;
+}  // namespace hydroshear
+
 // E x S independent (environment, sensor) slots sharing one sensor and one indenter. Each slot keeps
 // only the points inside the gel (a sparse list in the batch's point order) and the previous pose, so
 // memory is O(contact).
+//
+// A step is four phases per slot (core/models/hydroshear_step.hpp, docs/architecture.md): the candidate points,
+// the state, the shear sum, the marker field.
 //
 // Speed (docs/performance.md). The indenter points are grouped once into small spatial clusters with a
 // bounding sphere in I; for a flat pad (gel z_E <= 0) a cluster whose sphere lies above z_E = 0 cannot
@@ -85,7 +93,7 @@ struct HydroShearPoint {
 // the points are handled as columns (structure of arrays) by the branch-free loops of
 // core/models/hydroshear_kernels, which the compiler vectorises across points; the slot keeps only each
 // tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed). The contact
-// variant sums its three terms over shared point operands, in single precision by default (shear_sum_shared).
+// variant sums its three terms over shared point operands, in single precision by default.
 class HydroShearBatch {
  public:
   HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,
@@ -93,8 +101,8 @@ class HydroShearBatch {
   ~HydroShearBatch();
   HydroShearBatch(HydroShearBatch&&) noexcept;
   HydroShearBatch(const HydroShearBatch& other);  // copies the state; fresh scratch
-  int slots() const { return static_cast<int>(slots_.size()); }
-  int markers() const { return static_cast<int>(sensor_->p_EM.size()); }
+  int slots() const;
+  int markers() const;
   void set_params(const ParamSet& params);
   const ParamSet& params() const { return params_; }
   void reset();
@@ -111,98 +119,10 @@ class HydroShearBatch {
   void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
-  // Points as columns (structure of arrays), in point order: what the vectorised kernels read and write.
-  struct PointColumns {
-    std::vector<int> pos;            // position in the point order (perm_)
-    std::vector<double> ux, uy, uz;  // the state u (metres)
-    std::vector<std::uint8_t> slip;
-    int size() const { return static_cast<int>(pos.size()); }
-    void resize(int n);
-    void swap(PointColumns& other) noexcept;
-  };
-  struct Slot {
-    PointColumns points;  // exactly the points with phi_E < 0 at the last step
-    Pose X_prev = Pose::Identity();
-    bool first = true;
-  };
-  // Consecutive positions [begin, end) of the point order with a bounding sphere in I.
-  struct Cluster {
-    int begin, end;
-    Vec3 centre_I;
-    double radius;
-  };
-  struct Scratch;
-  struct StepColumns;
-  void build_clusters();
-  void step_slot(Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag, Scratch& scratch,
-                 PhaseClock& clock) const;
-  void gather_candidates(const Pose& X_EI, Scratch& sc) const;
-  void phi_columns(const double* x, const double* y, const double* z, const Vec3& shift, int n, double* phi) const;
-  static void lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index,
-                           StepColumns& in);
-  void commit_state(Slot& slot, const Pose& X_EI, Scratch& sc) const;
-  void augmented_state(const Slot& slot, const Pose& X_EI, Scratch& sc) const;
-  void normals(const Mat3& R_EI, const std::vector<int>& pos, StepColumns& in) const;
-  // One Gaussian term of the shear kernel: weight * exp(-lambda |m - a|^2), with its grid axes.
-  struct ShearTerm {
-    double weight, lambda;
-    const GaussianAxis *gx, *gy;
-    bool with_weights = false;  // also sum w_i exp(...) alone into shear_w (the stick saturation's denominator)
-    double aniso = 0;           // + aniso lambda d (d . v): the along-the-load anisotropy (contact's far field)
-  };
-  void contact_shift(Scratch& sc) const;
-  void shear_sum(Scratch& sc) const;
-  bool factored(const ShearTerm& term) const;  // the term's Gaussians factor on the marker grid
-  void add_shear_term(const ShearTerm& term, Scratch& sc) const;
-  void shear_sum_fast(const ShearTerm& term, Scratch& sc, int mp) const;
-  template <typename T>
-  void shear_sum_shared(std::span<const ShearTerm> terms, Scratch& sc) const;
-  template <typename T>
-  void add_term_shared(const ShearTerm& term, Scratch& sc, int mp) const;
-  static Vec2 aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy);
-  // vx, vy, vw: the point's term already scaled by the term's weight.
-  void shear_point_slow(const ShearTerm& term, Scratch& sc, int i, double vx, double vy, double vw) const;
-  void dilation(const Pose& X_EI, Vec2* disp, Scratch& sc, PhaseClock& clock) const;
-  // Inline: called for every candidate point when the gel is not a flat pad.
-  double phi_E(const Vec3& p) const { return flat_ ? pad_.value(p) : sensor_->gel_sdf->value(p); }
-
-  std::shared_ptr<const Sensor> sensor_;
-  std::shared_ptr<const Indenter> indenter_;
-  ParamSet params_;
-  HydroShearParams k_;
-  bool flat_ = false;
-  FlatPad pad_;
-  MarkerGridLayout grid_;
-  GaussianAxis gauss_x_, gauss_y_;    // shear Gaussians along the grid axes (grid_.is_grid)
-  GaussianAxis gauss_x2_, gauss_y2_;  // the layer kernel's near-field term (k_.beta_s > 0)
-  GaussianAxis gauss_x3_, gauss_y3_;  // the far-field term (k_.beta_s3 > 0)
-  // Dilation kernel, k-major: dil_x_[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and
-  // .y), rows padded with zeros to kernels::dilation_stride(nm).
-  std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;  // shared by copies (set_params makes new ones)
-  double dil_lambda_ = 0;                                     // the lambda_d they were made with
-  double marker_z_max_ = 0;  // highest marker (the dilation needs the indenter below it)
-  // The indenter's points in the batch's order, built once and shared by copies: the workbench clones each
-  // model every 16 steps (a checkpoint for seeks), and copying these made a clone O(indenter) instead of
-  // O(contact) (docs/reliability.md, the soak's memory).
-  struct PointTable {
-    // The point order: pos -> index into samples.p_IS (perm) and back (pos_of); p_I/n_I in that order.
-    std::vector<int> perm, pos_of;
-    std::vector<Vec3> p_I, n_I;
-    std::vector<double> pIx, pIy, pIz;  // p_I as columns
-    std::vector<Cluster> clusters;
-    // Groups of kClusterGroup consecutive clusters (a subtree of the split) with a sphere holding all
-    // their points: one test skips the whole group. begin/end index clusters here.
-    std::vector<Cluster> groups;
-  };
-  std::shared_ptr<const PointTable> table_;
-  double cull_z_ = 0;  // points with z_E >= cull_z_ are outside the gel (flat pad)
-  bool cull_ = false;
-  // Any other gel: its mesh's box grown by a margin (kGelBoxMargin); a cluster wholly outside it is not in the
-  // gel (the TacTip's dome under an 80 mm flat surface: three quarters of the surface's points).
-  Eigen::AlignedBox3d gel_box_;
-  bool box_cull_ = false;
-  std::vector<Slot> slots_;
   struct ScratchPool;
+  ParamSet params_;
+  std::unique_ptr<hydroshear::HydroShearModel> model_;
+  std::vector<hydroshear::Slot> slots_;
   std::unique_ptr<ScratchPool> pool_;
   PhaseProfile* profile_ = nullptr;
 };

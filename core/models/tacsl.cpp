@@ -11,7 +11,7 @@ namespace sb {
 namespace {
 constexpr double kVelocityFloor = 1e-9;   // TacSL: vt / max(|vt|, 1e-9)
 constexpr double kNormalizeFloor = 1e-4;  // HydroShear's normalize_tacsl_shear_obs threshold
-constexpr int kSlotGrain = 32;            // slots per parallel task (a slot costs about a microsecond)
+constexpr int kTacslSlotGrain = 32;       // slots per parallel task (a slot costs about a microsecond)
 }  // namespace
 
 std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
@@ -75,7 +75,7 @@ void TacslBatch::step(std::span<const Pose> X_EI, double dt, std::span<Vec2> dis
       if (!diagnostics.empty()) marker_contact_diagnostics(d, slots_[i].phi_I, diagnostics[i]);
     }
   };
-  for_each_slot_range(n, kSlotGrain, body);
+  for_each_slot_range(n, kTacslSlotGrain, body);
 }
 
 void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, PhaseClock& clock) const {

@@ -7,8 +7,6 @@
 namespace sb {
 namespace {
 
-bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
-
 // clean marker -> degraded marker (-1 none): mutual nearest rest positions within kStudyPairPitch.
 std::vector<int> pair_markers(const TrackResult& clean, const TrackResult& degraded) {
   auto nearest = [](const Vec2& p, const std::vector<Vec2>& pts) {
@@ -71,17 +69,17 @@ DegradeScore compare_to_clean(const TrackResult& clean, const TrackResult& degra
     for (int i = 0; i < clean.markers(); ++i) {
       const int j = pair[i];
       const Vec2 uv = j >= 0 ? Vec2(degraded.rest_px[j] + degraded.disp_px[k][j]) : Vec2(NAN, NAN);
-      const bool clean_ok = finite(clean_uv[i]);
+      const bool clean_ok = clean_uv[i].allFinite();
       if (clean_ok) {
         ++s.marker_frames;
-        if (!finite(uv)) ++s.lost;
+        if (!uv.allFinite()) ++s.lost;
       }
-      if (!finite(uv)) continue;
+      if (!uv.allFinite()) continue;
       // On another marker's dot: the nearest clean position is a different marker's, within jump_px.
       int other = -1;
       double od = jump_px;
       for (int m = 0; m < clean.markers(); ++m)
-        if (finite(clean_uv[m]) && (clean_uv[m] - uv).norm() < od) od = (clean_uv[m] - uv).norm(), other = m;
+        if (clean_uv[m].allFinite() && (clean_uv[m] - uv).norm() < od) od = (clean_uv[m] - uv).norm(), other = m;
       const bool onto = other >= 0 && other != i;
       auto record_jump = [&] {
         ++s.jumps;

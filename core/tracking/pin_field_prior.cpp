@@ -1,5 +1,8 @@
 #include "core/tracking/pin_field_prior.hpp"
 
+#include "core/base/median.hpp"
+#include "core/base/numbers.hpp"
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
@@ -10,19 +13,10 @@
 namespace sb {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
 int kept_count(const std::vector<Vec2>& disp) {
   int k = 0;
   for (const auto& d : disp) k += d.allFinite();
   return k;
-}
-
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return kNaN;
-  const std::size_t k = std::min(v.size() - 1, std::size_t(q * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[k];
 }
 
 // Ridge least squares for one pin over the samples where it is tracked; false when too few.
@@ -129,8 +123,8 @@ ContinuationResult fit_prior_by_continuation(const PinReference& ref,
         if (disp[i].allFinite()) miss.push_back((disp[i] - prior[i]).norm());
       fields[k] = std::move(disp);
     }
-    st.miss_median_px = percentile(miss, 0.5);
-    st.miss_p95_px = percentile(miss, 0.95);
+    st.miss_median_px = percentile_nearest_rank(miss, 0.5);
+    st.miss_p95_px = percentile_nearest_rank(miss, 0.95);
     r.stages.push_back(st);
     std::vector<Eigen::VectorXd> x;
     std::vector<std::vector<Vec2>> y;

@@ -12,11 +12,11 @@
 #include <string>
 
 #include "core/base/error.hpp"
+#include "core/base/numbers.hpp"
 
 namespace sb {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kNeighbourRadius = 1.6;  // pitches: the first ring of a hexagonal lattice
 
 Vec2 median2(const std::vector<Vec2>& v) {

@@ -8,15 +8,14 @@
 #include <sstream>
 
 #include "core/base/error.hpp"
+#include "core/base/median.hpp"
+#include "core/base/numbers.hpp"
 
 namespace sb {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // A tracked marker pairs with a reference marker when their rest positions are this close (pixels).
 constexpr double kPairingRadiusPx = 8.0;
-
-bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
 
 // Reference marker -> tracked marker (-1 none), nearest rest position within kPairingRadiusPx.
 std::vector<int> pair_by_rest(const std::vector<Vec2>& tracked_rest, const std::vector<Vec2>& ref_rest) {
@@ -31,15 +30,6 @@ std::vector<int> pair_by_rest(const std::vector<Vec2>& tracked_rest, const std::
   return out;
 }
 
-double percentile(std::vector<double> v, double q) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const double pos = q * double(v.size() - 1);
-  const std::size_t lo = static_cast<std::size_t>(std::floor(pos));
-  const std::size_t hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - double(lo)) * (v[hi] - v[lo]);
-}
-
 struct Stats {
   double rmse = kNaN, median = kNaN, p95 = kNaN, max = 0;
 };
@@ -48,8 +38,8 @@ Stats stats_of(const std::vector<double>& errors) {
   double s2 = 0;
   for (double e : errors) s2 += e * e, s.max = std::max(s.max, e);
   if (!errors.empty()) s.rmse = std::sqrt(s2 / double(errors.size()));
-  s.median = percentile(errors, 0.5);
-  s.p95 = percentile(errors, 0.95);
+  s.median = percentile_interpolated(errors, 0.5);
+  s.p95 = percentile_interpolated(errors, 0.95);
   return s;
 }
 
@@ -94,7 +84,7 @@ VendorTrack read_vendor_csv(const std::string& path) {
   v.position_px.assign(max_frame, std::vector<Vec2>(n, Vec2(kNaN, kNaN)));
   for (const auto& r : rows) {
     const int m = r.row * cols + r.col;
-    if (!finite(v.rest_px[m])) v.rest_px[m] = Vec2(r.x0, r.y0);
+    if (!v.rest_px[m].allFinite()) v.rest_px[m] = Vec2(r.x0, r.y0);
     v.position_px[r.frame - 1][m] = Vec2(r.x, r.y);
   }
   return v;
@@ -119,9 +109,9 @@ TrackComparison compare_to_vendor(const TrackResult& tracked, const VendorTrack&
     if (tf < 0 || tf >= tracked.frames()) continue;
     for (std::size_t r = 0; r < pairing.size(); ++r) {
       const Vec2& ref = vendor.position_px[f][r];
-      if (pairing[r] < 0 || !finite(ref)) continue;
+      if (pairing[r] < 0 || !ref.allFinite()) continue;
       const Vec2& d = tracked.disp_px[tf][pairing[r]];
-      if (!finite(d)) {
+      if (!d.allFinite()) {
         ++c.lost;
         continue;
       }
@@ -175,9 +165,9 @@ TrackComparison compare_to_reference(const TrackResult& tracked, const std::vect
   const int frames = std::min<int>(tracked.frames(), static_cast<int>(ref_disp.size()));
   for (int f = 0; f < frames; ++f)
     for (std::size_t r = 0; r < pairing.size(); ++r) {
-      if (pairing[r] < 0 || !finite(ref_disp[f][r])) continue;
+      if (pairing[r] < 0 || !ref_disp[f][r].allFinite()) continue;
       const Vec2& d = tracked.disp_px[f][pairing[r]];
-      if (!finite(d)) {
+      if (!d.allFinite()) {
         ++c.lost;
         continue;
       }

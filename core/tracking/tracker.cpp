@@ -12,13 +12,13 @@
 #include <regex>
 
 #include "core/base/error.hpp"
+#include "core/base/numbers.hpp"
 
 namespace fs = std::filesystem;
 
 namespace sb {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const Vec2 kLost{kNaN, kNaN};
 
 // Red drawing (the vendor's arrows and crosses): a saturated red that no gel shading produces.
@@ -63,8 +63,6 @@ constexpr int kPredictionRings = 4;
 constexpr double kRestMatchPitch = 0.3;
 // Rows at rest are split where consecutive sorted v differ by more than this (pitches).
 constexpr double kRowGapPitch = 0.5;
-
-bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
 
 // Brightness = per-pixel max over the colour channels; red overlay pixels filled from their surroundings.
 cv::Mat brightness(const cv::Mat& frame, const TrackerOptions& options) {
@@ -210,7 +208,7 @@ double TrackResult::lost_fraction() const {
   for (const auto& f : disp_px)
     for (const auto& d : f) {
       ++all;
-      lost += finite(d) ? 0 : 1;
+      lost += d.allFinite() ? 0 : 1;
     }
   return all ? double(lost) / double(all) : 0.0;
 }
@@ -263,7 +261,7 @@ std::vector<int> assign(const std::vector<Vec2>& predicted_uv, const std::vector
   const double gate2 = gate * gate;
   constexpr double kRatio2 = kAmbiguityRatio * kAmbiguityRatio;
   for (int i = 0; i < static_cast<int>(predicted_uv.size()); ++i) {
-    if (!finite(predicted_uv[i])) continue;
+    if (!predicted_uv[i].allFinite()) continue;
     double best = std::numeric_limits<double>::infinity(), second = best;
     int best_j = -1;
     for (int j = 0; j < static_cast<int>(det.size()); ++j) {
@@ -298,14 +296,14 @@ void drop_contradicted_groups(const std::vector<std::vector<int>>& adjacent, dou
   std::vector<int> group(n, -1);
   std::vector<std::vector<int>> members;
   for (int s = 0; s < n; ++s) {
-    if (group[s] >= 0 || !finite(disp[s])) continue;
+    if (group[s] >= 0 || !disp[s].allFinite()) continue;
     const int g = static_cast<int>(members.size());
     members.push_back({s});
     group[s] = g;
     for (std::size_t k = 0; k < members[g].size(); ++k) {
       const int i = members[g][k];
       for (int j : adjacent[i])
-        if (group[j] < 0 && finite(disp[j]) && agree(i, j)) group[j] = g, members[g].push_back(j);
+        if (group[j] < 0 && disp[j].allFinite() && agree(i, j)) group[j] = g, members[g].push_back(j);
     }
   }
   std::vector<int> order(members.size());
@@ -402,7 +400,7 @@ std::vector<Vec2> MarkerTracker::neighbour_median(const std::vector<Vec2>& disp,
   for (std::size_t i = 0; i < disp.size(); ++i) {
     std::vector<double> us, vs;
     for (int j : neighbours_[i])
-      if (finite(disp[j])) us.push_back(disp[j].x()), vs.push_back(disp[j].y());
+      if (disp[j].allFinite()) us.push_back(disp[j].x()), vs.push_back(disp[j].y());
     if (us.size() >= min_count) out[i] = Vec2(median(us), median(vs));
   }
   return out;
@@ -425,18 +423,18 @@ std::vector<Vec2> MarkerTracker::predict(const std::vector<Vec2>& previous) cons
   // Own motion for markers seen in the last frame, neighbours' motion for the others.
   std::vector<Vec2> pred(n, kLost);
   for (int i = 0; i < n; ++i)
-    if (finite(previous[i])) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
+    if (previous[i].allFinite()) pred[i] = previous[i] + options_.velocity_gain * velocity_[i];
   // Inward, ring by ring: a marker lost among lost markers (under an occluder, inside a block that was
   // dropped) takes its prediction from the nearest tracked ones rather than from its rest position.
   for (int ring = 0; ring < kPredictionRings; ++ring) {
     const std::vector<Vec2> from_neighbours = neighbour_median(pred);
     bool filled = false;
     for (int i = 0; i < n; ++i)
-      if (!finite(pred[i]) && finite(from_neighbours[i])) pred[i] = from_neighbours[i], filled = true;
+      if (!pred[i].allFinite() && from_neighbours[i].allFinite()) pred[i] = from_neighbours[i], filled = true;
     if (!filled) break;
   }
   for (int i = 0; i < n; ++i)
-    if (!finite(pred[i])) pred[i] = Vec2::Zero();
+    if (!pred[i].allFinite()) pred[i] = Vec2::Zero();
   return pred;
 }
 
@@ -453,7 +451,8 @@ std::vector<Vec2> MarkerTracker::grow(const std::vector<Vec2>& first, const std:
   std::vector<Vec2> agreeing(n, kLost), accepted(n, kLost);
   int seeds = 0;
   for (int i = 0; i < n; ++i) {
-    if (!finite(first[i]) || (finite(field[i]) && (first[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch))
+    if (!first[i].allFinite() ||
+        (field[i].allFinite() && (first[i] - field[i]).norm() >= kFieldDisagreementPitch * pitch))
       continue;
     agreeing[i] = first[i];
     if ((first[i] - pred[i]).norm() < kSeedPitch * pitch) accepted[i] = first[i], ++seeds;
@@ -466,15 +465,15 @@ std::vector<Vec2> MarkerTracker::grow(const std::vector<Vec2>& first, const std:
     const std::vector<Vec2> around2 = neighbour_median(accepted, 2), around1 = neighbour_median(accepted, 1);
     std::vector<Vec2> around(n), pred2(n);
     for (int i = 0; i < n; ++i) {
-      around[i] = finite(around2[i]) ? around2[i] : around1[i];
-      pred2[i] = finite(accepted[i]) ? accepted[i] : finite(around[i]) ? around[i] : pred[i];
+      around[i] = around2[i].allFinite() ? around2[i] : around1[i];
+      pred2[i] = accepted[i].allFinite() ? accepted[i] : around[i].allFinite() ? around[i] : pred[i];
     }
     const std::vector<Vec2> again = match(pred2, det);
     bool grown = false;
     for (int i = 0; i < n; ++i) {
-      if (finite(accepted[i]) && !finite(again[i])) accepted[i] = kLost;  // its dot went to a better claim
-      if (finite(accepted[i]) || !finite(around[i]) || !finite(again[i])) continue;
-      const double tolerance = (finite(around2[i]) ? kFieldDisagreementPitch : kSeedPitch) * pitch;
+      if (accepted[i].allFinite() && !again[i].allFinite()) accepted[i] = kLost;  // its dot went to a better claim
+      if (accepted[i].allFinite() || !around[i].allFinite() || !again[i].allFinite()) continue;
+      const double tolerance = (around2[i].allFinite() ? kFieldDisagreementPitch : kSeedPitch) * pitch;
       if ((again[i] - around[i]).norm() < tolerance) accepted[i] = again[i], grown = true;
     }
     if (!grown) break;
@@ -487,9 +486,9 @@ std::vector<Vec2> MarkerTracker::grow(const std::vector<Vec2>& first, const std:
 void MarkerTracker::drop_contradicted(std::vector<Vec2>& disp) const {
   const std::vector<Vec2> field = neighbour_median(disp);
   for (int i = 0; i < result_.markers(); ++i) {
-    if (!finite(disp[i]) || !finite(field[i])) continue;
+    if (!disp[i].allFinite() || !field[i].allFinite()) continue;
     int tracked = 0;
-    for (int j : neighbours_[i]) tracked += finite(disp[j]) ? 1 : 0;
+    for (int j : neighbours_[i]) tracked += disp[j].allFinite() ? 1 : 0;
     if (tracked >= kFinalMinNeighbours && (disp[i] - field[i]).norm() > kFinalDisagreementPitch * result_.pitch_px)
       disp[i] = kLost;
   }
@@ -505,9 +504,9 @@ void MarkerTracker::track(const std::vector<MarkerDetection>& det, std::vector<V
   drop_contradicted(disp_out);
 
   for (int i = 0; i < n; ++i) {
-    const bool seen_now = finite(disp_out[i]);
-    velocity_[i] = seen_now && finite(previous[i]) && last_seen_[i] == t - 1 ? Vec2(disp_out[i] - previous[i])
-                                                                             : Vec2(Vec2::Zero());
+    const bool seen_now = disp_out[i].allFinite();
+    velocity_[i] = seen_now && previous[i].allFinite() && last_seen_[i] == t - 1 ? Vec2(disp_out[i] - previous[i])
+                                                                                 : Vec2(Vec2::Zero());
     if (seen_now) last_seen_[i] = t;
   }
 }

@@ -20,7 +20,7 @@ printf '{\n  "name": "x",\n  oops\n}\n' > "$work/broken_scene.json"
 expect "broken_scene.json:3" "$exe" simulate --scene "$work/broken_scene.json" --model tacsl --out "$work/out"
 expect "\-\-hold.*lambda_x: no stage of hydroshear fits it" "$exe" fit --dataset "$work/nope" --model hydroshear \
   --hold lambda_d,lambda_x --out "$work/fit.json"
-# Models by name (a form with effects): a typo in either part names the part (issue 31).
+# Models by name (a form with effects): a typo in either part names the part.
 expect "\-\-model.*unknown effect 'wobble'" "$exe" simulate --scene "$work/broken_scene.json" --model hydroshear+wobble --out "$work/out"
 expect "\-\-model.*unknown model id 'hydroshear-nope'" "$exe" evaluate --dataset "$work/nope" --model hydroshear-nope+lens_distortion --json "$work/e.json"
 expect "\-\-predictions.*one --model" "$exe" evaluate --dataset "$work/nope" --model all --predictions "$work/p.csv" --json "$work/e.json"
@@ -31,10 +31,10 @@ mkdir -p "$work/taken" && echo '{}' > "$work/taken/dataset.json"
 expect "taken.*already holds a dataset" "$exe" inject --dataset data:twin/twin_sphere8 --effect lens_distortion --out "$work/taken"
 [[ $(cat "$work/taken/dataset.json") == '{}' ]] || { echo "FAIL: inject overwrote $work/taken/dataset.json"; fail=1; }
 # Too few calibration samples for the TacTip pin prior: refused before any work, naming the flag that avoids it
-# (issue 34: --max-samples 40 wrote samples with 0 of 327 pins tracked and only said "kept fraction min 0.0000").
+# (--max-samples 40 wrote samples with 0 of 327 pins tracked and only said "kept fraction min 0.0000").
 expect "\-\-max-samples 66 or more" "$exe" import --source tactip_shear --in "$work/nope" --out "$work/imp" --max-samples 40
 [[ ! -e "$work/imp" ]] || { echo "FAIL: the refused import wrote $work/imp"; fail=1; }
-# The global options after the subcommand (issue 34: `gui --data DIR` was refused as unexpected).
+# The global options after the subcommand (`gui --data DIR` was refused as unexpected).
 "$exe" check --data "$work" --dataset data:nope >/dev/null 2>"$work/err"
 grep -q "$work/nope" "$work/err" && echo "ok: check --data DIR resolves data: through DIR" \
   || { echo "FAIL: check --data DIR (after the subcommand): $(cat "$work/err")"; fail=1; }

@@ -39,7 +39,7 @@ ssim() { "$compare" "$1" "$2" "$work/diff.png" 0 | sed -n 's/^SSIM \([0-9.]*\).*
 above() { python3 -c "import sys; sys.exit(0 if float('$1') > float('$2') else 1)"; }
 
 park; shot all_panels
-# FOTS's field (the grid's second row, first cell; issue 34 layout): x 329..639, y 290..520 in the window.
+# FOTS's field (the grid's second row, first cell): x 329..639, y 290..520 in the window.
 # Each press held 50 ms and the two 150 ms apart, as a person double-clicks. The workbench times them from
 # the window's events (core/workbench/double_click.hpp), so a slow frame on a loaded machine does not
 # split them.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The first hour in the workbench (issue 34), scripted. Run under xvfb-run (1280x800 screen).
+"""The first hour in the workbench, scripted. Run under xvfb-run (1280x800 screen).
 
 Drives the real `shearbench gui` through its input path only (xdotool keys, clicks, typing) and reads what
 it shows through its window title ("shearbench - <what is open> - new session, not saved | unsaved changes |
@@ -103,7 +103,7 @@ class Journeys:
         return None
 
     def start(self, *args, stats=None):
-        cmd = [self.exe, "gui", "--data", self.root, *args]   # --data after the subcommand (issue 34, point 6)
+        cmd = [self.exe, "gui", "--data", self.root, *args]   # --data after the subcommand
         if stats:
             cmd += ["--stats", stats, "--stats-interval", "0.5"]
         self.log = open(os.path.join(self.work, f"gui_{int(time.time() * 1000)}.log"), "w")
@@ -173,7 +173,7 @@ class Journeys:
         self.start("--scene", "scenes/press_sphere.json")
         self.check(self.wait_title("press_sphere", "new session, not saved") is not None,
                    "a fresh, never-saved session says 'new session, not saved', not 'saved'")
-        # The parameter set: another set is a change (it said "saved" before, issue 34 point 2).
+        # The parameter set: another set is a change (it said "saved" before).
         self.click(*POS_PARAM_SET_COMBO, settle=0.6)
         self.click(POS_PARAM_SET_COMBO[0], POS_PARAM_SET_COMBO[1] + 45, settle=0.6)
         self.check(self.wait_title("unsaved changes", timeout=30) is not None,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The first view's models agree within a factor 3 on every scene (issue 18): docs/peak_table.sh's table, run
+# The first view's models agree within a factor 3 on every scene: docs/peak_table.sh's table, run
 # from the repository root with the default parameter set, and its last column (the spread of HydroShear
 # (contact), FOTS (re-impl.) and TacSL peaks at the last step) at most 3 on every scene. The authors' three
 # are printed beside it (they exceed 3 on the 4 mm sphere: docs/workbench.md says why).

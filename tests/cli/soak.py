@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An afternoon in the workbench, scripted (issue 19). Run under xvfb-run (1280x800 screen).
+"""An afternoon in the workbench, scripted. Run under xvfb-run (1280x800 screen).
 
 Drives the real `shearbench gui` only through its input path (xdotool keys, clicks and drags) with a
 reproducible random walk (--seed) over what a user does: nudge and drag the indenter, scrub, play and pause,
@@ -51,7 +51,7 @@ POS_TACSL_COMBO = (95, 529)
 COMBO_ITEM_DY = (24, 45)          # the popup's two entries below the combo
 POS_EXPORT = (240, 429)
 POS_HS_MU = (115, 723)            # HydroShear mu slider (Ctrl+click: type a value)
-POS_INDENTER = (483, 115)         # the indenter in the iso view at the scene's start (the grid's first cell, issue 34)
+POS_INDENTER = (483, 115)         # the indenter in the iso view at the scene's start (the grid's first cell)
 # The Fit section, reached by collapsing Parameters (its header at y 454; Fit's header then at 479).
 POS_PARAMETERS_HEADER = (60, 454)
 POS_FIT_HEADER = (60, 479)
@@ -138,7 +138,7 @@ class Soak:
         self.work = os.path.abspath(a.work)
         self.src = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
         self.data = os.environ.get("SHEARBENCH_DATA", os.path.join(self.src, "..", "shared", "data"))
-        # Ctrl+S saves to the default session path, in the XDG state folder (issue 34), here the test's own.
+        # Ctrl+S saves to the default session path, in the XDG state folder, here the test's own.
         self.state = os.path.join(self.work, "state")
         self.session = os.path.join(self.state, "shearbench", "session.json")
         self.autosave = os.path.join(self.work, "autosave.json")
@@ -241,7 +241,7 @@ class Soak:
         self.fresh = True
 
     def wait_opened(self, timeout=120):
-        """A session opens on a worker (issue 34) and input waits meanwhile: until the title stops saying
+        """A session opens on a worker and input waits meanwhile: until the title stops saying
         'opening', keys would be dropped."""
         t = time.monotonic()
         while time.monotonic() - t < timeout and " - opening " in self.xdo("getwindowname", self.wid):

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole TacTip set (raw/tactip_shear, 1999 images) through `shearbench import --source tactip_shear`:
-# the done criterion of issue 20, "the tracker keeps >= 95 % of pins on every validation image", with the
+# the tracker's done criterion, "the tracker keeps >= 95 % of pins on every validation image", with the
 # pins kept being the ones the lattice-slip check does not doubt (core/tracking/lattice_check.hpp). The
 # import passes `check`. Measured values and the command in docs/tracking.md ("TacTip pins"). Then
 # `evaluate` with no --param-set must start from the set fitted for the TacTip (tactip_shear, not the
