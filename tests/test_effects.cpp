@@ -5,6 +5,10 @@
 
 #include "core/effects/effects.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one translation unit.
+namespace test_effects {
+
 using namespace sb;
 
 namespace {
@@ -577,3 +581,41 @@ TEST_CASE("dome_sway: a normal load off the apex of a dome pushes the tip away, 
     CHECK(z == std::vector<Vec2>(2, Vec2(1.0, 2.0)));
   }
 }
+
+TEST_CASE("spread_saturation: markers inside a pressed sphere lose the spread of their depth beyond h0 tanh(h/h0)",
+          "[effects]") {
+  // Sphere R = 4 mm pressed 2 mm: centre c = (0, 0, 2) mm. Marker A at the origin is 2 mm inside it (h_A = 4 - 2);
+  // B at (1.5, 0, 0) mm is sqrt(1.5^2 + 2^2) = 2.5 mm from c, h_B = 1.5 mm. With g = 1 px, h0 = 1 mm, sigma = 2 mm
+  // the lost depths are tanh(2) - 2 = -1.0359724 and tanh(1.5) - 1.5 = -0.5948517 (mm), the kernel between them
+  // exp(-1.5^2 / (2 * 2^2)) = 0.7548396, so
+  //   A += g (h_B lost) (m_A - m_B) w = (-0.5948517)(-1.5)(0.7548396) = +0.6735265 px along x,
+  //   B += g (h_A lost) (m_B - m_A) w = (-1.0359724)(+1.5)(0.7548396) = -1.1729895 px along x;
+  // a marker's own term has zero offset. A marker C at (6, 0, 0) mm is outside the sphere and adds nothing.
+  constexpr double kTol = 1e-9;  // px: closed-form distances, a few roundings
+  auto sensor = make_test_sensor({Vec2(0.0, 0.0), Vec2(0.0015, 0.0), Vec2(0.006, 0.0)});
+  const auto sphere = make_test_indenter();
+  auto e = make_effect("spread_saturation");
+  ParamSet p = e->params();
+  p.set("gain_px", 1.0);
+  p.set("depth_scale_m", 0.001);
+  p.set("width_m", 0.002);
+  e->set_params(p);
+  EffectContext ctx = context_for(sensor.get(), 0.002, true);
+  ctx.indenter = sphere.get();
+  ctx.X_EI = pressed(0.002);
+  std::vector<Vec2> d(3, Vec2(0.25, -0.5));
+  e->apply(ctx, d);
+  const double w_AC = std::exp(-6.0 * 6.0 / 8.0), w_BC = std::exp(-4.5 * 4.5 / 8.0);
+  CHECK((d[0] - Vec2(0.25 + 0.6735264831917626, -0.5)).norm() < kTol);
+  CHECK((d[1] - Vec2(0.25 - 1.1729895136907387, -0.5)).norm() < kTol);
+  // C feels both inside markers: (h_A lost)(6) w_AC + (h_B lost)(4.5) w_BC.
+  const double c_x = -1.035972419924183 * 6.0 * w_AC - 0.5948517463551336 * 4.5 * w_BC;
+  CHECK((d[2] - Vec2(0.25 + c_x, -0.5)).norm() < kTol);
+  // At its default gain the effect is the identity; out of contact (sphere lifted) too.
+  ctx.X_EI = pressed(-0.001);
+  std::vector<Vec2> lifted(3, Vec2(0.25, -0.5));
+  e->apply(ctx, lifted);
+  CHECK(lifted == std::vector<Vec2>(3, Vec2(0.25, -0.5)));
+}
+
+}  // namespace test_effects

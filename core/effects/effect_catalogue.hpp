@@ -18,6 +18,7 @@ std::unique_ptr<Effect> make_camera_misalignment();
 std::unique_ptr<Effect> make_tilt_pivot();
 std::unique_ptr<Effect> make_pin_lever();
 std::unique_ptr<Effect> make_dome_sway();
+std::unique_ptr<Effect> make_spread_saturation();
 
 // Throws std::invalid_argument when disp_px and the sensor's markers differ in count.
 void require_marker_count(const EffectContext& ctx, const std::vector<Vec2>& disp_px, const char* effect_id);

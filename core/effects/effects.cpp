@@ -288,6 +288,7 @@ const std::vector<Registered>& registry() {
       {"tilt_pivot", effects::make_tilt_pivot},
       {"pin_lever", effects::make_pin_lever},
       {"dome_sway", effects::make_dome_sway},
+      {"spread_saturation", effects::make_spread_saturation},
   };
   return r;
 }

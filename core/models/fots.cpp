@@ -290,13 +290,13 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
   // Both kernels' exps in one vectorised batch (exp_in_place; exponents below -700 are clamped, which
   // changes a weight of < 1e-304 by less than itself).
   sc.args.resize(2 * static_cast<std::size_t>(nm));
-  for (int j = 0; j < nm; ++j) {
+  for (std::size_t j = 0; j < static_cast<std::size_t>(nm); ++j) {
     const double r = (M[j].head<2>() - G).norm();
     sc.args[2 * j] = std::max(-lambda_s_ * r, -700.0);
     sc.args[2 * j + 1] = std::max(-lambda_t_ * r, -700.0);
   }
   exp_in_place(sc.args.data(), 2 * nm);
-  for (int j = 0; j < nm; ++j) {
+  for (std::size_t j = 0; j < static_cast<std::size_t>(nm); ++j) {
     const Vec2 d = M[j].head<2>() - G;
     disp[j] = kappa_s_ * dxy * sc.args[2 * j] + kappa_t_ * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
   }

@@ -157,8 +157,7 @@ void ShearPass::add_shear_term(const ShearTerm& term) const {
     sc.args[i] = sc.args[mp + i] = sc.args[2 * mp + i] = 0;
     sc.fast[i] = 0;
   }
-  const kernels::ShearColumns cols{f.x,       f.y,        f.z,  F.ux.data(), F.uy.data(), F.uz.data(),
-                                   f.un, f.phi, f.nx, f.ny,      f.nz};
+  const kernels::ShearColumns cols{f.x, f.y, f.z, F.ux.data(), F.uy.data(), F.uz.data(), f.un, f.phi, f.nx, f.ny, f.nz};
   kernels::ShearConstants k = fact ? axis_constants(*term.gx, *term.gy, term.lambda, m.grid.z0)
                                    : kernels::ShearConstants{};
   k.E = m.k.E, k.K = m.k.K, k.lambda_s = term.lambda, k.z0 = m.grid.z0;
@@ -200,8 +199,7 @@ void ShearPass::shear_sum_shared(std::span<const ShearTerm> terms) const {
   const int n = F.size();
   const int mp = (n + 7) / 8 * 8;  // whole 8-float vectors
   for (auto* v : {&sc.wvx, &sc.wvy, &sc.ww, &sc.anchor_x, &sc.anchor_y, &sc.anchor_z}) v->assign(mp, 0.0);
-  const kernels::ShearColumns cols{f.x,       f.y,        f.z,  F.ux.data(), F.uy.data(), F.uz.data(),
-                                   f.un, f.phi, f.nx, f.ny,      f.nz};
+  const kernels::ShearColumns cols{f.x, f.y, f.z, F.ux.data(), F.uy.data(), F.uz.data(), f.un, f.phi, f.nx, f.ny, f.nz};
   kernels::ShearConstants k{};
   k.E = m.k.E, k.K = m.k.K, k.weight_paper = m.k.weight_paper, k.normal_z = !m.k.normal_indenter;
   k.shift_x = shift_x, k.shift_y = shift_y;
@@ -338,8 +336,7 @@ Vec2 ShearPass::aniso_term(const ShearTerm& term, const Vec2& d, double vx, doub
 
 // One field point's share of the shear sum with one exp per axis coordinate (or per marker off a
 // grid): for anchors too far for the factored form, and for marker layouts that are not a uniform grid.
-void ShearPass::shear_point_slow(const ShearTerm& term, int i, double vx, double vy,
-                                       double vw) const {
+void ShearPass::shear_point_slow(const ShearTerm& term, int i, double vx, double vy, double vw) const {
   const PointColumns& F = *f.state;
   const Vec3 a(f.x[i] + F.ux[i] + shift_x, f.y[i] + F.uy[i] + shift_y, f.z[i] + F.uz[i]);
   const double ls = term.lambda;

@@ -31,11 +31,10 @@ struct PoseArrays {
 
 // phi[i] = m.phi_E(p_i + shift) for columns of points.
 void phi_columns(const HydroShearModel& m, const double* x, const double* y, const double* z, const Vec3& shift, int n,
-                                  double* phi) {
+                 double* phi) {
   if (m.flat) return kernels::flat_pad_phi(m.pad, shift.data(), x, y, z, n, phi);
   for (int i = 0; i < n; ++i) phi[i] = m.sensor->gel_sdf->value(Vec3(x[i], y[i], z[i]) + shift);
 }
-
 
 // Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the
 // indenter's outward normal (paper).
@@ -53,8 +52,7 @@ void normals(const HydroShearModel& m, const Mat3& R_EI, const std::vector<int>&
 
 // in.o*[j] = the state u of the point at pos[j] in `from` (sorted by position), or 0 when `from` does
 // not hold it (the point was outside the gel). A merge of two sorted lists, then the copies.
-void lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index,
-                                   StepColumns& in) {
+void lookup_state(const PointColumns& from, const std::vector<int>& pos, std::vector<int>& index, StepColumns& in) {
   const int n = static_cast<int>(pos.size()), m = from.size();
   index.resize(n);
   const int* fp = from.pos.data();
@@ -157,8 +155,6 @@ const Candidates& gather_candidates(const HydroShearModel& m, const Pose& X_EI, 
   return sc;
 }
 
-
-
 // The tracker step: candidates inside the gel advance from their old state (or from zero when they
 // enter); every other point's state is reset to zero, i.e. dropped from the sparse list.
 FieldPoints commit_state(const HydroShearModel& m, const Candidates& cand, const Pose& X_EI, Slot& slot,
@@ -209,13 +205,13 @@ FieldPoints commit_state(const HydroShearModel& m, const Candidates& cand, const
   const int* ix = buf.old_index.data();
   for (int j = 0; j < n_in; ++j) in.s_prev[j] = ix[j] >= 0 ? in.s[j] : m.phi_E(Vec3(in.qx[j], in.qy[j], in.qz[j]));
   normals(m, X_EI.linear(), next.pos, in);
-  kernels::advance_points(advance_view(in), !m.k.normal_indenter, m.k.mu * m.k.E / m.k.K, n_in, next.ux.data(), next.uy.data(),
-                          next.uz.data(), in.un.data(), next.slip.data());
+  kernels::advance_points(advance_view(in), !m.k.normal_indenter, m.k.mu * m.k.E / m.k.K, n_in, next.ux.data(),
+                          next.uy.data(), next.uz.data(), in.un.data(), next.slip.data());
   slot.points.swap(next);
   slot.X_prev = X_EI;
   slot.first = false;
-  return {&slot.points, in.un.data(), in.s.data(), in.px.data(), in.py.data(),
-          in.pz.data(),  in.nx.data(), in.ny.data(), in.nz.data()};
+  return {&slot.points, in.un.data(), in.s.data(),  in.px.data(), in.py.data(),
+          in.pz.data(), in.nx.data(), in.ny.data(), in.nz.data()};
 }
 
 // The state the field uses with the augmentation: one virtual, uncommitted step from the committed
@@ -246,11 +242,11 @@ FieldPoints augmented_state(const HydroShearModel& m, const Candidates& cand, co
   }
   lookup_state(slot.points, out.pos, buf.old_index, in);
   normals(m, X_EI.linear(), out.pos, in);
-  kernels::advance_points(advance_view(in), !m.k.normal_indenter, m.k.mu * m.k.E / m.k.K, n_aug, out.ux.data(), out.uy.data(),
-                          out.uz.data(), in.un.data(), out.slip.data());
+  kernels::advance_points(advance_view(in), !m.k.normal_indenter, m.k.mu * m.k.E / m.k.K, n_aug, out.ux.data(),
+                          out.uy.data(), out.uz.data(), in.un.data(), out.slip.data());
   // phi_E at the shifted point; the real, unshifted points (q).
-  return {&out, in.un.data(), in.s.data(), in.qx.data(), in.qy.data(), in.qz.data(), in.nx.data(), in.ny.data(),
-          in.nz.data()};
+  return {&out,         in.un.data(), in.s.data(),  in.qx.data(), in.qy.data(),
+          in.qz.data(), in.nx.data(), in.ny.data(), in.nz.data()};
 }
 
 }  // namespace sb::hydroshear

@@ -172,8 +172,8 @@ struct DilationBuffers {
   std::vector<double> dil_sum_x, dil_sum_y;  // the dilation's sums before kappa_d
 };
 // disp[j] = kappa_s M_s(m_j) + kappa_d M_d(m_j), M_d from the markers inside the indenter at X_EI.
-void marker_field(const HydroShearModel& m, const Pose& X_EI, const ShearSums& shear, Vec2* disp,
-                  DilationBuffers& buf, PhaseClock& clock);
+void marker_field(const HydroShearModel& m, const Pose& X_EI, const ShearSums& shear, Vec2* disp, DilationBuffers& buf,
+                  PhaseClock& clock);
 
 // The buffers of the four phases, one per thread, reused across steps (no allocation once the largest contact
 // has been seen).

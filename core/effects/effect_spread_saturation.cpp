@@ -1,0 +1,72 @@
+// spread_saturation: under a broad contact the skin's outward spread stops growing with depth.
+#include <cmath>
+#include <vector>
+
+#include "core/effects/effect_catalogue.hpp"
+
+namespace sb::effects {
+namespace {
+
+constexpr double kUnitM = 0.001;  // depths and offsets in the sum are counted in millimetres
+
+// The depth of each marker inside the indenter, h_k = relu(-phi_I(X_IE p_EM_k)), for the markers inside.
+struct InsideMarkers {
+  std::vector<int> index;
+  std::vector<double> depth_m;
+};
+
+InsideMarkers markers_inside(const EffectContext& ctx) {
+  InsideMarkers in;
+  const std::vector<Vec3>& p_EM = ctx.sensor->p_EM;
+  const Pose X_IE = ctx.X_EI.inverse(Eigen::Isometry);
+  for (int k = 0; k < static_cast<int>(p_EM.size()); ++k) {
+    const double h = -ctx.indenter->sdf->value(X_IE * p_EM[k]);
+    if (h <= 0) continue;
+    in.index.push_back(k);
+    in.depth_m.push_back(h);
+  }
+  return in;
+}
+
+class SpreadSaturation final : public Effect {
+ public:
+  SpreadSaturation()
+      : Effect({{"gain_px", "px", 0.0, 0.0, 10.0,
+                 "pull per mm of lost depth per mm of offset, at the kernel's centre (0: none)"},
+                {"depth_scale_m", "m", 0.002, 2e-4, 0.01, "depth h0 at which the spread saturates: h0 tanh(h/h0)"},
+                {"width_m", "m", 0.003, 5e-4, 0.015, "width sigma of the spread's Gaussian kernel"}}) {}
+
+  std::string id() const override { return "spread_saturation"; }
+  std::string physics() const override {
+    return "A model's dilation pushes each marker away from every marker inside the indenter in proportion to "
+           "that marker's depth h. Under a broad contact the skin sticks to the surface and the gel beneath is "
+           "nearly incompressible: the spread stops growing with depth. Each inside marker's share is "
+           "replaced by its saturated depth h0 tanh(h/h0): u_j += g sum_k (h0 tanh(h_k/h0) - h_k) (m_j - m_k) "
+           "exp(-|m_j - m_k|^2 / (2 sigma^2)), depths and offsets in mm.";
+  }
+
+  void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
+    const double gain = params_.get("gain_px");
+    if (gain == 0.0 || ctx.indenter == nullptr || ctx.indenter->sdf == nullptr) return;
+    require_marker_count(ctx, disp_px, "spread_saturation");
+    const InsideMarkers in = markers_inside(ctx);
+    if (in.index.empty()) return;
+    const double h0 = params_.get("depth_scale_m");
+    const double inv_two_sigma2 = 1.0 / (2.0 * std::pow(params_.get("width_m"), 2));
+    const std::vector<Vec3>& p_EM = ctx.sensor->p_EM;
+    for (std::size_t i = 0; i < in.index.size(); ++i) {
+      const double h = in.depth_m[i];
+      const double lost = (h0 * std::tanh(h / h0) - h) / kUnitM;  // <= 0: the depth the spread no longer sees
+      const Vec2 m_k = p_EM[in.index[i]].head<2>();
+      for (std::size_t j = 0; j < p_EM.size(); ++j) {
+        const Vec2 d = p_EM[j].head<2>() - m_k;
+        disp_px[j] += gain * lost * std::exp(-d.squaredNorm() * inv_two_sigma2) * (d / kUnitM);
+      }
+    }
+  }
+  std::unique_ptr<Effect> clone() const override { return std::make_unique<SpreadSaturation>(*this); }
+};
+
+}  // namespace
+std::unique_ptr<Effect> make_spread_saturation() { return std::make_unique<SpreadSaturation>(); }
+}  // namespace sb::effects
