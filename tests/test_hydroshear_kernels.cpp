@@ -121,34 +121,45 @@ TEST_CASE("shear kernels: one anchor on a marker gives the Gaussian of the grid"
   // One point with state u = (0.1, 0, 0.2) mm and anchor a = o + u at marker (0, 0): o = -u. With
   // E = K = 1 and the code's weight w = E u_n = 0.2 mm, f_x = K u_x = 0.1 mm:
   // vx = -w f_x = -2e-8 m^2, vy = 0, and S_x[r][c] = -2e-8 exp(-(c^2 + r^2)).
-  // A second point with its anchor 1 m away exceeds the exponent budget: fast = 0 and zero weight here.
+  // A second point with its anchor 1 m away exceeds the exponent budget: fast = 0, so its weight (w = 1e-4,
+  // vx = -1e-8) must not reach the sums.
   const std::vector<double> px = {-1e-4, 1.0}, py = {0, 0}, pz = {-2e-4, 0}, ux = {1e-4, 0}, uy = {0, 0},
                             uz = {2e-4, 0}, un = {2e-4, 1e-4}, phi = {-1e-4, -1e-4};
   const kernels::ShearColumns in{px.data(), py.data(),  pz.data(), ux.data(), uy.data(), uz.data(),
                                  un.data(), phi.data(), nullptr,   nullptr,   nullptr};
-  kernels::ShearConstants k{};
-  k.E = 1, k.K = 1, k.lambda_s = l, k.z0 = 0, k.weight_paper = false, k.normal_z = true;
-  k.x0 = 0, k.xn = (cols - 1) * h, k.hx = h, k.y0 = 0, k.yn = (rows - 1) * h, k.hy = h;
-  k.max_total_exponent = 650;
-  constexpr int mp = 4;  // two points padded to one vector: zero weight, zero exponents
-  std::vector<double> vx(mp, 0.0), vy(mp, 0.0), args(3 * mp, 0.0);
-  std::vector<std::uint8_t> fast(mp, 0);
-  kernels::shear_operands(in, k, 2, vx.data(), vy.data(), args.data(), args.data() + mp, args.data() + 2 * mp,
-                          fast.data());
+  constexpr int mp = 8;  // two points padded to one vector of floats: zero weight, anchors at the origin
+  std::vector<double> vx(mp, 0.0), vy(mp, 0.0), w(mp, 0.0), ax(mp, 0.0), ay(mp, 0.0), az(mp, 0.0);
+  kernels::point_operands(in, {1, 1, false, true}, 2,
+                          {vx.data(), vy.data(), w.data(), ax.data(), ay.data(), az.data()});
   CHECK(vx[0] == Approx(-2e-8).epsilon(kRelTol));
   CHECK(vy[0] == 0.0);
+  CHECK(w[0] == Approx(2e-4).epsilon(kRelTol));
+  CHECK(ax[0] == Approx(0).margin(1e-18));
+  CHECK(az[0] == Approx(0).margin(1e-18));
+  const kernels::AxisConstants k{l, 0, 0, (cols - 1) * h, h, 0, (rows - 1) * h, h, 650};
+  std::vector<double> args(4 * mp);
+  std::vector<std::uint8_t> fast(mp);
+  const kernels::AxisExponents e{args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp};
+  CHECK(kernels::axis_exponents(ax.data(), ay.data(), az.data(), k, mp, e, fast.data()) == 1);
   CHECK(fast[0] == 1);
   CHECK(fast[1] == 0);
-  exp_in_place(args.data(), 3 * mp);
+  exp_in_place(args.data(), 4 * mp);
   const double q = std::exp(-2 * l * h * h);
-  std::vector<double> Xt(6 * mp), Wt(6 * mp), S(2 * rows * cols, 0.0);  // 4 -> 6 columns, 6 rows of W
-  kernels::shear_matrices(args.data(), args.data() + mp, args.data() + 2 * mp, vx.data(), vy.data(), fast.data(), mp,
-                          rows, cols, q, q, Xt.data(), Wt.data());
-  kernels::add_products_nt(Wt.data(), 2 * rows, Xt.data(), cols, mp, S.data());
+  constexpr int cols_pad = 6;  // 4 -> 6 columns, 3 blocks of W rows (vx, vy, w)
+  std::vector<double> X(cols_pad * mp), W(3 * rows * mp), run(mp);
+  const kernels::GridAxes grid{rows, cols, q, q, nullptr, nullptr};
+  kernels::term_operands({e.x0, e.rx, e.y0, e.ry}, {vx.data(), vy.data(), w.data(), fast.data()}, grid, mp, X.data(),
+                         W.data(), run.data());
+  const int nm = rows * cols;
+  std::vector<double> Sacc(4 * 3 * nm, 0.0), S(3 * nm);  // 4 lanes per output
+  kernels::add_products_acc(W.data(), 3 * rows, X.data(), cols, mp, Sacc.data());
+  kernels::lane_sums(Sacc.data(), 3 * nm, S.data());
   for (int r = 0; r < rows; ++r)
     for (int c = 0; c < cols; ++c) {
-      CHECK(S[r * cols + c] == Approx(-2e-8 * std::exp(-(c * c + r * r))).epsilon(kRelTol));
-      CHECK(S[rows * cols + r * cols + c] == 0.0);
+      const double g = std::exp(-(c * c + r * r));
+      CHECK(S[r * cols + c] == Approx(-2e-8 * g).epsilon(kRelTol));
+      CHECK(S[nm + r * cols + c] == 0.0);
+      CHECK(S[2 * nm + r * cols + c] == Approx(2e-4 * g).epsilon(kRelTol));
     }
 }
 
@@ -158,7 +169,7 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
   // vx = -2e-8 m^2, vy = 0), anisotropy k = 2, so kl = 2e6 and at marker (c, r) d = (c, r) mm, l |d|^2 =
   // c^2 + r^2, kl d (d . v) = 2 vx (c^2, c r):
   //   S_x = vx e^-(c^2 + r^2) (1 + 2 c^2),  S_y = vx e^-(c^2 + r^2) 2 c r.
-  // Assembled as add_term_single does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
+  // Assembled as the shear pass's add_sums does: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB.
   constexpr double kFloatRel = 1e-6;  // single-precision operands, sums in double
   constexpr double l = 1e6, h = 1e-3, kAniso = 2, vx0 = -2e-8;
   constexpr int cols = 4, rows = 3, mp = 8, cols_pad = 6;
@@ -176,9 +187,9 @@ TEST_CASE("shear kernels: the anisotropic operands in single precision give G (v
   std::vector<float> X3(3 * cols_pad * mp), W4(4 * rows * mp);
   std::vector<double> run(mp);
   const double kl = kAniso * l;
-  kernels::aniso_operands(args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp, vx.data(),
-                          vy.data(), fast.data(), ax.data(), ay.data(), xs.data(), ys.data(), rows, cols, mp, q, q, kl,
-                          X3.data(), W4.data(), run.data());
+  kernels::aniso_operands({args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp},
+                          {vx.data(), vy.data(), nullptr, fast.data()}, ax.data(), ay.data(), kl,
+                          {rows, cols, q, q, xs.data(), ys.data()}, mp, X3.data(), W4.data(), run.data());
   const float* XC = X3.data();
   const float* XA = XC + cols_pad * mp;
   const float* XB = XA + cols_pad * mp;
@@ -217,13 +228,11 @@ TEST_CASE("shear kernels: single precision holds an anchor far from the grid's f
   constexpr double l = 4e6, h = 1e-3;
   constexpr int cols = 9, rows = 7, mp = 8;
   const std::vector<double> ax = {8 * h, 1.0, 0, 0, 0, 0, 0, 0}, ay = {6 * h, 0, 0, 0, 0, 0, 0, 0}, az(mp, 0.0);
-  kernels::ShearConstants k{};
-  k.lambda_s = l, k.z0 = 0, k.max_total_exponent = 650;
-  k.x0 = 0, k.xn = (cols - 1) * h, k.hx = h, k.y0 = 0, k.yn = (rows - 1) * h, k.hy = h;
+  const kernels::AxisConstants k{l, 0, 0, (cols - 1) * h, h, 0, (rows - 1) * h, h, 650};
   std::vector<double> args(4 * mp);
   std::vector<std::uint8_t> fast(mp);
-  const int slow = kernels::axis_exponents(ax.data(), ay.data(), az.data(), k, mp, args.data(), args.data() + mp,
-                                           args.data() + 2 * mp, args.data() + 3 * mp, fast.data());
+  const kernels::AxisExponents e{args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp};
+  const int slow = kernels::axis_exponents(ax.data(), ay.data(), az.data(), k, mp, e, fast.data());
   CHECK(fast[0] == 1);
   CHECK(fast[1] == 0);
   CHECK(slow == 1);
@@ -237,8 +246,8 @@ TEST_CASE("shear kernels: single precision holds an anchor far from the grid's f
   constexpr int cols_pad = 9;
   std::vector<float> X(cols_pad * mp), W(3 * rows * mp);
   std::vector<double> run(mp);
-  kernels::term_operands(args.data(), args.data() + mp, args.data() + 2 * mp, args.data() + 3 * mp, vx.data(),
-                         vy.data(), w.data(), fast.data(), rows, cols, mp, q, q, X.data(), W.data(), run.data());
+  kernels::term_operands({e.x0, e.rx, e.y0, e.ry}, {vx.data(), vy.data(), w.data(), fast.data()},
+                         {rows, cols, q, q, nullptr, nullptr}, mp, X.data(), W.data(), run.data());
   const int nm = rows * cols;
   std::vector<float> Sacc(8 * 3 * nm, 0.0f);
   kernels::add_products_acc(W.data(), 3 * rows, X.data(), cols, mp, Sacc.data());

@@ -125,7 +125,7 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
   if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
   if (p.index_of("follow") >= 0) k.follow = p.get("follow");
-  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3"), k.shared_pass = true;
+  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3");
   if (p.index_of("float32") >= 0) k.single_precision = param_flag(p, "float32");
   return k;
 }

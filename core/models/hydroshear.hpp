@@ -54,8 +54,7 @@ struct HydroShearParams {
   double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
   double follow = 0;                  // contact-following tractions (0: the authors' anchors)
   double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
-  bool shared_pass = false;           // every term in one pass over shared operands (the contact variant)
-  bool single_precision = false;      // that pass in single precision (its parameter "float32")
+  bool single_precision = false;      // the shear sum's products in float (the contact's parameter "float32")
   Vec3 g_dir_E;                       // unit direction of the gravity augmentation shift, in E
   bool weight_paper;                  // false: w = f_n (code); true: w = -phi_E (paper)
   bool normal_indenter;               // false: split along +z_E (code); true: along -n_I (paper)
@@ -92,8 +91,8 @@ struct Slot;
 // when the indenter's SDF bounds reach the marker plane, and only over the markers inside. Per slot,
 // the points are handled as columns (structure of arrays) by the branch-free loops of
 // core/models/hydroshear_kernels, which the compiler vectorises across points; the slot keeps only each
-// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed). The contact
-// variant sums its three terms over shared point operands, in single precision by default.
+// tracked point's position, state u and slip flag (u_n and phi_E are recomputed where needed). Every variant
+// sums its Gaussian terms in one pass over shared point operands; the contact variant's in single precision by default.
 class HydroShearBatch {
  public:
   HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter, int slots,

@@ -110,7 +110,7 @@ void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n,
 namespace {
 // One point's weight w and term v = -w f^xy (the paper's or the code's weight; split along n or +z).
 template <bool kWeightPaper, bool kNormalZ>
-[[gnu::always_inline]] inline void point_term(const ShearColumns& c, const ShearConstants& k, int i, double& vx,
+[[gnu::always_inline]] inline void point_term(const ShearColumns& c, const PointConstants& k, int i, double& vx,
                                               double& vy, double& w) {
   const double u_n = c.un[i];
   const double nx = kNormalZ ? 0.0 : c.nx[i], ny = kNormalZ ? 0.0 : c.ny[i];
@@ -121,113 +121,10 @@ template <bool kWeightPaper, bool kNormalZ>
   vy = -w * fy;
 }
 
-// The loop of shear_operands for one weight choice: a select on a loop-invariant bool stops GCC's
-// vectoriser, two instantiations do not.
+// The loop of point_operands for one weight choice and split normal: a select on a loop-invariant bool stops
+// GCC's vectoriser, four instantiations do not.
 template <bool kWeightPaper, bool kNormalZ>
-[[gnu::always_inline]] inline void shear_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
-                                                       double* vx, double* vy, double* lead, double* rx, double* ry,
-                                                       std::uint8_t* fast) {
-  const double l = k.lambda_s;
-  SB_IVDEP
-  for (int i = 0; i < n; ++i) {
-    double w;
-    point_term<kWeightPaper, kNormalZ>(c, k, i, vx[i], vy[i], w);
-    const double ax = c.px[i] + c.ux[i] + k.shift_x, ay = c.py[i] + c.uy[i] + k.shift_y, az = c.pz[i] + c.uz[i];
-    const double dx0 = k.x0 - ax, dxn = k.xn - ax, dy0 = k.y0 - ay, dyn = k.yn - ay, dz = k.z0 - az;
-    const double lz = l * dz * dz;
-    const double worst = l * max2(dx0 * dx0, dxn * dxn) + l * max2(dy0 * dy0, dyn * dyn) + lz;
-    const bool ok = worst <= k.max_total_exponent;
-    lead[i] = ok ? -l * dx0 * dx0 - l * dy0 * dy0 - lz : 0.0;
-    rx[i] = ok ? -l * (k.hx * k.hx + 2 * k.hx * dx0) : 0.0;
-    ry[i] = ok ? -l * (k.hy * k.hy + 2 * k.hy * dy0) : 0.0;
-    fast[i] = ok ? 1 : 0;
-  }
-}
-}  // namespace
-
-SB_VECTOR_CLONES
-void shear_operands(const ShearColumns& in, const ShearConstants& constants, int n, double* vx, double* vy,
-                    double* lead, double* rx, double* ry, std::uint8_t* fast) {
-  // Local copies: the compiler cannot prove that the outputs do not alias a referenced struct.
-  const ShearColumns c = in;
-  const ShearConstants k = constants;
-  if (k.weight_paper)
-    k.normal_z ? shear_operands_loop<true, true>(c, k, n, vx, vy, lead, rx, ry, fast)
-               : shear_operands_loop<true, false>(c, k, n, vx, vy, lead, rx, ry, fast);
-  else
-    k.normal_z ? shear_operands_loop<false, true>(c, k, n, vx, vy, lead, rx, ry, fast)
-               : shear_operands_loop<false, false>(c, k, n, vx, vy, lead, rx, ry, fast);
-}
-
-namespace {
-// Rows 1..n-1 of a block from its row 0: row k = row k-1 * r_i q^(k-1), the ratio recurrence of GaussianAxis
-// carried across rows (each row one vectorised pass over the points).
-[[gnu::always_inline]] inline void ratio_recurrence(double* block, const double* e_r, int mp, int n, double q) {
-  double q_pow = 1.0;
-  for (int k = 1; k < n; ++k) {
-    const double* prev = block + static_cast<std::ptrdiff_t>(k - 1) * mp;
-    double* row = block + static_cast<std::ptrdiff_t>(k) * mp;
-    SB_IVDEP
-    for (int i = 0; i < mp; ++i) row[i] = prev[i] * (e_r[i] * q_pow);
-    q_pow *= q;
-  }
-}
-}  // namespace
-
-SB_VECTOR_CLONES
-void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
-                  double* block) {
-  SB_IVDEP
-  for (int i = 0; i < mp; ++i) {
-    const double x = w[i];  // loaded unconditionally: a conditional load stops vectorisation
-    block[i] = fast[i] ? x : 0.0;
-  }
-  ratio_recurrence(block, e_ry, mp, rows, qy);
-}
-
-SB_VECTOR_CLONES
-void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
-                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt, double* Wt,
-                    const double* vw) {
-  // Xt: row 0 = E_i, row c = row c-1 * r_i q^(c-1), the ratio recurrence of GaussianAxis carried
-  // across rows (each row is one vectorised pass over the points).
-  for (int i = 0; i < mp; ++i) Xt[i] = e_lead[i];
-  ratio_recurrence(Xt, e_rx, mp, cols, qx);
-  const int cols_pad = (cols + 2) / 3 * 3;
-  std::memset(Xt + static_cast<std::ptrdiff_t>(cols) * mp, 0, sizeof(double) * mp * (cols_pad - cols));
-  // Wt: rows 0 = (fast) vx_i and vy_i, then the y axis' recurrence applied to both.
-  double* wx0 = Wt;
-  double* wy0 = Wt + static_cast<std::ptrdiff_t>(rows) * mp;
-  SB_IVDEP
-  for (int i = 0; i < mp; ++i) {
-    const double x = vx[i], y = vy[i];  // loaded unconditionally: a conditional load stops vectorisation
-    wx0[i] = fast[i] ? x : 0.0;
-    wy0[i] = fast[i] ? y : 0.0;
-  }
-  double q_pow = 1.0;
-  for (int r = 1; r < rows; ++r) {
-    const double* px = wx0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
-    const double* py = wy0 + static_cast<std::ptrdiff_t>(r - 1) * mp;
-    double* rx = wx0 + static_cast<std::ptrdiff_t>(r) * mp;
-    double* ry = wy0 + static_cast<std::ptrdiff_t>(r) * mp;
-    SB_IVDEP
-    for (int i = 0; i < mp; ++i) {
-      const double ratio = e_ry[i] * q_pow;
-      rx[i] = px[i] * ratio;
-      ry[i] = py[i] * ratio;
-    }
-    q_pow *= qy;
-  }
-  // The weights' block, the same recurrence.
-  if (vw != nullptr) weight_block(e_ry, vw, fast, mp, rows, qy, Wt + static_cast<std::ptrdiff_t>(2 * rows) * mp);
-  const int nw = (vw != nullptr ? 3 : 2) * rows, nw_pad = (nw + 2) / 3 * 3;
-  std::memset(Wt + static_cast<std::ptrdiff_t>(nw) * mp, 0, sizeof(double) * mp * (nw_pad - nw));
-}
-
-namespace {
-// The loop of point_operands for one weight choice and split normal.
-template <bool kWeightPaper, bool kNormalZ>
-[[gnu::always_inline]] inline void point_operands_loop(const ShearColumns& c, const ShearConstants& k, int n,
+[[gnu::always_inline]] inline void point_operands_loop(const ShearColumns& c, const PointConstants& k, int n,
                                                        double* vx, double* vy, double* w, double* ax, double* ay,
                                                        double* az) {
   SB_IVDEP
@@ -241,10 +138,11 @@ template <bool kWeightPaper, bool kNormalZ>
 }  // namespace
 
 SB_VECTOR_CLONES
-void point_operands(const ShearColumns& in, const ShearConstants& constants, int n, double* vx, double* vy, double* w,
-                    double* ax, double* ay, double* az) {
+void point_operands(const ShearColumns& in, const PointConstants& constants, int n, const PointOperands& out) {
+  // Local copies: the compiler cannot prove that the outputs do not alias a referenced struct.
   const ShearColumns c = in;
-  const ShearConstants k = constants;
+  const PointConstants k = constants;
+  double *vx = out.vx, *vy = out.vy, *w = out.w, *ax = out.ax, *ay = out.ay, *az = out.az;
   if (k.weight_paper)
     k.normal_z ? point_operands_loop<true, true>(c, k, n, vx, vy, w, ax, ay, az)
                : point_operands_loop<true, false>(c, k, n, vx, vy, w, ax, ay, az);
@@ -254,10 +152,11 @@ void point_operands(const ShearColumns& in, const ShearConstants& constants, int
 }
 
 SB_VECTOR_CLONES
-int axis_exponents(const double* ax, const double* ay, const double* az, const ShearConstants& constants, int n,
-                   double* ex0, double* rx, double* ey0, double* ry, std::uint8_t* fast) {
-  const ShearConstants k = constants;
-  const double l = k.lambda_s;
+int axis_exponents(const double* ax, const double* ay, const double* az, const AxisConstants& constants, int n,
+                   const AxisExponents& out, std::uint8_t* fast) {
+  const AxisConstants k = constants;
+  const double l = k.lambda;
+  double *ex0 = out.x0, *rx = out.rx, *ey0 = out.y0, *ry = out.ry;
   int slow = 0;
   SB_IVDEP
   for (int i = 0; i < n; ++i) {
@@ -321,11 +220,13 @@ template <typename T>
 // double: its start may be far below float's range while a later marker's factor is not), storing each
 // marker's factor as T. Loops over the points with the rows outside kept the recurrence in memory.
 template <typename T>
-[[gnu::always_inline]] inline void term_operands_impl(const double* e_x0, const double* e_rx, const double* e_y0,
-                                                      const double* e_ry, const T* vx, const T* vy, const T* w,
-                                                      const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                                                      double qy, T* X, T* W, double* run) {
+[[gnu::always_inline]] inline void term_operands_impl(const AxisFactors& e, const TermWeights<T>& v, const GridAxes& g,
+                                                      int m, T* X, T* W, double* run) {
   using F = Four<T>;
+  const double *e_x0 = e.x0, *e_rx = e.rx, *e_y0 = e.y0, *e_ry = e.ry;
+  const T *vx = v.vx, *vy = v.vy, *w = v.w;
+  const int rows = g.rows, cols = g.cols;
+  const double qx = g.qx, qy = g.qy;
   for (int i = 0; i < m; i += 4) {
     v4d g = load4(e_x0 + i), ratio = load4(e_rx + i);
     for (int c = 0; c < cols; ++c) {
@@ -334,7 +235,7 @@ template <typename T>
     }
   }
   zero_padding_rows(X, cols, m);
-  y_factor_start(e_y0, fast, m, run);
+  y_factor_start(e_y0, v.fast, m, run);
   for (int i = 0; i < m; i += 4) {
     v4d g = load4(run + i), ratio = load4(e_ry + i);
     const typename F::type vx4 = F::load(vx + i), vy4 = F::load(vy + i);
@@ -350,12 +251,15 @@ template <typename T>
 }
 
 template <typename T>
-[[gnu::always_inline]] inline void aniso_operands_impl(const double* e_x0, const double* e_rx, const double* e_y0,
-                                                       const double* e_ry, const T* vx, const T* vy,
-                                                       const std::uint8_t* fast, const double* ax, const double* ay,
-                                                       const double* xs, const double* ys, int rows, int cols, int m,
-                                                       double qx, double qy, double kl, T* X3, T* W4, double* run) {
+[[gnu::always_inline]] inline void aniso_operands_impl(const AxisFactors& e, const TermWeights<T>& v, const double* ax,
+                                                       const double* ay, double kl, const GridAxes& g, int m, T* X3,
+                                                       T* W4, double* run) {
   using F = Four<T>;
+  const double *e_x0 = e.x0, *e_rx = e.rx, *e_y0 = e.y0, *e_ry = e.ry;
+  const T *vx = v.vx, *vy = v.vy;
+  const double *xs = g.xs, *ys = g.ys;
+  const int rows = g.rows, cols = g.cols;
+  const double qx = g.qx, qy = g.qy;
   using V = typename F::type;
   const int cols_pad = (cols + 2) / 3 * 3;
   T* XC = X3;
@@ -377,7 +281,7 @@ template <typename T>
   T* W1 = W4;
   T* WB = row_of(W4, rows, m);
   T* WC = row_of(W4, 3 * rows, m);
-  y_factor_start(e_y0, fast, m, run);
+  y_factor_start(e_y0, v.fast, m, run);
   for (int i = 0; i < m; i += 4) {
     v4d g = load4(run + i), ratio = load4(e_ry + i);
     const v4d a = load4(ay + i);
@@ -396,33 +300,27 @@ template <typename T>
 }  // namespace
 
 SB_VECTOR_CLONES
-void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
-                   const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                   double qy, float* X, float* W, double* run) {
-  term_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, w, fast, rows, cols, m, qx, qy, X, W, run);
+void term_operands(const AxisFactors& e, const TermWeights<float>& v, const GridAxes& g, int m, float* X, float* W,
+                   double* run) {
+  term_operands_impl(e, v, g, m, X, W, run);
 }
 
 SB_VECTOR_CLONES
-void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
-                   const double* vy, const double* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                   double qy, double* X, double* W, double* run) {
-  term_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, w, fast, rows, cols, m, qx, qy, X, W, run);
+void term_operands(const AxisFactors& e, const TermWeights<double>& v, const GridAxes& g, int m, double* X, double* W,
+                   double* run) {
+  term_operands_impl(e, v, g, m, X, W, run);
 }
 
 SB_VECTOR_CLONES
-void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
-                    const float* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
-                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, float* X3, float* W4,
-                    double* run) {
-  aniso_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, fast, ax, ay, xs, ys, rows, cols, m, qx, qy, kl, X3, W4, run);
+void aniso_operands(const AxisFactors& e, const TermWeights<float>& v, const double* ax, const double* ay, double kl,
+                    const GridAxes& g, int m, float* X3, float* W4, double* run) {
+  aniso_operands_impl(e, v, ax, ay, kl, g, m, X3, W4, run);
 }
 
 SB_VECTOR_CLONES
-void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
-                    const double* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
-                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3,
-                    double* W4, double* run) {
-  aniso_operands_impl(e_x0, e_rx, e_y0, e_ry, vx, vy, fast, ax, ay, xs, ys, rows, cols, m, qx, qy, kl, X3, W4, run);
+void aniso_operands(const AxisFactors& e, const TermWeights<double>& v, const double* ax, const double* ay, double kl,
+                    const GridAxes& g, int m, double* X3, double* W4, double* run) {
+  aniso_operands_impl(e, v, ax, ay, kl, g, m, X3, W4, run);
 }
 
 namespace {
@@ -444,12 +342,6 @@ template <typename V, typename T>
   std::memcpy(&v, p, sizeof v);
   return v;
 }
-template <typename V>
-[[gnu::always_inline]] inline double lane_sum(V v) {
-  double s = 0;
-  for (int k = 0; k < static_cast<int>(sizeof(V) / sizeof(v[0])); ++k) s += v[k];
-  return s;
-}
 
 // A rows of W against three rows of X: 3A vector accumulators (A <= 4: twelve, with the three X vectors
 // and one W vector, in sixteen registers), each point vector of X loaded once and used A times.
@@ -469,21 +361,9 @@ template <typename T, int A>
   }
 }
 
-// S[(a + k) cols + c] += the sums of rows a..a+A-1 of W with every row c of X (lanes added up).
-template <int A>
-[[gnu::always_inline]] inline void add_row_block(const double* Wt, int a, const double* Xt, int cols, int mp,
-                                                 double* S) {
-  for (int c = 0; c < cols; c += 3) {
-    v4d acc[A][3] = {};
-    block_sums<double, A>(Wt + static_cast<std::ptrdiff_t>(a) * mp, Xt + static_cast<std::ptrdiff_t>(c) * mp, mp, acc);
-    for (int k = 0; k < A; ++k)
-      for (int d = 0; d < 3 && c + d < cols; ++d) S[(a + k) * cols + c + d] += lane_sum(acc[k][d]);
-  }
-}
-
-// Accumulated into lane partial sums (Sacc: Vec<T>::width values per output, 8 floats or 4 doubles): a
-// caller that runs the product over chunks of points adds each chunk's vectors and sums the lanes once, at
-// the end.
+// Sacc[(a + k) cols + c] += the sums of rows a..a+A-1 of W with every row c of X, as lane partial sums
+// (Vec<T>::width values per output, 8 floats or 4 doubles): a caller that runs the product over chunks of points
+// adds each chunk's vectors and sums the lanes once, at the end.
 template <typename T, int A>
 [[gnu::always_inline]] inline void add_row_block_acc(const T* Wt, int a, const T* Xt, int cols, int mp, T* Sacc) {
   using V = typename Vec<T>::type;
@@ -516,15 +396,6 @@ template <typename Rows>
   }
 }
 
-struct ProductRows {
-  const double *Wt, *Xt;
-  int cols, mp;
-  double* S;
-  template <int A>
-  [[gnu::always_inline]] inline void block(int a) const {
-    add_row_block<A>(Wt, a, Xt, cols, mp, S);
-  }
-};
 template <typename T>
 struct ProductRowsAcc {
   const T *Wt, *Xt;
@@ -538,11 +409,6 @@ struct ProductRowsAcc {
 }  // namespace
 
 // Register-blocked 4 x 3: enough independent FMA chains to cover the FMA latency on two pipes.
-SB_VECTOR_CLONES
-void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S) {
-  for_row_blocks(nw, ProductRows{Wt, Xt, cols, mp, S});
-}
-
 SB_VECTOR_CLONES
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc) {
   for_row_blocks(nw, ProductRowsAcc<float>{Wt, Xt, cols, mp, Sacc});

@@ -1,8 +1,8 @@
 #pragma once
 // HydroShear's per-point arithmetic over structure-of-arrays columns: straight-line loops with no
 // branches and no cross-iteration state, so the compiler vectorises them across points, each compiled
-// for AVX2/FMA and the baseline (core/base/vector_clones.hpp). HydroShearBatch gathers the points of one
-// slot into columns, calls these, and scatters the result; the equations are in core/models/hydroshear.hpp.
+// for AVX2/FMA and the baseline (core/base/vector_clones.hpp). The step's phases (hydroshear_step.hpp) gather
+// the points of one slot into columns and call these; the equations are in core/models/hydroshear.hpp.
 // tests/test_model_kernels.cpp checks the whole batch against a dense per-point reference loop.
 #include <cstdint>
 
@@ -30,94 +30,90 @@ struct AdvanceColumns {
 void advance_points(const AdvanceColumns& in, bool normal_z, double cone, int n, double* ux, double* uy, double* uz,
                     double* un, std::uint8_t* slip);
 
-// The shear sum's per-point operands on a uniform marker grid (see HydroShearBatch::shear_sum):
-// (vx, vy) = -w f^xy, and the three exponents of the factored Gaussian of the anchor a = p + u:
-// lead = -l (x0 - a_x)^2 - l (y0 - a_y)^2 - l (z0 - a_z)^2, rx, ry the axes' ratio exponents.
-// fast[i] = 0 when a partial product could come near underflow (the caller sums that point another
-// way); its exponents are then 0 and its weight must not be used.
+// The shear sum (core/models/hydroshear_shear.cpp), in four kernels. Once per step, the operands every Gaussian
+// term shares (point_operands). Per term, its Gaussian split by axis into factors of at most 1 (axis_exponents,
+// then exp_in_place); per chunk of points, the term's operands in float or double built from them (term_operands,
+// aniso_operands) and their products summed into lane partial sums (add_products_acc, then lane_sums).
 struct ShearColumns {
   const double *px, *py, *pz;       // the real point o_i (the anchor is o_i + u_i)
   const double *ux, *uy, *uz, *un;  // state
   const double* phi;                // phi_E used by the paper's weight
   const double *nx, *ny, *nz;       // split normal (not read when normal_z)
 };
-struct ShearConstants {
-  double E, K, lambda_s, z0;
+struct PointConstants {
+  double E, K;
   bool weight_paper;
-  bool normal_z;                  // n = +z for every point
-  double x0, xn, hx, y0, yn, hy;  // the grid axes' first and last coordinates and pitches
-  double max_total_exponent;
+  bool normal_z;                    // n = +z for every point
   double shift_x = 0, shift_y = 0;  // added to every anchor (the contact-following shift)
 };
-void shear_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* lead,
-                    double* rx, double* ry, std::uint8_t* fast);
+struct PointOperands {
+  double *vx, *vy, *w;   // v = -w f^xy and the weight w
+  double *ax, *ay, *az;  // the anchor a = o + u + shift
+};
+void point_operands(const ShearColumns& in, const PointConstants& k, int n, const PointOperands& out);
 
-// From exp(lead), exp(rx), exp(ry) (already exponentiated) the transposed operands of the sum, with
-// the point's E_i = exp(lead) folded into X and its weight into W:
-//   Xt[c * mp + i] = E_i X_i[c]            (X_i[c] the ratio recurrence of GaussianAxis, X_i[0] = 1)
-//   Wt[r * mp + i] = fast_i vx_i Y_i[r],  Wt[(rows + r) * mp + i] = fast_i vy_i Y_i[r]
-// so that sum_i Wt[r] Xt[c] = sum_i vx_i exp(-l |m_rc - a_i|^2). For i < mp (points past n must have
-// zero weight and finite exponents); qx, qy: the axes' constants. Zeroes the padding rows that
-// add_products_nt reads.
-// With vw (not null) a third block of rows, Wt[(2 rows + r) * mp + i] = fast_i vw_i Y_i[r], sums the
-// weights alone (the stick saturation's denominator); Wt must then hold round_up(3 rows, 3) rows.
-void shear_matrices(const double* e_lead, const double* e_rx, const double* e_ry, const double* vx, const double* vy,
-                    const std::uint8_t* fast, int mp, int rows, int cols, double qx, double qy, double* Xt, double* Wt,
-                    const double* vw = nullptr);
+// One term's Gaussian and the grid's axes.
+struct AxisConstants {
+  double lambda, z0;
+  double x0, xn, hx, y0, yn, hy;  // the grid axes' first and last coordinates and pitches
+  double max_total_exponent;
+};
+// One term's per-point factors split by axis, G_i(r, c) = (gx0_i X_i[c]) (gy0_i Y_i[r]): axis_exponents writes
+// the exponents (AxisExponents), exp_in_place turns them into the factors the operand builders read (AxisFactors).
+//   x0 = -l (x0 - a_x)^2 - l (z0 - a_z)^2,  y0 = -l (y0 - a_y)^2,  rx, ry the axes' ratio exponents.
+template <typename P>
+struct AxisColumns {
+  P *x0, *rx, *y0, *ry;
+  AxisColumns at(int off) const { return {x0 + off, rx + off, y0 + off, ry + off}; }
+};
+using AxisExponents = AxisColumns<double>;
+using AxisFactors = AxisColumns<const double>;
+// The recurrences run in double from gx0, gy0: fast[i] = 0 (exponents 0) when either axis' factor could come near
+// underflow there (l d^2 past k.max_total_exponent on its farthest marker). Returns the number of points that are
+// not fast.
+int axis_exponents(const double* ax, const double* ay, const double* az, const AxisConstants& k, int n,
+                   const AxisExponents& out, std::uint8_t* fast);
 
-// One more block of rows of Wt for another weight column: block[r * mp + i] = fast_i w_i Y_i[r] (the same
-// recurrence as shear_matrices' blocks, so it pairs with the Xt that shear_matrices built).
-void weight_block(const double* e_ry, const double* w, const std::uint8_t* fast, int mp, int rows, double qy,
-                  double* block);
+// The marker grid as the operand builders read it: its shape, the axes' recurrence constants q, its coordinates.
+struct GridAxes {
+  int rows, cols;
+  double qx, qy;
+  const double *xs, *ys;
+};
+// A term's per-point weights in the products' precision; w may be null (no weights block).
+template <typename T>
+struct TermWeights {
+  const T *vx, *vy, *w;
+  const std::uint8_t* fast;
+  TermWeights at(int off) const { return {vx + off, vy + off, w != nullptr ? w + off : nullptr, fast + off}; }
+};
 
-// The shared-operand path (the contact variant, HydroShearBatch::shear_sum_shared): the point operands
-// shared by every Gaussian term, once per step: v = -w f^xy, the weight w and the anchor a = o + u + shift.
-void point_operands(const ShearColumns& in, const ShearConstants& k, int n, double* vx, double* vy, double* w,
-                    double* ax, double* ay, double* az);
-
-// One term's exponents with the Gaussian split by axis, each factor at most 1 (so single precision holds
-// it without overflow): G_i(r, c) = (gx0_i X_i[c]) (gy0_i Y_i[r]) with
-//   ex0 = -l (x0 - a_x)^2 - l (z0 - a_z)^2,  ey0 = -l (y0 - a_y)^2,  rx, ry the axes' ratio exponents.
-// The recurrences run in double from gx0, gy0: fast[i] = 0 (exponents 0) when either axis' factor could
-// come near underflow there (l d^2 past k.max_total_exponent on its farthest marker).
-// Returns the number of points that are not fast.
-int axis_exponents(const double* ax, const double* ay, const double* az, const ShearConstants& k, int n, double* ex0,
-                   double* rx, double* ey0, double* ry, std::uint8_t* fast);
-
-// An isotropic term's operands (in float or in double) for a chunk of m points (a multiple of 8), from the
-// exponentials of axis_exponents:
+// An isotropic term's operands (in float or in double) for a chunk of m points (a multiple of 8):
 //   X[c * m + i] = gx0_i X_i[c]  (round_up(cols, 3) rows, the padding rows zeroed)
 //   W[r * m + i] = fast vx gy0 Y_i[r],  W[(rows + r) * m + i] = fast vy gy0 Y_i[r]
 //   and with w (not null) W[(2 rows + r) * m + i] = fast w gy0 Y_i[r] (the stick saturation's weights).
 // run: m doubles of scratch (the recurrences' running row, in double).
-void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
-                   const float* vy, const float* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                   double qy, float* X, float* W, double* run);
-void term_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
-                   const double* vy, const double* w, const std::uint8_t* fast, int rows, int cols, int m, double qx,
-                   double qy, double* X, double* W, double* run);
+void term_operands(const AxisFactors& e, const TermWeights<float>& v, const GridAxes& g, int m, float* X, float* W,
+                   double* run);
+void term_operands(const AxisFactors& e, const TermWeights<double>& v, const GridAxes& g, int m, double* X, double* W,
+                   double* run);
 
-// The anisotropic term's operands in float or double (the factor 1 + k l d d^T; dx = xs[c] - ax_i,
-// dy = ys[r] - ay_i; ax, ay finite for every i < m), from the exponentials of axis_exponents:
+// The anisotropic term's operands in float or double (the factor 1 + kl d d^T; dx = xs[c] - ax_i,
+// dy = ys[r] - ay_i; ax, ay finite for every i < m):
 //   X3 = [XC; XA; XB], each round_up(cols, 3) rows (padding rows zeroed):
 //        XC[c] = gx0 X_i[c],  XA[c] = XC[c] (1 + kl dx^2),  XB[c] = XC[c] dx
 //   W4 = [W1; WB; WC], 4 rows rows, with Yg[r] = fast gy0 Y_i[r]:
 //        W1[r] = vx Yg[r],  WB[r] = vy Yg[r] dy,  WB[rows + r] = vx Yg[r] dy,  WC[r] = vy Yg[r] (1 + kl dy^2)
 // run: m doubles of scratch.
-void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const float* vx,
-                    const float* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
-                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, float* X3, float* W4,
-                    double* run);
-void aniso_operands(const double* e_x0, const double* e_rx, const double* e_y0, const double* e_ry, const double* vx,
-                    const double* vy, const std::uint8_t* fast, const double* ax, const double* ay, const double* xs,
-                    const double* ys, int rows, int cols, int m, double qx, double qy, double kl, double* X3,
-                    double* W4, double* run);
+void aniso_operands(const AxisFactors& e, const TermWeights<float>& v, const double* ax, const double* ay, double kl,
+                    const GridAxes& g, int m, float* X3, float* W4, double* run);
+void aniso_operands(const AxisFactors& e, const TermWeights<double>& v, const double* ax, const double* ay, double kl,
+                    const GridAxes& g, int m, double* X3, double* W4, double* run);
 
-// S[a * cols + c] += sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols. mp a multiple of
-// 4; Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows (the extra rows zero).
-void add_products_nt(const double* Wt, int nw, const double* Xt, int cols, int mp, double* S);
-// The same in single precision into 8-lane partial sums: Sacc[8 (a * cols + c) + k] += lane k of the sum
-// (the lanes' total is the product), mp a multiple of 8. For products run over chunks of points.
+// Sacc[8 (a * cols + c) + k] += lane k of sum_{i < mp} Wt[a * mp + i] Xt[c * mp + i] for a < nw, c < cols, in
+// single precision into 8-lane partial sums (the lanes' total is the product), mp a multiple of 8: products run
+// over chunks of points add each chunk's lanes. Wt must hold round_up(nw, 3) rows and Xt round_up(cols, 3) rows
+// (the extra rows zero).
 void add_products_acc(const float* Wt, int nw, const float* Xt, int cols, int mp, float* Sacc);
 // The same in double into 4-lane partial sums (Sacc: 4 doubles per output), mp a multiple of 4.
 void add_products_acc(const double* Wt, int nw, const double* Xt, int cols, int mp, double* Sacc);

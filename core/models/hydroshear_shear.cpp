@@ -6,7 +6,6 @@
 #include <type_traits>
 #include <utility>
 
-#include "core/base/numbers.hpp"
 #include "core/models/hydroshear_kernels.hpp"
 #include "core/models/hydroshear_step.hpp"
 
@@ -37,14 +36,12 @@ class ShearPass {
  private:
   void contact_shift();
   bool factored(const ShearTerm& term) const;  // the term's Gaussians factor on the marker grid
-  // The authors' model and its layer and stick variants: one term at a time, in double.
-  void add_shear_term(const ShearTerm& term) const;
-  void shear_sum_fast(const ShearTerm& term, int mp) const;
-  // The contact variant: every term over shared point operands, in T.
+  // Every term over the shared point operands, the products in T.
   template <typename T>
-  void shear_sum_shared(std::span<const ShearTerm> terms) const;
+  void sum_terms(std::span<const ShearTerm> terms) const;
   template <typename T>
-  void add_term_shared(const ShearTerm& term, int mp) const;
+  void add_term(const ShearTerm& term, int mp) const;
+  void add_sums(const ShearTerm& term, const double* tot, double kl) const;
   static Vec2 aniso_term(const ShearTerm& term, const Vec2& d, double vx, double vy);
   // vx, vy, vw: the point's term already scaled by the term's weight.
   void shear_point_slow(const ShearTerm& term, int i, double vx, double vy, double vw) const;
@@ -58,14 +55,20 @@ class ShearPass {
 }  // namespace
 
 // M_s(m_j) = sum_i w_i (-f_i^xy) exp(-lambda_s |m_j - a_i|^2), anchor a_i = o_i + u_i at the real (not
-// shifted) point, as the authors' code; the 3-D distance (code). Unscaled (kappa_s applied on output).
+// shifted) point, as the authors' code; the 3-D distance (code). Unscaled (kappa_s applied on output). The
+// variants are data: the layer's near field and the contact's far field are more Gaussian terms (ShearTerm), the
+// stick zone sums the weights alone beside the field, the contact shifts every anchor (follow).
 //
-// On a uniform marker grid the Gaussian of point i at marker (r, c) is
-//   exp(-l |m_rc - a_i|^2) = E_i * X_i[c] * Y_i[r],  E_i = exp(-l (d0x^2 + d0y^2 + dz^2)),
-// with X_i, Y_i the per-axis ratio recurrences (GaussianAxis): 3 exps per point, batched through
-// exp_in_place. The sum over points is then one small matrix product over the points
-//   S_x[r][c] = sum_i (vx_i Y_i[r]) (E_i X_i[c])  (and S_y with vy),
-// formed with the points as the long, vectorised dimension (kernels::shear_matrices, add_products_nt).
+// One pass for every term over operands shared by the terms: v = -w f^xy, w and the anchor a, formed once
+// (kernels::point_operands). On a uniform marker grid each term's Gaussian splits by axis into factors of at most
+// 1 (kernels::axis_exponents), 3 exps per point batched through exp_in_place, whose ratio recurrences
+//   exp(-l |m_rc - a_i|^2) = (gx0_i X_i[c]) (gy0_i Y_i[r])   (GaussianAxis)
+// run in double and are stored as T; the sum over points is then a small matrix product per chunk of points
+// small enough to stay in the first-level cache, into lane partial sums (kernels::add_products_acc).
+// T = float only where the parameter float32 asks for it (the contact variant's default): the sums change by
+// ~1e-6 of themselves against double (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice
+// the vector width, the precision the authors' GPU code computes in. Fits run it in double (their cost must be
+// smooth far below that: core/calibration/fit.cpp).
 void ShearPass::run() {
   const int nm = m.markers();
   sc.out.x.assign(nm, 0.0);
@@ -77,15 +80,10 @@ void ShearPass::run() {
   const ShearTerm terms[] = {{1.0, m.k.lambda_s, &m.gauss_x, &m.gauss_y, stick},
                              {m.k.beta_s, m.k.lambda_s2, &m.gauss_x2, &m.gauss_y2},
                              {m.k.beta_s3, m.k.lambda_s3, &m.gauss_x3, &m.gauss_y3, false, m.k.aniso_s3}};
-  if (m.k.shared_pass) {
-    if (m.k.single_precision)
-      shear_sum_shared<float>(terms);
-    else
-      shear_sum_shared<double>(terms);
-  } else {
-    for (const ShearTerm& term : terms)
-      if (term.weight > 0) add_shear_term(term);
-  }
+  if (m.k.single_precision)
+    sum_terms<float>(terms);
+  else
+    sum_terms<double>(terms);
   if (!stick) return;
   // The stick zone: where the contact's weights pile up, the field tends to their weighted mean state
   // instead of growing with their sum (docs/effects.md, "The stick zone").
@@ -128,12 +126,8 @@ bool recurrence_in_range(const GaussianAxis& g) {
   return g.uniform() && 2 * g.lambda() * g.pitch() * g.pitch() * std::max(g.size() - 2, 0) <= kMaxTotalExponent;
 }
 
-kernels::ShearConstants axis_constants(const GaussianAxis& gx, const GaussianAxis& gy, double lambda, double z0) {
-  kernels::ShearConstants k{};
-  k.lambda_s = lambda, k.z0 = z0;
-  k.x0 = gx.front(), k.xn = gx.back(), k.hx = gx.pitch();
-  k.y0 = gy.front(), k.yn = gy.back(), k.hy = gy.pitch();
-  return k;
+kernels::AxisConstants axis_constants(const GaussianAxis& gx, const GaussianAxis& gy, double lambda, double z0) {
+  return {lambda, z0, gx.front(), gx.back(), gx.pitch(), gy.front(), gy.back(), gy.pitch(), kMaxTotalExponent};
 }
 }  // namespace
 
@@ -141,70 +135,22 @@ bool ShearPass::factored(const ShearTerm& term) const {
   return m.grid.is_grid && recurrence_in_range(*term.gx) && recurrence_in_range(*term.gy);
 }
 
-// Adds weight * sum_i w_i (-f_i^xy) exp(-lambda |m_j - a_i|^2) to the shear sums, in double (the authors'
-// model and its layer and stick variants).
-void ShearPass::add_shear_term(const ShearTerm& term) const {
-  const PointColumns& F = *f.state;
-  const int n = F.size();
-  const bool fact = factored(term);
-  const int mp = (n + 3) / 4 * 4;  // whole 4-double vectors
-  // Padding points (n..mp): zero weight, exponents 0 (finite after exp), not fast.
-  for (auto* v : {&sc.wvx, &sc.wvy}) v->resize(mp);
-  sc.args.resize(3 * static_cast<std::size_t>(mp));
-  sc.fast.resize(mp);
-  for (int i = n; i < mp; ++i) {
-    sc.wvx[i] = sc.wvy[i] = 0;
-    sc.args[i] = sc.args[mp + i] = sc.args[2 * mp + i] = 0;
-    sc.fast[i] = 0;
-  }
-  const kernels::ShearColumns cols{f.x, f.y, f.z, F.ux.data(), F.uy.data(), F.uz.data(), f.un, f.phi, f.nx, f.ny, f.nz};
-  kernels::ShearConstants k = fact ? axis_constants(*term.gx, *term.gy, term.lambda, m.grid.z0)
-                                   : kernels::ShearConstants{};
-  k.E = m.k.E, k.K = m.k.K, k.lambda_s = term.lambda, k.z0 = m.grid.z0;
-  k.weight_paper = m.k.weight_paper, k.normal_z = !m.k.normal_indenter;
-  k.max_total_exponent = fact ? kMaxTotalExponent : -kInf;  // -inf: every point takes the slow path
-  k.shift_x = shift_x, k.shift_y = shift_y;
-  double* lead = sc.args.data();
-  kernels::shear_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), lead, lead + mp, lead + std::ptrdiff_t{2} * mp,
-                          sc.fast.data());
-  // Local pointers: the loops below then vectorise, and the slow path's calls do not reload them.
-  double* wvx = sc.wvx.data();
-  double* wvy = sc.wvy.data();
-  const std::uint8_t* fast = sc.fast.data();
-  if (term.weight != 1.0)
-    for (int i = 0; i < n; ++i) wvx[i] *= term.weight, wvy[i] *= term.weight;
-  const double* ww = nullptr;
-  if (term.with_weights) {  // w_i as shear_operands forms it
-    sc.ww.assign(mp, 0.0);
-    for (int i = 0; i < n; ++i) sc.ww[i] = term.weight * (m.k.weight_paper ? -f.phi[i] : m.k.E * f.un[i]);
-    ww = sc.ww.data();
-  }
-  for (int i = 0; i < n; ++i)
-    if (!fast[i] && (wvx[i] != 0 || wvy[i] != 0 || (ww != nullptr && ww[i] != 0)))
-      shear_point_slow(term, i, wvx[i], wvy[i], ww != nullptr ? ww[i] : 0.0);
-  if (fact) shear_sum_fast(term, mp);
-}
-
-// The contact variant's shear sum, every Gaussian term in one pass over shared point operands: v = -w f^xy,
-// w and the anchor a are formed once (kernels::point_operands); per term, its Gaussian splits by axis into
-// factors of at most 1 (kernels::axis_exponents), whose recurrences run in double and are stored as T, and
-// the products run per chunk of points small enough to stay in the first-level cache, into lane partial
-// sums. T = float (parameter float32 = 1, the default): the sums change by ~1e-6 of themselves against
-// double (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice the vector width, the
-// precision the authors' GPU code computes in. Fits run it in double (their cost must be smooth far below
-// that: core/calibration/fit.cpp).
+// The operands every term shares, then each term in turn (see run).
 template <typename T>
-void ShearPass::shear_sum_shared(std::span<const ShearTerm> terms) const {
+void ShearPass::sum_terms(std::span<const ShearTerm> terms) const {
   const PointColumns& F = *f.state;
   const int n = F.size();
   const int mp = (n + 7) / 8 * 8;  // whole 8-float vectors
-  for (auto* v : {&sc.wvx, &sc.wvy, &sc.ww, &sc.anchor_x, &sc.anchor_y, &sc.anchor_z}) v->assign(mp, 0.0);
+  // point_operands writes the n points; the padding up to mp is zero (zero weight, anchors at the origin).
+  for (auto* v : {&sc.wvx, &sc.wvy, &sc.ww, &sc.anchor_x, &sc.anchor_y, &sc.anchor_z}) {
+    v->resize(mp);
+    std::fill(v->begin() + n, v->end(), 0.0);
+  }
   const kernels::ShearColumns cols{f.x, f.y, f.z, F.ux.data(), F.uy.data(), F.uz.data(), f.un, f.phi, f.nx, f.ny, f.nz};
-  kernels::ShearConstants k{};
-  k.E = m.k.E, k.K = m.k.K, k.weight_paper = m.k.weight_paper, k.normal_z = !m.k.normal_indenter;
-  k.shift_x = shift_x, k.shift_y = shift_y;
-  kernels::point_operands(cols, k, n, sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(),
-                          sc.anchor_y.data(), sc.anchor_z.data());
+  const kernels::PointConstants k{m.k.E, m.k.K, m.k.weight_paper, !m.k.normal_indenter, shift_x, shift_y};
+  kernels::point_operands(
+      cols, k, n,
+      {sc.wvx.data(), sc.wvy.data(), sc.ww.data(), sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data()});
   if constexpr (std::is_same_v<T, float>) {  // in double, the terms read sc.wvx, wvy, ww themselves
     auto& ops = sc.operands<T>();
     for (auto [from, to] : {std::pair{&sc.wvx, &ops.vx}, std::pair{&sc.wvy, &ops.vy}, std::pair{&sc.ww, &ops.w}}) {
@@ -213,12 +159,25 @@ void ShearPass::shear_sum_shared(std::span<const ShearTerm> terms) const {
     }
   }
   for (const ShearTerm& term : terms)
-    if (term.weight > 0) add_term_shared<T>(term, mp);
+    if (term.weight > 0) add_term<T>(term, mp);
 }
 
-// One Gaussian term of shear_sum_shared: its slow points one by one, the rest factored per chunk.
+namespace {
+// The point operands in the products' precision: float copies, or the double columns themselves.
 template <typename T>
-void ShearPass::add_term_shared(const ShearTerm& term, int mp) const {
+kernels::TermWeights<T> term_weights(ShearBuffers& sc, bool with_weights) {
+  if constexpr (std::is_same_v<T, float>) {
+    auto& ops = sc.operands<T>();
+    return {ops.vx.data(), ops.vy.data(), with_weights ? ops.w.data() : nullptr, sc.fast.data()};
+  } else {
+    return {sc.wvx.data(), sc.wvy.data(), with_weights ? sc.ww.data() : nullptr, sc.fast.data()};
+  }
+}
+}  // namespace
+
+// One Gaussian term: its slow points one by one, the rest factored per chunk.
+template <typename T>
+void ShearPass::add_term(const ShearTerm& term, int mp) const {
   constexpr int kChunk = 96;  // points per chunk: the operands (at most 55 rows of floats) stay in L1
   const int n = f.size();
   const double* vx = sc.wvx.data();
@@ -231,18 +190,19 @@ void ShearPass::add_term_shared(const ShearTerm& term, int mp) const {
   }
   sc.axis_args.resize(4 * static_cast<std::size_t>(mp));
   sc.fast.resize(mp);
-  double* ex0 = sc.axis_args.data();
-  double *rx = ex0 + mp, *ey0 = rx + mp, *ry = ey0 + mp;
-  kernels::ShearConstants k = axis_constants(*term.gx, *term.gy, term.lambda, m.grid.z0);
-  k.max_total_exponent = kMaxTotalExponent;
-  const int slow = kernels::axis_exponents(sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data(), k, mp, ex0, rx,
-                                           ey0, ry, sc.fast.data());
+  double* e0 = sc.axis_args.data();
+  const kernels::AxisExponents exponents{e0, e0 + mp, e0 + std::ptrdiff_t{2} * mp, e0 + std::ptrdiff_t{3} * mp};
+  const int slow = kernels::axis_exponents(sc.anchor_x.data(), sc.anchor_y.data(), sc.anchor_z.data(),
+                                           axis_constants(*term.gx, *term.gy, term.lambda, m.grid.z0), mp, exponents,
+                                           sc.fast.data());
   const std::uint8_t* fast = sc.fast.data();
   for (int i = 0; i < n && slow > 0; ++i)
     if (!fast[i] && (vx[i] != 0 || vy[i] != 0 || (term.with_weights && w[i] != 0)))
       shear_point_slow(term, i, tw * vx[i], tw * vy[i], tw * w[i]);
-  exp_in_place(sc.axis_args.data(), 4 * mp);
+  exp_in_place(e0, 4 * mp);
+  const kernels::AxisFactors factors{exponents.x0, exponents.rx, exponents.y0, exponents.ry};
   const int rows = m.grid.rows, cols = m.grid.cols, nm = rows * cols;
+  const kernels::GridAxes grid{rows, cols, term.gx->q(), term.gy->q(), m.grid.xs.data(), m.grid.ys.data()};
   const int cols_pad = (cols + 2) / 3 * 3;
   const bool aniso = term.aniso != 0;
   // Blocks of W per marker row and of X per column: isotropic [vx; vy; (w)] against X; anisotropic
@@ -257,13 +217,7 @@ void ShearPass::add_term_shared(const ShearTerm& term, int mp) const {
   ops.S.assign(kLanes * static_cast<std::size_t>(w_blocks) * nm, T(0));
   T* S = ops.S.data();
   const double kl = term.aniso * term.lambda;
-  const T* vxf;
-  const T* vyf;
-  const T* wf;
-  if constexpr (std::is_same_v<T, float>)
-    vxf = ops.vx.data(), vyf = ops.vy.data(), wf = ops.w.data();
-  else
-    vxf = vx, vyf = vy, wf = w;
+  const kernels::TermWeights<T> weights = term_weights<T>(sc, term.with_weights);
   for (int off = 0; off < mp; off += kChunk) {
     const int len = std::min(kChunk, mp - off);  // a multiple of 8, as mp and kChunk are
     T* X = ops.X.data();
@@ -271,26 +225,29 @@ void ShearPass::add_term_shared(const ShearTerm& term, int mp) const {
     const std::ptrdiff_t xrows = static_cast<std::ptrdiff_t>(cols_pad) * len;
     const std::ptrdiff_t wrows = static_cast<std::ptrdiff_t>(rows) * len;
     if (aniso) {
-      kernels::aniso_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off, fast + off,
-                              sc.anchor_x.data() + off, sc.anchor_y.data() + off, m.grid.xs.data(), m.grid.ys.data(),
-                              rows, cols, len, term.gx->q(), term.gy->q(), kl, X, W, sc.run.data());
+      kernels::aniso_operands(factors.at(off), weights.at(off), sc.anchor_x.data() + off, sc.anchor_y.data() + off, kl,
+                              grid, len, X, W, sc.run.data());
       kernels::add_products_acc(W, rows, X + xrows, cols, len, S);                                // W1 XA
       kernels::add_products_acc(W + wrows, 2 * rows, X + 2 * xrows, cols, len, S + kLanes * nm);  // WB XB
       kernels::add_products_acc(W + 3 * wrows, rows, X, cols, len, S + kLanes * 3 * nm);          // WC XC
     } else {
-      kernels::term_operands(ex0 + off, rx + off, ey0 + off, ry + off, vxf + off, vyf + off,
-                             term.with_weights ? wf + off : nullptr, fast + off, rows, cols, len, term.gx->q(),
-                             term.gy->q(), X, W, sc.run.data());
+      kernels::term_operands(factors.at(off), weights.at(off), grid, len, X, W, sc.run.data());
       kernels::add_products_acc(W, w_blocks * rows, X, cols, len, S);
     }
   }
   sc.sums.resize(static_cast<std::size_t>(w_blocks) * nm);
   kernels::lane_sums(S, w_blocks * nm, sc.sums.data());
-  const double* tot = sc.sums.data();
+  add_sums(term, sc.sums.data(), aniso ? kl : 0.0);
+}
+
+// The lanes' totals into the field: S_x = W1 XA + kl WB[0] XB, S_y = WC XC + kl WB[1] XB for an anisotropic
+// term (kernels::aniso_operands), S_x, S_y (and the weights') blocks as they are for an isotropic one.
+void ShearPass::add_sums(const ShearTerm& term, const double* tot, double kl) const {
+  const int nm = m.markers();
+  const double tw = term.weight;
   double* sx = sc.out.x.data();
   double* sy = sc.out.y.data();
-  if (aniso) {
-    // S_x = W1 XA + kl WB[0] XB,  S_y = WC XC + kl WB[1] XB (see kernels::aniso_operands).
+  if (term.aniso != 0) {
     for (int j = 0; j < nm; ++j) {
       sx[j] += tw * (tot[j] + kl * tot[nm + j]);
       sy[j] += tw * (tot[3 * nm + j] + kl * tot[2 * nm + j]);
@@ -303,29 +260,6 @@ void ShearPass::add_term_shared(const ShearTerm& term, int mp) const {
   }
   if (term.with_weights)
     for (int j = 0; j < nm; ++j) sc.out.w[j] += tw * tot[2 * nm + j];
-}
-
-// The fast points' share of the shear sum (see shear_sum).
-void ShearPass::shear_sum_fast(const ShearTerm& term, int mp) const {
-  const int rows = m.grid.rows, cols = m.grid.cols;
-  exp_in_place(sc.args.data(), 3 * mp);
-  const int blocks = term.with_weights ? 3 : 2;
-  const int cols_pad = (cols + 2) / 3 * 3, nw = blocks * rows, nw_pad = (nw + 2) / 3 * 3;
-  sc.Xt.resize(static_cast<std::size_t>(cols_pad) * mp);
-  sc.Wt.resize(static_cast<std::size_t>(nw_pad) * mp);
-  sc.S.assign(static_cast<std::size_t>(nw) * cols, 0.0);
-  const double* e = sc.args.data();
-  kernels::shear_matrices(e, e + mp, e + std::ptrdiff_t{2} * mp, sc.wvx.data(), sc.wvy.data(), sc.fast.data(), mp, rows,
-                          cols, term.gx->q(), term.gy->q(), sc.Xt.data(), sc.Wt.data(),
-                          term.with_weights ? sc.ww.data() : nullptr);
-  kernels::add_products_nt(sc.Wt.data(), nw, sc.Xt.data(), cols, mp, sc.S.data());
-  const int nm = rows * cols;
-  for (int j = 0; j < nm; ++j) {
-    sc.out.x[j] += sc.S[j];
-    sc.out.y[j] += sc.S[nm + j];
-  }
-  if (term.with_weights)
-    for (int j = 0; j < nm; ++j) sc.out.w[j] += sc.S[2 * nm + j];
 }
 
 // A point's term v at in-plane offset d (anchor to marker), with the term's anisotropy: v + k l d (d . v).

@@ -136,12 +136,12 @@ struct ShearSums {
 };
 // Phase 3's buffers (core/models/hydroshear_shear.cpp).
 struct ShearBuffers {
-  std::vector<double> wvx, wvy, ww, args, Xt, Wt, S;  // ww: the weights alone (stick saturation)
+  std::vector<double> wvx, wvy, ww;  // the point operands v = -w f^xy and w alone (the stick saturation's)
   std::vector<std::uint8_t> fast;
   std::vector<double> ex, ey;
   std::vector<double> marker_gauss;  // one point's Gaussian at every marker (markers off a grid)
-  // The shared-operand path: the anchors, the exponents of the axis-split factors, the operands of one chunk of
-  // points, the 8-lane partial sums and the recurrences' running row.
+  // The anchors, the exponents of the axis-split factors, the operands of one chunk of points, the lanes'
+  // partial sums and the recurrences' running row.
   std::vector<double> anchor_x, anchor_y, anchor_z, axis_args;
   template <typename T>
   struct Operands {
