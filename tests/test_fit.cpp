@@ -333,6 +333,47 @@ TEST_CASE("every model has a stage table over its own parameters", "[fit]") {
   CHECK_THROWS_AS(sb::fit_stages("nope"), std::invalid_argument);
 }
 
+TEST_CASE("stage tables per family: the contact variant and FOTS's re-implementation, stage by stage", "[fit]") {
+  using Names = std::vector<std::string>;
+  // HydroShear's paper stages with the layer's and the stick zone's terms in the shear's shape, then the
+  // joint layer + stick refinement over the four stages' parameters in their order, then the far field.
+  const auto contact = sb::fit_stages("hydroshear-contact");
+  REQUIRE(contact.size() == 6);
+  const Names names = {"dilation", "shear-shape", "shear-gain", "friction", "layer-stick", "contact"};
+  for (std::size_t i = 0; i < names.size(); ++i) CHECK(contact[i].name == names[i]);
+  CHECK(contact[1].params == Names{"lambda_s", "beta_s", "lambda_s2", "stick_sat"});
+  CHECK(contact[1].motions == Names{"shear", "twist"});
+  CHECK(contact[1].rescale);
+  CHECK(contact[3].fallback_motions == Names{"shear"});
+  CHECK(contact[4].params ==
+        Names{"lambda_d", "kappa_d", "lambda_s", "beta_s", "lambda_s2", "stick_sat", "kappa_s", "mu"});
+  CHECK(contact[4].motions == Names{"dilation", "shear", "twist", "roll", "slip"});
+  CHECK(contact[5].params == Names{"beta_s3", "lambda_s3", "follow", "aniso_s3"});
+  // The authors' model: the shape is lambda_s alone, on slides only.
+  const auto authors = sb::fit_stages("hydroshear");
+  REQUIRE(authors.size() == 4);
+  CHECK(authors[1].params == Names{"lambda_s"});
+  CHECK(authors[1].motions == Names{"shear"});
+  // FOTS re-implemented: each load's rate with its gain, on that load's samples.
+  const auto fots = sb::fit_stages("fots-reimpl");
+  REQUIRE(fots.size() == 3);
+  CHECK(fots[2].name == "twist");
+  CHECK(fots[2].params == Names{"lambda_t", "kappa_t"});
+  CHECK(fots[2].motions == Names{"twist"});
+  CHECK(sb::fit_stages("fots")[2].params == Names{"lambda_t"});
+}
+
+TEST_CASE("no stage fits a switch", "[fit]") {
+  for (const auto& id : sb::model_ids()) {
+    const ParamSet p = sb::default_params(id);
+    for (const auto& st : sb::fit_stages(id))
+      for (const auto& n : st.params) {
+        INFO(id << " stage " << st.name << " param " << n);
+        CHECK_FALSE(p.specs()[p.index_of(n)].is_switch);
+      }
+  }
+}
+
 TEST_CASE("fits recover known parameters of the models from their own simulated data", "[fit]") {
   const auto id = GENERATE(as<std::string>{}, "hydroshear", "fots-reimpl", "tacsl", "fots", "tacsl-normalized");
   const ParamSet truth = perturbed_truth(id, 1.3);

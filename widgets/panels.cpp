@@ -23,6 +23,36 @@ std::string display_name(const std::string& id) {
   return id;
 }
 
+namespace {
+// A parameter's value as a slider over its range (logarithmic for a log-scale one), clamped to it.
+bool slider_control(ParamSet& params, std::size_t i, float width) {
+  const ParamSpec& spec = params.specs()[i];
+  float v = static_cast<float>(params[i]);
+  const std::string format = spec.unit.empty() ? "%.4g" : "%.4g " + spec.unit;
+  const bool log = spec.log_scale && spec.min > 0;
+  ImGui::SetNextItemWidth(width);
+  if (!ImGui::SliderFloat("##v", &v, static_cast<float>(spec.min), static_cast<float>(spec.max), format.c_str(),
+                          (log ? ImGuiSliderFlags_Logarithmic : 0) | ImGuiSliderFlags_AlwaysClamp))
+    return false;
+  const double clamped = std::clamp(static_cast<double>(v), spec.min, spec.max);
+  if (clamped == params[i]) return false;
+  params.set(i, clamped);
+  return true;
+}
+
+// A switch (0 or 1) as a checkbox, in the slider's place.
+bool switch_control(ParamSet& params, std::size_t i, float width) {
+  bool on = params[i] >= 0.5;
+  const float start = ImGui::GetCursorPosX();
+  const bool clicked = ImGui::Checkbox("##on", &on);
+  ImGui::SameLine(start + width);  // the reset buttons and names stay in one column
+  ImGui::Dummy(ImVec2(0, 0));
+  if (!clicked) return false;
+  params.set(i, on ? 1.0 : 0.0);
+  return true;
+}
+}  // namespace
+
 bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference, const ParamSet* published) {
   bool changed = false;
   ImGui::PushID(model_id.c_str());
@@ -37,18 +67,10 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
   for (std::size_t i = 0; i < params.size(); ++i) {
     const ParamSpec& spec = params.specs()[i];
     ImGui::PushID(static_cast<int>(i));
-    float v = static_cast<float>(params[i]);
-    const std::string format = spec.unit.empty() ? "%.4g" : "%.4g " + spec.unit;
-    const bool log = spec.log_scale && spec.min > 0;
-    ImGui::SetNextItemWidth(slider_w);
-    if (ImGui::SliderFloat("##v", &v, static_cast<float>(spec.min), static_cast<float>(spec.max), format.c_str(),
-                           (log ? ImGuiSliderFlags_Logarithmic : 0) | ImGuiSliderFlags_AlwaysClamp)) {
-      const double clamped = std::clamp(static_cast<double>(v), spec.min, spec.max);
-      if (clamped != params[i]) {
-        params.set(i, clamped);
-        changed = true;
-      }
-    }
+    if (spec.is_switch)
+      changed |= switch_control(params, i, slider_w);
+    else
+      changed |= slider_control(params, i, slider_w);
     if (ImGui::IsItemHovered() && !spec.help.empty()) wrapped_tooltip(spec.help);
     ImGui::SameLine();
     if (ImGui::SmallButton("R") && params[i] != reference[i]) {

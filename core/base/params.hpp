@@ -20,6 +20,9 @@ struct ParamSpec {
   // the next (a kernel's width or gain, not friction): a fit's finite differences over it replay only the
   // scored frames from the state before them (core/calibration/fit.cpp).
   bool field_only = false;
+  // An on/off choice stored as 0 or 1 (a bool in the model's typed parameters: core/base/typed_params.hpp): a
+  // checkbox in the workbench, never a fitted value.
+  bool is_switch = false;
 };
 
 class ParamSet {

@@ -13,6 +13,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include "core/base/elapsed.hpp"
 #include "core/base/strings.hpp"
@@ -48,6 +49,7 @@ struct ParamMap {
       const int i = p.index_of(n);
       if (i < 0) throw std::invalid_argument("fit: model '" + model_id + "' has no parameter '" + n + "'");
       const ParamSpec& s = p.specs()[i];
+      if (s.is_switch) throw std::invalid_argument("fit: '" + n + "' of model '" + model_id + "' is a switch (0 or 1)");
       const bool lg = s.log_scale && s.min > 0;
       index.push_back(i);
       log.push_back(lg);
@@ -349,70 +351,79 @@ std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas
 
 namespace {
 
+// HydroShear's family as the paper stages it: the dilation kernel and gain on presses; the shear kernel's shape
+// on slides with a free scale; then the shear gain; then the friction ratio on slips, which sets the slip
+// plateau. The shear gain is kappa_s, not K: in the stick regime the field is kappa_s E K u_n u_t, so either
+// scales it, but K also narrows the friction cone |u_t| <= (mu E / K) u_n -- fitting K to the stick gain pushed
+// mu to its bound (5) on twin_sphere35 and left the slides slipping early. A variant's kernel terms (the bonded
+// layer's near field, the stick zone's saturation: docs/effects.md) are fitted with the shear's shape, on slides
+// and twists. The contact variant refines layer + stick jointly (its far field and following at their
+// defaults), then fits those two on every motion but presses: fitted together with the shape from the authors'
+// values, the near field went to its bound and stayed in a worse minimum (1.14-1.18 px against 1.07 px
+// validation on twin_sphere35).
+std::vector<FitStage> hydroshear_stages(bool layer, bool stick, bool contact) {
+  layer = layer || contact;
+  stick = stick || contact;
+  std::vector<std::string> shape = {"lambda_s"};
+  if (layer) shape.insert(shape.end(), {"beta_s", "lambda_s2"});
+  if (stick) shape.emplace_back("stick_sat");
+  const std::vector<std::string> shape_motions = layer || stick ? std::vector<std::string>{"shear", "twist"}
+                                                                : std::vector<std::string>{"shear"};
+  std::vector<FitStage> stages = {
+      {.name = "dilation", .params = {"lambda_d", "kappa_d"}, .motions = {"dilation"}},
+      {.name = "shear-shape", .params = shape, .motions = shape_motions, .rescale = true},
+      {.name = "shear-gain", .params = {"kappa_s"}, .motions = {"shear"}},
+      {.name = "friction", .params = {"mu"}, .motions = {"slip"}, .fallback_motions = {"shear"}},
+  };
+  if (!contact) return stages;
+  FitStage joint{.name = "layer-stick", .params = {}, .motions = {"dilation", "shear", "twist", "roll", "slip"}};
+  for (const FitStage& s : stages) joint.params.insert(joint.params.end(), s.params.begin(), s.params.end());
+  stages.push_back(std::move(joint));
+  stages.push_back({.name = "contact",
+                    .params = {"beta_s3", "lambda_s3", "follow", "aniso_s3"},
+                    .motions = {"shear", "twist", "roll", "slip"}});
+  return stages;
+}
+
+// FOTS's family: one kernel rate per load type, as its marker_calib.py does. The original has no gains (h is
+// the depth, the shear is the indenter's motion in px); the re-implementation fits each load's gain with its
+// rate. The twist clip only acts beyond 50 deg.
+std::vector<FitStage> fots_stages(bool reimpl) {
+  std::vector<FitStage> stages;
+  for (const auto& [load, rate, gain] :
+       {std::tuple{"dilation", "lambda_d", "kappa_d"}, std::tuple{"shear", "lambda_s", "kappa_s"},
+        std::tuple{"twist", "lambda_t", "kappa_t"}}) {
+    FitStage s{.name = load, .params = {rate}, .motions = {load}};
+    if (reimpl) s.params.emplace_back(gain);
+    stages.push_back(std::move(s));
+  }
+  return stages;
+}
+
+// TacSL: gain_px * k_n is one factor, so k_n stays at 1 and the gain is fitted on presses; the tangential law
+// (k_t, mu) on slides. Normalised, it outputs gain * unit direction: the gain sets every magnitude, k_t / k_n
+// turns the direction between the normal push and the tangential drag; mu only acts where the drag saturates and
+// is close to unidentifiable from directions (a test fit from its own data put it at the bound with 0.04 px RMSE
+// left), so it keeps its default.
+std::vector<FitStage> tacsl_stages(bool normalized) {
+  if (normalized)
+    return {{.name = "gain", .params = {"gain_px"}, .motions = {"dilation", "shear"}},
+            {.name = "direction", .params = {"kt"}, .motions = {"shear"}}};
+  return {{.name = "normal-gain", .params = {"gain_px"}, .motions = {"dilation"}},
+          {.name = "tangential", .params = {"kt", "mu"}, .motions = {"shear"}}};
+}
+
 const std::vector<FitStage>& form_fit_stages(const std::string& id) {
-  // HydroShear as the paper stages it: the dilation kernel and gain on presses; the shear kernel's shape
-  // on slides with a free scale; then the shear gain; then the friction ratio on slips, which sets the
-  // slip plateau. The shear gain is kappa_s, not K: in the stick regime the field is kappa_s E K u_n u_t,
-  // so either scales it, but K also narrows the friction cone |u_t| <= (mu E / K) u_n -- fitting K to
-  // the stick gain pushed mu to its bound (5) on twin_sphere35 and left the slides slipping early.
   static const std::map<std::string, std::vector<FitStage>> table = {
-      {"hydroshear",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear-shape", {"lambda_s"}, {"shear"}, true, {}},
-        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
-        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
-      // HydroShear with the bonded-layer kernel: the paper's stages, the shear kernel's near-field term
-      // with its shape on slides and twists (docs/effects.md, "Traction through a bonded layer").
-      {"hydroshear-layer",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear-shape", {"lambda_s", "beta_s", "lambda_s2"}, {"shear", "twist"}, true, {}},
-        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
-        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
-      {"hydroshear-stick",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear-shape", {"lambda_s", "stick_sat"}, {"shear", "twist"}, true, {}},
-        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
-        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
-      {"hydroshear-layer-stick",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear-shape", {"lambda_s", "beta_s", "lambda_s2", "stick_sat"}, {"shear", "twist"}, true, {}},
-        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
-        {"friction", {"mu"}, {"slip"}, false, {"shear"}}}},
-      // Layer + stick's stages and its joint refinement (the far field and the following at their
-      // defaults), then those two on every motion, then everything jointly. Fitted together with the
-      // shape from the authors' values, the near field went to its bound and stayed in a worse minimum
-      // (1.14-1.18 px against 1.07 px validation on twin_sphere35).
-      {"hydroshear-contact",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear-shape", {"lambda_s", "beta_s", "lambda_s2", "stick_sat"}, {"shear", "twist"}, true, {}},
-        {"shear-gain", {"kappa_s"}, {"shear"}, false, {}},
-        {"friction", {"mu"}, {"slip"}, false, {"shear"}},
-        {"layer-stick",
-         {"lambda_d", "kappa_d", "lambda_s", "beta_s", "lambda_s2", "stick_sat", "kappa_s", "mu"},
-         {"dilation", "shear", "twist", "roll", "slip"},
-         false,
-         {}},
-        {"contact", {"beta_s3", "lambda_s3", "follow", "aniso_s3"}, {"shear", "twist", "roll", "slip"}, false, {}}}},
-      // FOTS: one kernel rate per load type, as its marker_calib.py does. It has no gains (h is the
-      // depth, the shear is the indenter's motion in px); the twist clip only acts beyond 50 deg.
-      {"fots",
-       {{"dilation", {"lambda_d"}, {"dilation"}, false, {}},
-        {"shear", {"lambda_s"}, {"shear"}, false, {}},
-        {"twist", {"lambda_t"}, {"twist"}, false, {}}}},
-      {"fots-reimpl",
-       {{"dilation", {"lambda_d", "kappa_d"}, {"dilation"}, false, {}},
-        {"shear", {"lambda_s", "kappa_s"}, {"shear"}, false, {}},
-        {"twist", {"lambda_t", "kappa_t"}, {"twist"}, false, {}}}},
-      // TacSL: gain_px * k_n is one factor, so k_n stays at 1 and the gain is fitted on presses; the
-      // tangential law (k_t, mu) on slides.
-      {"tacsl",
-       {{"normal-gain", {"gain_px"}, {"dilation"}, false, {}}, {"tangential", {"kt", "mu"}, {"shear"}, false, {}}}},
-      // Normalised TacSL outputs gain * unit direction: the gain sets every magnitude, k_t / k_n turns the
-      // direction between the normal push and the tangential drag. mu only acts where the drag saturates
-      // and is close to unidentifiable from directions (a test fit from its own data put it at the bound
-      // with 0.04 px RMSE left), so it keeps its default.
-      {"tacsl-normalized",
-       {{"gain", {"gain_px"}, {"dilation", "shear"}, false, {}}, {"direction", {"kt"}, {"shear"}, false, {}}}},
+      {"hydroshear", hydroshear_stages(false, false, false)},
+      {"hydroshear-layer", hydroshear_stages(true, false, false)},
+      {"hydroshear-stick", hydroshear_stages(false, true, false)},
+      {"hydroshear-layer-stick", hydroshear_stages(true, true, false)},
+      {"hydroshear-contact", hydroshear_stages(true, true, true)},
+      {"fots", fots_stages(false)},
+      {"fots-reimpl", fots_stages(true)},
+      {"tacsl", tacsl_stages(false)},
+      {"tacsl-normalized", tacsl_stages(true)},
   };
   const auto it = table.find(id);
   if (it == table.end()) throw std::invalid_argument("fit: no stage table for model '" + id + "'");

@@ -48,11 +48,11 @@ std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas
 
 // One stage of a model's calibration procedure.
 struct FitStage {
-  std::string name;
-  std::vector<std::string> params;            // names in the model's ParamSet
-  std::vector<std::string> motions;           // samples used
-  bool rescale = false;                       // fit the shape with a free per-fit scale
-  std::vector<std::string> fallback_motions;  // used (and reported) when no sample has `motions`
+  std::string name{};
+  std::vector<std::string> params{};            // names in the model's ParamSet
+  std::vector<std::string> motions{};           // samples used
+  bool rescale = false;                         // fit the shape with a free per-fit scale
+  std::vector<std::string> fallback_motions{};  // used (and reported) when no sample has `motions`
 };
 
 // The stage table of a model id (throws std::invalid_argument for an unknown id). A form with effects

@@ -6,11 +6,22 @@
 namespace sb::effects {
 namespace {
 
-class CameraMisalignment final : public Effect {
+struct CameraMisalignmentParams {
+  double rotation_rad = 0, scale = 0;
+};
+
+const ParamFields<CameraMisalignmentParams>& camera_misalignment_fields() {
+  static const ParamFields<CameraMisalignmentParams> fields = {
+      {{"rotation_rad", "rad", 0.0, -0.2, 0.2, "camera roll about its optical axis against E"},
+       &CameraMisalignmentParams::rotation_rad},
+      {{"scale", "", 1.0, 0.8, 1.25, "true / assumed pixels per metre"}, &CameraMisalignmentParams::scale},
+  };
+  return fields;
+}
+
+class CameraMisalignment final : public TypedEffect<CameraMisalignmentParams> {
  public:
-  CameraMisalignment()
-      : Effect({{"rotation_rad", "rad", 0.0, -0.2, 0.2, "camera roll about its optical axis against E"},
-                {"scale", "", 1.0, 0.8, 1.25, "true / assumed pixels per metre"}}) {}
+  CameraMisalignment() : TypedEffect(camera_misalignment_fields()) {}
 
   std::string id() const override { return "camera_misalignment"; }
   std::string physics() const override {
@@ -20,7 +31,7 @@ class CameraMisalignment final : public Effect {
   }
 
   void apply(const EffectContext& /*ctx*/, std::vector<Vec2>& disp_px) override {
-    const double theta = params_.get("rotation_rad"), s = params_.get("scale");
+    const double theta = v().rotation_rad, s = v().scale;
     if (theta == 0.0 && s == 1.0) return;
     const double c = std::cos(theta), sn = std::sin(theta);
     for (Vec2& d : disp_px) d = s * Vec2(c * d.x() - sn * d.y(), sn * d.x() + c * d.y());

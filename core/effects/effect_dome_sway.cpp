@@ -26,19 +26,31 @@ double rim_polar_rad(const GelSpec& gel) {
   return 0.5 * std::numbers::pi;
 }
 
-class DomeSway final : public Effect {
+struct DomeSwayParams {
+  double compliance_m = 0, friction = 0, load_exponent = 0, stick_travel_m = 0;
+};
+
+const ParamFields<DomeSwayParams>& dome_sway_fields() {
+  static const ParamFields<DomeSwayParams> fields = {
+      {{"compliance_m", "m", 0.0, 0.0, 0.002,
+        "apex pin's lateral shift per unit lateral load (the load at 1 mm depth, along the slide or the tilt)"},
+       &DomeSwayParams::compliance_m},
+      {{"friction", "", 1.0, 0.0, 3.0, "sliding friction: the lateral load per unit normal load along the slide"},
+       &DomeSwayParams::friction},
+      {{"load_exponent", "", 2.0, 0.5, 3.0, "normal load ~ depth^q (hydroelastic pressure on a dome: 2; Hertz: 1.5)"},
+       &DomeSwayParams::load_exponent},
+      {{"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"},
+       &DomeSwayParams::stick_travel_m},
+  };
+  return fields;
+}
+
+class DomeSway final : public TypedEffect<DomeSwayParams> {
  public:
   // Ranges: the apex shift per unit load from none to 2 mm (the whole 4-5 mm deep TacTip press moves the field by
   // ~1 mm); an effective sliding friction up to 3 (silicone on a rough plate); the load's growth with depth
   // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm.
-  DomeSway()
-      : Effect(
-            {{"compliance_m", "m", 0.0, 0.0, 0.002,
-              "apex pin's lateral shift per unit lateral load (the load at 1 mm depth, along the slide or the tilt)"},
-             {"friction", "", 1.0, 0.0, 3.0, "sliding friction: the lateral load per unit normal load along the slide"},
-             {"load_exponent", "", 2.0, 0.5, 3.0,
-              "normal load ~ depth^q (hydroelastic pressure on a dome: 2; Hertz: 1.5)"},
-             {"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"}}) {}
+  DomeSway() : TypedEffect(dome_sway_fields()) {}
 
   std::string id() const override { return "dome_sway"; }
   std::string physics() const override {
@@ -64,19 +76,19 @@ class DomeSway final : public Effect {
     }
     if (last_xy_E_) travel_E_ += xy - *last_xy_E_;
     last_xy_E_ = xy;
-    const double t0 = params_.get("stick_travel_m");
+    const double t0 = v().stick_travel_m;
     if (travel_E_.norm() > t0) travel_E_ *= t0 / travel_E_.norm();
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double c = params_.get("compliance_m");
+    const double c = v().compliance_m;
     if (c == 0.0 || !ctx.in_contact || ctx.depth_m <= 0.0) return;
     require_marker_count(ctx, disp_px, "dome_sway");
     const Sensor& s = *ctx.sensor;
     const Vec3 n_contact = surface_normal_near(*s.gel_sdf, Vec3(ctx.contact_centre_E.x(), ctx.contact_centre_E.y(), 0));
-    const Vec2 slide = travel_E_ / params_.get("stick_travel_m");
-    const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, params_.get("load_exponent")) *
-                      (params_.get("friction") * slide - n_contact.head<2>());
+    const Vec2 slide = travel_E_ / v().stick_travel_m;
+    const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, v().load_exponent) *
+                      (v().friction * slide - n_contact.head<2>());
     const Vec3 u_apex(c * load.x(), c * load.y(), 0.0);
     cache_pins(s);
     for (std::size_t j = 0; j < disp_px.size(); ++j)

@@ -7,11 +7,23 @@
 namespace sb::effects {
 namespace {
 
-class EdgeConstraint final : public Effect {
+struct EdgeConstraintParams {
+  double length_m = 0, strength = 0;
+};
+
+const ParamFields<EdgeConstraintParams>& edge_constraint_fields() {
+  static const ParamFields<EdgeConstraintParams> fields = {
+      {{"length_m", "m", 0.002, 1e-4, 0.02, "decay length of the wall restraint", true},
+       &EdgeConstraintParams::length_m},
+      {{"strength", "", 0.0, 0.0, 1.0, "1: displacement pinned to zero at the wall; 0: free"},
+       &EdgeConstraintParams::strength},
+  };
+  return fields;
+}
+
+class EdgeConstraint final : public TypedEffect<EdgeConstraintParams> {
  public:
-  EdgeConstraint()
-      : Effect({{"length_m", "m", 0.002, 1e-4, 0.02, "decay length of the wall restraint", true},
-                {"strength", "", 0.0, 0.0, 1.0, "1: displacement pinned to zero at the wall; 0: free"}}) {}
+  EdgeConstraint() : TypedEffect(edge_constraint_fields()) {}
 
   std::string id() const override { return "edge_constraint"; }
   std::string physics() const override {
@@ -21,10 +33,10 @@ class EdgeConstraint final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double s = params_.get("strength");
+    const double s = v().strength;
     if (s == 0.0) return;
     require_marker_count(ctx, disp_px, "edge_constraint");
-    const double l = params_.get("length_m");
+    const double l = v().length_m;
     const Vec2 half = 0.5 * ctx.sensor->gel.size_m;
     for (std::size_t i = 0; i < disp_px.size(); ++i) {
       const Vec3& p = ctx.sensor->p_EM[i];

@@ -7,12 +7,23 @@
 namespace sb::effects {
 namespace {
 
-class GravityPreload final : public Effect {
+struct GravityPreloadParams {
+  double gx_px = 0, gy_px = 0, width_m = 0;
+};
+
+const ParamFields<GravityPreloadParams>& gravity_preload_fields() {
+  static const ParamFields<GravityPreloadParams> fields = {
+      {{"gx_px", "px", 0.0, -20.0, 20.0, "pre-load shear at the contact centre, u"}, &GravityPreloadParams::gx_px},
+      {{"gy_px", "px", 0.0, -20.0, 20.0, "pre-load shear at the contact centre, v"}, &GravityPreloadParams::gy_px},
+      {{"width_m", "m", 0.003, 1e-4, 0.03, "Gaussian width of the pre-loaded region", true},
+       &GravityPreloadParams::width_m},
+  };
+  return fields;
+}
+
+class GravityPreload final : public TypedEffect<GravityPreloadParams> {
  public:
-  GravityPreload()
-      : Effect({{"gx_px", "px", 0.0, -20.0, 20.0, "pre-load shear at the contact centre, u"},
-                {"gy_px", "px", 0.0, -20.0, 20.0, "pre-load shear at the contact centre, v"},
-                {"width_m", "m", 0.003, 1e-4, 0.03, "Gaussian width of the pre-loaded region", true}}) {}
+  GravityPreload() : TypedEffect(gravity_preload_fields()) {}
 
   std::string id() const override { return "gravity_preload"; }
   std::string physics() const override {
@@ -22,10 +33,10 @@ class GravityPreload final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const Vec2 g(params_.get("gx_px"), params_.get("gy_px"));
+    const Vec2 g(v().gx_px, v().gy_px);
     if (!ctx.in_contact || g.isZero(0.0)) return;
     require_marker_count(ctx, disp_px, "gravity_preload");
-    const double w = params_.get("width_m");
+    const double w = v().width_m;
     for (std::size_t i = 0; i < disp_px.size(); ++i) {
       const double r2 = (ctx.sensor->p_EM[i].head<2>() - ctx.contact_centre_E).squaredNorm();
       disp_px[i] += g * std::exp(-r2 / (2.0 * w * w));

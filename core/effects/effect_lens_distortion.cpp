@@ -6,11 +6,21 @@
 namespace sb::effects {
 namespace {
 
-class LensDistortion final : public Effect {
+struct LensDistortionParams {
+  double k1 = 0, k2 = 0;
+};
+
+const ParamFields<LensDistortionParams>& lens_distortion_fields() {
+  static const ParamFields<LensDistortionParams> fields = {
+      {{"k1", "", 0.0, -1.0, 1.0, "radial distortion, r^2 term (r / image half-diagonal)"}, &LensDistortionParams::k1},
+      {{"k2", "", 0.0, -1.0, 1.0, "radial distortion, r^4 term"}, &LensDistortionParams::k2},
+  };
+  return fields;
+}
+
+class LensDistortion final : public TypedEffect<LensDistortionParams> {
  public:
-  LensDistortion()
-      : Effect({{"k1", "", 0.0, -1.0, 1.0, "radial distortion, r^2 term (r / image half-diagonal)"},
-                {"k2", "", 0.0, -1.0, 1.0, "radial distortion, r^4 term"}}) {}
+  LensDistortion() : TypedEffect(lens_distortion_fields()) {}
 
   std::string id() const override { return "lens_distortion"; }
   std::string physics() const override {
@@ -20,7 +30,7 @@ class LensDistortion final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double k1 = params_.get("k1"), k2 = params_.get("k2");
+    const double k1 = v().k1, k2 = v().k2;
     if (k1 == 0.0 && k2 == 0.0) return;  // exactly the identity (D(m + d) - D(m) would round)
     require_marker_count(ctx, disp_px, "lens_distortion");
     const Camera& cam = ctx.sensor->camera;

@@ -9,11 +9,21 @@ namespace {
 // The scale 1 / (1 + beta depth) is kept finite for softening (beta < 0) by flooring the denominator.
 constexpr double kMinStiffeningDenominator = 0.1;
 
-class LoadStiffening final : public Effect {
+struct LoadStiffeningParams {
+  double beta_per_m = 0;
+};
+
+const ParamFields<LoadStiffeningParams>& load_stiffening_fields() {
+  static const ParamFields<LoadStiffeningParams> fields = {
+      {{"beta_per_m", "1/m", 0.0, -200.0, 2000.0, "stiffening per metre of indentation (> 0 stiffens, < 0 softens)"},
+       &LoadStiffeningParams::beta_per_m},
+  };
+  return fields;
+}
+
+class LoadStiffening final : public TypedEffect<LoadStiffeningParams> {
  public:
-  LoadStiffening()
-      : Effect({{"beta_per_m", "1/m", 0.0, -200.0, 2000.0,
-                 "stiffening per metre of indentation (> 0 stiffens, < 0 softens)"}}) {}
+  LoadStiffening() : TypedEffect(load_stiffening_fields()) {}
 
   std::string id() const override { return "load_stiffening"; }
   std::string physics() const override {
@@ -24,7 +34,7 @@ class LoadStiffening final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double beta = params_.get("beta_per_m");
+    const double beta = v().beta_per_m;
     if (beta == 0.0) return;
     const double scale = 1.0 / std::max(kMinStiffeningDenominator, 1.0 + beta * ctx.depth_m);
     for (Vec2& d : disp_px) d *= scale;

@@ -4,13 +4,24 @@
 namespace sb::effects {
 namespace {
 
-class PinLever final : public Effect {
+struct PinLeverParams {
+  double gain = 0;
+};
+
+const ParamFields<PinLeverParams>& pin_lever_fields() {
+  static const ParamFields<PinLeverParams> fields = {
+      {{"gain", "", 0.0, 0.0, 2.0,
+        "fraction of the skin's rotation its pins follow (1 = rigid pins along the surface normal)"},
+       &PinLeverParams::gain},
+  };
+  return fields;
+}
+
+class PinLever final : public TypedEffect<PinLeverParams> {
  public:
   // Range: from pins that keep their direction (0) to twice the rigid lever (a pin longer than the depth the
   // camera sees it at, or a skin that turns more than its contact face).
-  PinLever()
-      : Effect({{"gain", "", 0.0, 0.0, 2.0,
-                 "fraction of the skin's rotation its pins follow (1 = rigid pins along the surface normal)"}}) {}
+  PinLever() : TypedEffect(pin_lever_fields()) {}
 
   std::string id() const override { return "pin_lever"; }
   std::string physics() const override {
@@ -23,7 +34,7 @@ class PinLever final : public Effect {
   bool acts_on(const Sensor& sensor) const override { return sensor.gel.markers_depth_m > 0; }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double g = params_.get("gain");
+    const double g = v().gain;
     if (g == 0.0 || !ctx.in_contact) return;
     require_marker_count(ctx, disp_px, "pin_lever");
     const Sensor& s = *ctx.sensor;

@@ -33,13 +33,26 @@ InsideMarkers markers_inside(const EffectContext& ctx) {
   return in;
 }
 
-class SpreadSaturation final : public Effect {
+struct SpreadSaturationParams {
+  double gain_px = 0, depth_scale_m = 0, width_m = 0;
+};
+
+const ParamFields<SpreadSaturationParams>& spread_saturation_fields() {
+  static const ParamFields<SpreadSaturationParams> fields = {
+      {{"gain_px", "px", 0.0, 0.0, 10.0,
+        "pull per mm of lost depth per mm of offset, at the kernel's centre (0: none)"},
+       &SpreadSaturationParams::gain_px},
+      {{"depth_scale_m", "m", 0.002, 2e-4, 0.01, "depth h0 at which the spread saturates: h0 tanh(h/h0)"},
+       &SpreadSaturationParams::depth_scale_m},
+      {{"width_m", "m", 0.003, 5e-4, 0.015, "width sigma of the spread's Gaussian kernel"},
+       &SpreadSaturationParams::width_m},
+  };
+  return fields;
+}
+
+class SpreadSaturation final : public TypedEffect<SpreadSaturationParams> {
  public:
-  SpreadSaturation()
-      : Effect({{"gain_px", "px", 0.0, 0.0, 10.0,
-                 "pull per mm of lost depth per mm of offset, at the kernel's centre (0: none)"},
-                {"depth_scale_m", "m", 0.002, 2e-4, 0.01, "depth h0 at which the spread saturates: h0 tanh(h/h0)"},
-                {"width_m", "m", 0.003, 5e-4, 0.015, "width sigma of the spread's Gaussian kernel"}}) {}
+  SpreadSaturation() : TypedEffect(spread_saturation_fields()) {}
 
   std::string id() const override { return "spread_saturation"; }
   std::string physics() const override {
@@ -51,13 +64,13 @@ class SpreadSaturation final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double gain = params_.get("gain_px");
+    const double gain = v().gain_px;
     if (gain == 0.0 || ctx.indenter == nullptr || ctx.indenter->sdf == nullptr) return;
     require_marker_count(ctx, disp_px, "spread_saturation");
     const InsideMarkers in = markers_inside(ctx);
     if (in.index.empty()) return;
-    const double h0 = params_.get("depth_scale_m");
-    const double inv_two_sigma2 = 1.0 / (2.0 * std::pow(params_.get("width_m"), 2));
+    const double h0 = v().depth_scale_m;
+    const double inv_two_sigma2 = 1.0 / (2.0 * std::pow(v().width_m, 2));
     const std::vector<Vec3>& p_EM = ctx.sensor->p_EM;
     const int nm = static_cast<int>(p_EM.size());
     std::vector<double> kernel(nm);

@@ -7,12 +7,24 @@
 namespace sb::effects {
 namespace {
 
-class SubsurfaceMarkers final : public Effect {
+struct SubsurfaceMarkersParams {
+  double depth_m = 0, attenuation = 0;
+};
+
+const ParamFields<SubsurfaceMarkersParams>& subsurface_markers_fields() {
+  static const ParamFields<SubsurfaceMarkersParams> fields = {
+      {{"depth_m", "m", 0.0, 0.0, 0.005, "marker depth below the surface = Gaussian smoothing width"},
+       &SubsurfaceMarkersParams::depth_m},
+      {{"attenuation", "", 1.0, 0.0, 1.0,
+        "amplitude factor of the field at the marker depth (a field at depth is not stronger)"},
+       &SubsurfaceMarkersParams::attenuation},
+  };
+  return fields;
+}
+
+class SubsurfaceMarkers final : public TypedEffect<SubsurfaceMarkersParams> {
  public:
-  SubsurfaceMarkers()
-      : Effect({{"depth_m", "m", 0.0, 0.0, 0.005, "marker depth below the surface = Gaussian smoothing width"},
-                {"attenuation", "", 1.0, 0.0, 1.0,
-                 "amplitude factor of the field at the marker depth (a field at depth is not stronger)"}}) {}
+  SubsurfaceMarkers() : TypedEffect(subsurface_markers_fields()) {}
 
   std::string id() const override { return "subsurface_markers"; }
   std::string physics() const override {
@@ -22,7 +34,7 @@ class SubsurfaceMarkers final : public Effect {
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
-    const double h = params_.get("depth_m"), a = params_.get("attenuation");
+    const double h = v().depth_m, a = v().attenuation;
     if (h == 0.0) {  // no smoothing; a uniform attenuation (exactly the identity at a = 1)
       for (Vec2& d : disp_px) d *= a;
       return;

@@ -5,13 +5,24 @@
 namespace sb::effects {
 namespace {
 
-class TiltPivot final : public Effect {
+struct TiltPivotParams {
+  double pivot_depth_m = 0;
+};
+
+const ParamFields<TiltPivotParams>& tilt_pivot_fields() {
+  static const ParamFields<TiltPivotParams> fields = {
+      {{"pivot_depth_m", "m", 0.0, -0.01, 0.05,
+        "depth of the robot's rotation centre below the skin apex, along the sensor axis (0 = the apex)"},
+       &TiltPivotParams::pivot_depth_m},
+  };
+  return fields;
+}
+
+class TiltPivot final : public TypedEffect<TiltPivotParams> {
  public:
   // Range: from 10 mm above the apex to 50 mm below it (a dome's centre of curvature, 20 mm on the TacTip,
   // is the largest pivot a sensor-mounted tool frame plausibly has, with margin for a flange-mounted one).
-  TiltPivot()
-      : Effect({{"pivot_depth_m", "m", 0.0, -0.01, 0.05,
-                 "depth of the robot's rotation centre below the skin apex, along the sensor axis (0 = the apex)"}}) {}
+  TiltPivot() : TypedEffect(tilt_pivot_fields()) {}
 
   std::string id() const override { return "tilt_pivot"; }
   std::string physics() const override {
@@ -25,7 +36,7 @@ class TiltPivot final : public Effect {
   bool acts_on_pose() const override { return true; }
 
   Pose corrected_pose(const Pose& X_EI) const override {
-    const double h = params_.get("pivot_depth_m");
+    const double h = v().pivot_depth_m;
     if (h == 0.0) return X_EI;
     Pose X = X_EI;
     const Vec3 z_E = Vec3::UnitZ();

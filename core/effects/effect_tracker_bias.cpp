@@ -4,13 +4,24 @@
 namespace sb::effects {
 namespace {
 
-class TrackerBias final : public Effect {
+struct TrackerBiasParams {
+  double gain = 0, bias_x_px = 0, bias_y_px = 0, moving_threshold_px = 0;
+};
+
+const ParamFields<TrackerBiasParams>& tracker_bias_fields() {
+  static const ParamFields<TrackerBiasParams> fields = {
+      {{"gain", "", 1.0, 0.5, 1.5, "tracked / true displacement"}, &TrackerBiasParams::gain},
+      {{"bias_x_px", "px", 0.0, -5.0, 5.0, "constant offset on moving markers, u"}, &TrackerBiasParams::bias_x_px},
+      {{"bias_y_px", "px", 0.0, -5.0, 5.0, "constant offset on moving markers, v"}, &TrackerBiasParams::bias_y_px},
+      {{"moving_threshold_px", "px", 0.5, 0.0, 10.0, "a marker moves when |d| exceeds this"},
+       &TrackerBiasParams::moving_threshold_px},
+  };
+  return fields;
+}
+
+class TrackerBias final : public TypedEffect<TrackerBiasParams> {
  public:
-  TrackerBias()
-      : Effect({{"gain", "", 1.0, 0.5, 1.5, "tracked / true displacement"},
-                {"bias_x_px", "px", 0.0, -5.0, 5.0, "constant offset on moving markers, u"},
-                {"bias_y_px", "px", 0.0, -5.0, 5.0, "constant offset on moving markers, v"},
-                {"moving_threshold_px", "px", 0.5, 0.0, 10.0, "a marker moves when |d| exceeds this"}}) {}
+  TrackerBias() : TypedEffect(tracker_bias_fields()) {}
 
   std::string id() const override { return "tracker_bias"; }
   std::string physics() const override {
@@ -20,9 +31,9 @@ class TrackerBias final : public Effect {
   }
 
   void apply(const EffectContext& /*ctx*/, std::vector<Vec2>& disp_px) override {
-    const double g = params_.get("gain");
-    const Vec2 b(params_.get("bias_x_px"), params_.get("bias_y_px"));
-    const double threshold = params_.get("moving_threshold_px");
+    const double g = v().gain;
+    const Vec2 b(v().bias_x_px, v().bias_y_px);
+    const double threshold = v().moving_threshold_px;
     for (Vec2& d : disp_px) {
       const bool moving = d.norm() > threshold;
       d *= g;

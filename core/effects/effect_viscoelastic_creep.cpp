@@ -6,12 +6,22 @@
 namespace sb::effects {
 namespace {
 
-class ViscoelasticCreep final : public Effect {
+struct ViscoelasticCreepParams {
+  double tau_s = 0, creep_fraction = 0;
+};
+
+const ParamFields<ViscoelasticCreepParams>& viscoelastic_creep_fields() {
+  static const ParamFields<ViscoelasticCreepParams> fields = {
+      {{"tau_s", "s", 1.0, 1e-2, 10.0, "creep / recovery time constant", true}, &ViscoelasticCreepParams::tau_s},
+      {{"creep_fraction", "", 0.0, -0.5, 1.0, "relaxed / instantaneous displacement - 1 (0: elastic gel, no creep)"},
+       &ViscoelasticCreepParams::creep_fraction},
+  };
+  return fields;
+}
+
+class ViscoelasticCreep final : public TypedEffect<ViscoelasticCreepParams> {
  public:
-  ViscoelasticCreep()
-      : Effect({{"tau_s", "s", 1.0, 1e-2, 10.0, "creep / recovery time constant", true},
-                {"creep_fraction", "", 0.0, -0.5, 1.0,
-                 "relaxed / instantaneous displacement - 1 (0: elastic gel, no creep)"}}) {}
+  ViscoelasticCreep() : TypedEffect(viscoelastic_creep_fields()) {}
 
   std::string id() const override { return "viscoelastic_creep"; }
   std::string physics() const override {
@@ -30,10 +40,10 @@ class ViscoelasticCreep final : public Effect {
       creep_.assign(disp_px.size(), Vec2::Zero());
       previous_input_.assign(disp_px.size(), Vec2::Zero());
     }
-    const double c = params_.get("creep_fraction");
+    const double c = v().creep_fraction;
     // The load applied over (t - dt, t] is the previous step's base field, held (zero-order hold), so a
     // newly applied load shows its instantaneous value first and creeps afterwards.
-    const double decay = std::exp(-ctx.dt_s / params_.get("tau_s"));
+    const double decay = std::exp(-ctx.dt_s / v().tau_s);
     for (std::size_t i = 0; i < disp_px.size(); ++i) {
       const Vec2 target = c * previous_input_[i];
       creep_[i] = target + (creep_[i] - target) * decay;

@@ -23,6 +23,7 @@ void Effect::set_params(const ParamSet& params) {
     next.set(name, params[i]);
   }
   params_ = std::move(next);
+  params_changed();
 }
 
 namespace effects {

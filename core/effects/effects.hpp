@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/base/params.hpp"
+#include "core/base/typed_params.hpp"
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
 #include "core/sensor/sensor.hpp"
@@ -81,7 +82,25 @@ class Effect {
 
  protected:
   explicit Effect(std::vector<ParamSpec> specs) : params_(std::move(specs)) {}
+  // Called after set_params has changed params_.
+  virtual void params_changed() {}
   ParamSet params_;
+};
+
+// An effect whose parameters are a struct of its own (core/base/typed_params.hpp): v() holds them, read again
+// whenever they change. `fields` must outlive the effect (a function's static table).
+template <typename Values>
+class TypedEffect : public Effect {
+ protected:
+  explicit TypedEffect(const ParamFields<Values>& fields) : Effect(specs_of(fields)), fields_(&fields) {
+    read_params(fields, params_, values_);
+  }
+  const Values& v() const { return values_; }
+
+ private:
+  void params_changed() final { read_params(*fields_, params_, values_); }
+  const ParamFields<Values>* fields_;
+  Values values_{};
 };
 
 // Separator between an effect id and its parameter name in the combined table.

@@ -1,5 +1,7 @@
 #include "core/models/fots.hpp"
 
+#include "core/base/typed_params.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -38,32 +40,47 @@ double twist_about_z(const Mat3& R) {
   return a;
 }
 
-std::vector<ParamSpec> fots_param_specs() {
-  return {
-      {"lambda_d", "px^-2", 0.00125, 1e-7, 1, "dilation Gaussian rate (FOTS calibration, fots_test.py)", true},
-      {"lambda_s", "px^-2", 0.00021, 1e-7, 1, "shear Gaussian rate (FOTS calibration)", true},
-      {"lambda_t", "px^-2", 0.00038, 1e-7, 1, "twist Gaussian rate (FOTS calibration)", true},
-      {"px_per_mm", "px/mm", kCameraPxPerMetre * 1e-3, 1, 100,
-       "image scale; default the GelSight Mini camera 1/0.0634 (FOTS repo: 19.58 for its own sensor)"},
-      {"integer_px", "", 1, 0, 1, "1: truncate the shear vector and anchor to integer px as FOTS's int() (faithful)"},
-      {"twist_clip_deg", "deg", 50, 0, 180, "twist angle clip (FOTS: 50)"},
+namespace {
+const ParamFields<FotsParams>& original_fields() {
+  using F = FotsParams;
+  static const ParamFields<FotsParams> fields = {
+      {{"lambda_d", "px^-2", 0.00125, 1e-7, 1, "dilation Gaussian rate (FOTS calibration, fots_test.py)", true},
+       &F::lambda_d},
+      {{"lambda_s", "px^-2", 0.00021, 1e-7, 1, "shear Gaussian rate (FOTS calibration)", true}, &F::lambda_s},
+      {{"lambda_t", "px^-2", 0.00038, 1e-7, 1, "twist Gaussian rate (FOTS calibration)", true}, &F::lambda_t},
+      {{"px_per_mm", "px/mm", kCameraPxPerMetre * 1e-3, 1, 100,
+        "image scale; default the GelSight Mini camera 1/0.0634 (FOTS repo: 19.58 for its own sensor)"},
+       &F::px_per_mm},
+      {{"integer_px", "", 1, 0, 1, "1: truncate the shear vector and anchor to integer px as FOTS's int() (faithful)"},
+       &F::integer_px},
+      {{"twist_clip_deg", "deg", 50, 0, 180, "twist angle clip (FOTS: 50)"}, &F::twist_clip_deg},
   };
+  return fields;
 }
 
-std::vector<ParamSpec> fots_reimpl_param_specs() {
-  return {
-      {"lambda_d", "m^-1", 300, 1, 1e5, "dilation rate on non-squared distance (HydroShear fots.yaml)", true},
-      {"lambda_s", "m^-1", 203.3439, 1, 1e5, "shear rate on non-squared distance", true},
-      {"lambda_t", "m^-1", 326, 1, 1e5, "twist rate on non-squared distance", true},
-      {"kappa_d", "px/m", 2.5 * kCameraPxPerMetre, 1, 1e9,
-       "dilation scale: 2.5 x camera px/m (authors 2.5 x 1/0.065 mm = 38461.5)", true},
-      {"kappa_s", "px/m", kCameraPxPerMetre, 1, 1e9, "shear scale: camera px/m (authors 15384.6)", true},
-      {"kappa_t", "px/m", kCameraPxPerMetre, 1, 1e9, "twist scale: camera px/m (authors 15384.6)", true},
-      {"anchor_grasp", "", 1, 0, 1,
-       "1: the anchor is the patch centre when the normal approach ends, as the authors set it after the grasp "
-       "(faithful); 0: at first contact"},
+const ParamFields<FotsParams>& reimpl_fields() {
+  using F = FotsParams;
+  static const ParamFields<FotsParams> fields = {
+      {{"lambda_d", "m^-1", 300, 1, 1e5, "dilation rate on non-squared distance (HydroShear fots.yaml)", true},
+       &F::lambda_d},
+      {{"lambda_s", "m^-1", 203.3439, 1, 1e5, "shear rate on non-squared distance", true}, &F::lambda_s},
+      {{"lambda_t", "m^-1", 326, 1, 1e5, "twist rate on non-squared distance", true}, &F::lambda_t},
+      {{"kappa_d", "px/m", 2.5 * kCameraPxPerMetre, 1, 1e9,
+        "dilation scale: 2.5 x camera px/m (authors 2.5 x 1/0.065 mm = 38461.5)", true},
+       &F::kappa_d},
+      {{"kappa_s", "px/m", kCameraPxPerMetre, 1, 1e9, "shear scale: camera px/m (authors 15384.6)", true}, &F::kappa_s},
+      {{"kappa_t", "px/m", kCameraPxPerMetre, 1, 1e9, "twist scale: camera px/m (authors 15384.6)", true}, &F::kappa_t},
+      {{"anchor_grasp", "", 1, 0, 1,
+        "1: the anchor is the patch centre when the normal approach ends, as the authors set it after the grasp "
+        "(faithful); 0: at first contact"},
+       &F::anchor_grasp},
   };
+  return fields;
 }
+}  // namespace
+
+std::vector<ParamSpec> fots_param_specs() { return specs_of(original_fields()); }
+std::vector<ParamSpec> fots_reimpl_param_specs() { return specs_of(reimpl_fields()); }
 
 FotsBatch::FotsBatch(FotsVariant variant, std::shared_ptr<const Sensor> sensor,
                      std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params)
@@ -79,9 +96,7 @@ FotsBatch::FotsBatch(FotsVariant variant, std::shared_ptr<const Sensor> sensor,
 
 void FotsBatch::set_params(const ParamSet& p) {
   params_ = p;
-  lambda_d_ = p.get("lambda_d");
-  lambda_s_ = p.get("lambda_s");
-  lambda_t_ = p.get("lambda_t");
+  k_ = read_params(variant_ == FotsVariant::Original ? original_fields() : reimpl_fields(), p);
   const auto& M = sensor_->p_EM;
   const int n = static_cast<int>(M.size());
   std::vector<double> dil_x(static_cast<std::size_t>(n) * n), dil_y(dil_x.size());
@@ -90,22 +105,16 @@ void FotsBatch::set_params(const ParamSet& p) {
     dil_y[static_cast<std::size_t>(k) * n + j] = w * d.y();
   };
   if (variant_ == FotsVariant::Original) {
-    px_per_mm_ = p.get("px_per_mm");
-    integer_px_ = param_flag(p, "integer_px");
-    twist_clip_rad_ = p.get("twist_clip_deg") * std::numbers::pi / 180;
+    twist_clip_rad_ = k_.twist_clip_deg * std::numbers::pi / 180;
     // Markers in image pixels at px_per_mm about the principal point (the camera's own scale by default).
     m_px_.resize(n);
-    for (int j = 0; j < n; ++j) m_px_[j] = sensor_->camera.principal_px + M[j].head<2>() * (px_per_mm_ * 1e3);
+    for (int j = 0; j < n; ++j) m_px_[j] = sensor_->camera.principal_px + M[j].head<2>() * (k_.px_per_mm * 1e3);
     for (int j = 0; j < n; ++j)
       for (int k = 0; k < n; ++k)
-        set_dil(j, k, std::exp(-lambda_d_ * (m_px_[j] - m_px_[k]).squaredNorm()), m_px_[j] - m_px_[k]);
+        set_dil(j, k, std::exp(-k_.lambda_d * (m_px_[j] - m_px_[k]).squaredNorm()), m_px_[j] - m_px_[k]);
   } else {
-    kappa_d_ = p.get("kappa_d");
-    kappa_s_ = p.get("kappa_s");
-    kappa_t_ = p.get("kappa_t");
-    anchor_grasp_ = p.index_of("anchor_grasp") < 0 || param_flag(p, "anchor_grasp");
     for (int j = 0; j < n; ++j)
-      for (int k = 0; k < n; ++k) set_dil(j, k, std::exp(-lambda_d_ * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
+      for (int k = 0; k < n; ++k) set_dil(j, k, std::exp(-k_.lambda_d * (M[j] - M[k]).norm()), (M[j] - M[k]).head<2>());
   }
   dil_x_ = std::make_shared<const std::vector<double>>(std::move(dil_x));
   dil_y_ = std::make_shared<const std::vector<double>>(std::move(dil_y));
@@ -187,25 +196,25 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   add_dilation(sc, 1e3, xd);
   clock.lap(Phase::Dilation);
   // Shear from the planar translation of the indenter origin since first contact (integer px as FOTS).
-  const double px_per_m = px_per_mm_ * 1e3;
+  const double px_per_m = k_.px_per_mm * 1e3;
   const Vec3 t0 = slot.X_ref.translation(), t1 = X_EI.translation();
   const Vec2 centre = sensor_->camera.principal_px;
-  const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), integer_px_),
-               trunc_px(t0.y() * px_per_m + centre.y(), integer_px_));
-  const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, integer_px_),
-               trunc_px((t1.y() - t0.y()) * px_per_m, integer_px_));
+  const Vec2 G(trunc_px(t0.x() * px_per_m + centre.x(), k_.integer_px),
+               trunc_px(t0.y() * px_per_m + centre.y(), k_.integer_px));
+  const Vec2 s(trunc_px((t1.x() - t0.x()) * px_per_m, k_.integer_px),
+               trunc_px((t1.y() - t0.y()) * px_per_m, k_.integer_px));
   // Each kernel's exps in one vectorised batch (exp_in_place, <= 1e-14 relative; exponents below -700
   // are clamped, which changes a weight of < 1e-304 by less than itself). The twist is evaluated at the
   // sheared positions, so its batch follows the shear's.
   sc.args.resize(static_cast<std::size_t>(nm));
-  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_s_ * (xd[j] - G).squaredNorm(), -700.0);
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-k_.lambda_s * (xd[j] - G).squaredNorm(), -700.0);
   exp_in_place(sc.args.data(), nm);
   for (int j = 0; j < nm; ++j) xd[j] += s * sc.args[j];
   // Twist about G by the in-plane rotation since first contact, clipped, at the sheared positions.
   const double raw = twist_about_z(X_EI.linear() * slot.X_ref.linear().transpose());
   const double theta = std::clamp(raw, -twist_clip_rad_, twist_clip_rad_);
   const double ct = std::cos(theta), st = std::sin(theta);
-  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-lambda_t_ * (xd[j] - G).squaredNorm(), -700.0);
+  for (int j = 0; j < nm; ++j) sc.args[j] = std::max(-k_.lambda_t * (xd[j] - G).squaredNorm(), -700.0);
   exp_in_place(sc.args.data(), nm);
   for (int j = 0; j < nm; ++j) {
     const Vec2 d = xd[j] - G;
@@ -264,7 +273,7 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
     // Anchor: the contact-patch centre in I, from first contact; the SE(2) history starts at the last
     // contact-free pose (the authors reset it there).
     slot.in_contact = true;
-    slot.grasping = anchor_grasp_;
+    slot.grasping = k_.anchor_grasp;
     slot.X_ref = slot.have_prev ? slot.X_prev : X_EI;
     slot.c_I = c_sum / n_in;
     slot.se2_ref = se2_of(slot.X_ref, &slot.q_last, false);
@@ -292,16 +301,16 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
   sc.args.resize(2 * static_cast<std::size_t>(nm));
   for (std::size_t j = 0; j < static_cast<std::size_t>(nm); ++j) {
     const double r = (M[j].head<2>() - G).norm();
-    sc.args[2 * j] = std::max(-lambda_s_ * r, -700.0);
-    sc.args[2 * j + 1] = std::max(-lambda_t_ * r, -700.0);
+    sc.args[2 * j] = std::max(-k_.lambda_s * r, -700.0);
+    sc.args[2 * j + 1] = std::max(-k_.lambda_t * r, -700.0);
   }
   exp_in_place(sc.args.data(), 2 * nm);
   for (std::size_t j = 0; j < static_cast<std::size_t>(nm); ++j) {
     const Vec2 d = M[j].head<2>() - G;
-    disp[j] = kappa_s_ * dxy * sc.args[2 * j] + kappa_t_ * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
+    disp[j] = k_.kappa_s * dxy * sc.args[2 * j] + k_.kappa_t * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
   }
   clock.lap(Phase::Shear);
-  add_dilation(sc, kappa_d_, disp);
+  add_dilation(sc, k_.kappa_d, disp);
   clock.lap(Phase::Dilation);
 }
 

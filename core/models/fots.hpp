@@ -27,6 +27,16 @@ namespace sb {
 
 enum class FotsVariant { Original, Reimpl };
 
+// FOTS's parameters, typed (core/base/typed_params.hpp): each field one entry of a variant's table (the names
+// are the JSON keys); a field the variant lacks keeps its value here.
+struct FotsParams {
+  double lambda_d = 0, lambda_s = 0, lambda_t = 0;
+  double px_per_mm = 0, twist_clip_deg = 0;      // original
+  bool integer_px = true;                        // original
+  double kappa_d = 0, kappa_s = 0, kappa_t = 0;  // reimpl
+  bool anchor_grasp = true;                      // reimpl: the anchor set at the end of the normal approach
+};
+
 std::vector<ParamSpec> fots_param_specs();
 std::vector<ParamSpec> fots_reimpl_param_specs();
 
@@ -73,12 +83,9 @@ class FotsBatch {
   std::shared_ptr<const Sensor> sensor_;
   std::shared_ptr<const Indenter> indenter_;
   ParamSet params_;
-  double lambda_d_, lambda_s_, lambda_t_;
-  double px_per_mm_ = 0, twist_clip_rad_ = 0;       // original
-  bool integer_px_ = true;                          // original
-  double kappa_d_ = 0, kappa_s_ = 0, kappa_t_ = 0;  // reimpl
-  bool anchor_grasp_ = true;                        // reimpl: the anchor set at the end of the normal approach
-  std::vector<Vec2> m_px_;                          // markers in image pixels (original)
+  FotsParams k_;
+  double twist_clip_rad_ = 0;  // original
+  std::vector<Vec2> m_px_;     // markers in image pixels (original)
   // Constant marker-to-marker dilation kernel, k-major: dil_x_[k * nm + j] = w(j, k) (x_j - x_k) (px
   // for the original, metres for the reimpl.) and the same for y.
   std::shared_ptr<const std::vector<double>> dil_x_, dil_y_;  // shared by copies (set_params makes new ones)

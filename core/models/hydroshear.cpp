@@ -1,6 +1,7 @@
 #include "core/models/hydroshear.hpp"
 
 #include "core/base/numbers.hpp"
+#include "core/base/typed_params.hpp"
 #include "core/models/hydroshear_kernels.hpp"
 #include "core/models/hydroshear_step.hpp"
 
@@ -38,95 +39,114 @@ const double kDefaultPxPerMetre = Camera{}.px_per_metre();  // 1 / 0.0634 mm = 1
 
 }  // namespace
 
-std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool contact) {
+namespace {
+// The authors' parameters, in every variant.
+ParamFields<HydroShearParams> authors_fields() {
+  using P = HydroShearParams;
+  return {
+      {{"lambda_d", "m^-2", 20000, 1e2, 1e7, "dilation Gaussian rate on squared distance (authors' RL config)", true},
+       &P::lambda_d},
+      {{"lambda_s", "m^-2", 10800, 1e2, 1e7, "shear Gaussian rate on squared distance (authors' RL config)", true},
+       &P::lambda_s},
+      {{"mu", "", 0.5, 0, 5, "friction-cone ratio |f_t| <= mu f_n"}, &P::mu},
+      {{"kappa_d", "px/m", kDefaultPxPerMetre, 1, 1e9,
+        "dilation scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)", true},
+       &P::kappa_d},
+      {{"kappa_s", "px/m", kDefaultPxPerMetre, 1, 1e9,
+        "shear scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)", true},
+       &P::kappa_s},
+      {{"K", "", 1, 1e-3, 1e6, "tangential stiffness gain (authors K = A = 1: state in metres)", true}, &P::K},
+      {{"E", "", 1, 1e-3, 1e6, "normal stiffness gain (authors E = A = 1: state in metres)", true}, &P::E},
+      {{"g_aug", "m", 0, 0, 5e-3,
+        "gravity augmentation: virtual uncommitted shift of the indenter (authors' RL: 0.25 mm)"},
+       &P::g_aug},
+      {{"g_dir_x", "", -1, -1, 1, "x_E component of the augmentation direction (normalised)"}, &P::g_dir_x},
+      {{"g_dir_y", "", 0, -1, 1, "y_E component of the augmentation direction"}, &P::g_dir_y},
+      {{"g_dir_z", "", 0, -1, 1, "z_E component of the augmentation direction"}, &P::g_dir_z},
+      {{"weight", "", 0, 0, 1,
+        "shear weight: 0 = accumulated normal state f_n (authors' code), 1 = depth -phi_E (paper)"},
+       &P::weight_paper},
+      {{"normal", "", 0, 0, 1,
+        "normal of the n/t split: 0 = elastomer +z (authors' code), 1 = indenter normal (paper)"},
+       &P::normal_indenter},
+      {{"flat_pad_fast", "", 1, 0, 1, "1: exact analytic phi_E for a flat pad; 0: always query sensor.gel_sdf"},
+       &P::flat_pad_fast},
+  };
+}
+
+// The shear kernel only: the dilation's kernel acts between markers, a pitch (2 mm) apart at least, where a
+// near-field term narrower than the far one adds nothing (fitted, it went to its bound). Ranges: the near-field
+// width 1/sqrt(2 lambda2) between 0.07 mm (finer than the marker pitch can resolve) and 2.2 mm (half the gel's 4.5
+// mm thickness); beta from no near field to 30x the far one.
+ParamFields<HydroShearParams> layer_fields() {
+  using P = HydroShearParams;
+  return {
+      {{"beta_s", "", 1, 0, 30, "layer kernel: weight of the shear's near-field Gaussian (0 = authors' kernel)"},
+       &P::beta_s},
+      {{"lambda_s2", "m^-2", 1e6, 1e5, 1e8, "layer kernel: rate of the shear's near-field Gaussian", true},
+       &P::lambda_s2},
+  };
+}
+
+ParamFields<HydroShearParams> stick_fields() {
+  using P = HydroShearParams;
+  return {{{"stick_sat", "1/m", 1000, 0, 1e5,
+            "stick zone: the shear sum over 1 + stick_sat sum_i w_i G_i (0 = the authors' linear sum; "
+            "default of the order fitted on twin_sphere35)"},
+           &P::stick_sat}};
+}
+
+// Ranges: the far Gaussian's width 1/sqrt(2 lambda_s3) between 2.2 mm (half the gel's thickness, where the
+// near-field term takes over) and 10 mm (half the pad); follow from none to 1.5 (past a rigid translation, so a
+// bound is not where the data's answer hides).
+ParamFields<HydroShearParams> contact_fields() {
+  using P = HydroShearParams;
+  return {
+      {{"beta_s3", "", 0.05, 0, 2, "far field: weight of the shear's wide Gaussian (0 = none)"}, &P::beta_s3},
+      {{"lambda_s3", "m^-2", 3e4, 5e3, 1e5, "far field: rate of the shear's wide Gaussian", true}, &P::lambda_s3},
+      {{"follow", "", 0.75, 0, 1.5,
+        "contact-following tractions: kernels shift by follow x the contact's mean stuck displacement "
+        "(0 = the authors' anchors, where each point entered)"},
+       &P::follow},
+      {{"aniso_s3", "", 3, 0, 10,
+        "far field's anisotropy: + aniso_s3 l_s3 d (d . v), a tangential load moves the gel more along itself "
+        "than across (Cerruti's Poisson term; 0 = isotropic)"},
+       &P::aniso_s3},
+      {{"float32", "", 1, 0, 1,
+        "1: the shear sum in single precision (1.75x HydroShear's time; sums within ~1e-6 of the field); "
+        "0: in double (2.1x; fits always run it in double)"},
+       &P::single_precision},
+  };
+}
+
+ParamFields<HydroShearParams> hydroshear_fields(bool layer, bool stick, bool contact) {
   layer = layer || contact;
   stick = stick || contact;
-  std::vector<ParamSpec> specs = {
-      {"lambda_d", "m^-2", 20000, 1e2, 1e7, "dilation Gaussian rate on squared distance (authors' RL config)", true},
-      {"lambda_s", "m^-2", 10800, 1e2, 1e7, "shear Gaussian rate on squared distance (authors' RL config)", true},
-      {"mu", "", 0.5, 0, 5, "friction-cone ratio |f_t| <= mu f_n"},
-      {"kappa_d", "px/m", kDefaultPxPerMetre, 1, 1e9,
-       "dilation scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)", true},
-      {"kappa_s", "px/m", kDefaultPxPerMetre, 1, 1e9,
-       "shear scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)", true},
-      {"K", "", 1, 1e-3, 1e6, "tangential stiffness gain (authors K = A = 1: state in metres)", true},
-      {"E", "", 1, 1e-3, 1e6, "normal stiffness gain (authors E = A = 1: state in metres)", true},
-      {"g_aug", "m", 0, 0, 5e-3,
-       "gravity augmentation: virtual uncommitted shift of the indenter (authors' RL: 0.25 mm)"},
-      {"g_dir_x", "", -1, -1, 1, "x_E component of the augmentation direction (normalised)"},
-      {"g_dir_y", "", 0, -1, 1, "y_E component of the augmentation direction"},
-      {"g_dir_z", "", 0, -1, 1, "z_E component of the augmentation direction"},
-      {"weight", "", 0, 0, 1,
-       "shear weight: 0 = accumulated normal state f_n (authors' code), 1 = depth -phi_E (paper)"},
-      {"normal", "", 0, 0, 1, "normal of the n/t split: 0 = elastomer +z (authors' code), 1 = indenter normal (paper)"},
-      {"flat_pad_fast", "", 1, 0, 1, "1: exact analytic phi_E for a flat pad; 0: always query sensor.gel_sdf"},
-  };
-  if (layer) {
-    // The shear kernel only: the dilation's kernel acts between markers, a pitch (2 mm) apart at least, where
-    // a near-field term narrower than the far one adds nothing (fitted, it went to its bound). Ranges: the near-field
-    // width 1/sqrt(2 lambda2) between 0.07 mm (finer than the marker pitch can resolve) and 2.2 mm (half the gel's 4.5
-    // mm thickness); beta from no near field to 30x the far one.
-    const std::vector<ParamSpec> near = {
-        {"beta_s", "", 1, 0, 30, "layer kernel: weight of the shear's near-field Gaussian (0 = authors' kernel)"},
-        {"lambda_s2", "m^-2", 1e6, 1e5, 1e8, "layer kernel: rate of the shear's near-field Gaussian", true},
-    };
-    specs.insert(specs.end(), near.begin(), near.end());
-  }
-  if (stick)
-    specs.push_back({"stick_sat", "1/m", 1000, 0, 1e5,
-                     "stick zone: the shear sum over 1 + stick_sat sum_i w_i G_i (0 = the authors' linear sum; "
-                     "default of the order fitted on twin_sphere35)"});
-  if (contact) {
-    // Ranges: the far Gaussian's width 1/sqrt(2 lambda_s3) between 2.2 mm (half the gel's thickness, where
-    // the near-field term takes over) and 10 mm (half the pad); follow from none to 1.5 (past a rigid
-    // translation, so a bound is not where the data's answer hides).
-    const std::vector<ParamSpec> more = {
-        {"beta_s3", "", 0.05, 0, 2, "far field: weight of the shear's wide Gaussian (0 = none)"},
-        {"lambda_s3", "m^-2", 3e4, 5e3, 1e5, "far field: rate of the shear's wide Gaussian", true},
-        {"follow", "", 0.75, 0, 1.5,
-         "contact-following tractions: kernels shift by follow x the contact's mean stuck displacement "
-         "(0 = the authors' anchors, where each point entered)"},
-        {"aniso_s3", "", 3, 0, 10,
-         "far field's anisotropy: + aniso_s3 l_s3 d (d . v), a tangential load moves the gel more along itself "
-         "than across (Cerruti's Poisson term; 0 = isotropic)"},
-        {"float32", "", 1, 0, 1,
-         "1: the shear sum in single precision (1.75x HydroShear's time; sums within ~1e-6 of the field); "
-         "0: in double (2.1x; fits always run it in double)"},
-    };
-    specs.insert(specs.end(), more.begin(), more.end());
-  }
-  // What only the shear sum and the dilation read (step_slot's last two phases); mu, E, K, the
-  // augmentation and the normal's choice shape the state.
+  ParamFields<HydroShearParams> fields = authors_fields();
+  for (auto [on, more] :
+       {std::pair{layer, layer_fields()}, std::pair{stick, stick_fields()}, std::pair{contact, contact_fields()}})
+    if (on) fields.insert(fields.end(), more.begin(), more.end());
+  // What only the shear sum and the dilation read (step_slot's last two phases); mu, E, K, the augmentation and
+  // the normal's choice shape the state.
   static const std::set<std::string> field_only = {"lambda_d", "lambda_s",  "kappa_d",   "kappa_s", "weight",
                                                    "beta_s",   "lambda_s2", "stick_sat", "beta_s3", "lambda_s3",
                                                    "follow",   "aniso_s3",  "float32"};
-  for (ParamSpec& s : specs) s.field_only = field_only.count(s.name) > 0;
-  return specs;
+  for (ParamField<HydroShearParams>& f : fields) f.spec.field_only = field_only.count(f.spec.name) > 0;
+  return fields;
+}
+}  // namespace
+
+std::vector<ParamSpec> hydroshear_param_specs(bool layer, bool stick, bool contact) {
+  return specs_of(hydroshear_fields(layer, stick, contact));
 }
 
 HydroShearParams HydroShearParams::from(const ParamSet& p) {
-  HydroShearParams k;
-  k.lambda_d = p.get("lambda_d");
-  k.lambda_s = p.get("lambda_s");
-  k.mu = p.get("mu");
-  k.kappa_d = p.get("kappa_d");
-  k.kappa_s = p.get("kappa_s");
-  k.K = p.get("K");
-  k.E = p.get("E");
-  k.g_aug = p.get("g_aug");
-  const Vec3 dir(p.get("g_dir_x"), p.get("g_dir_y"), p.get("g_dir_z"));
+  static const ParamFields<HydroShearParams> every_variant = hydroshear_fields(true, true, true);
+  HydroShearParams k = read_params(every_variant, p);
+  const Vec3 dir(k.g_dir_x, k.g_dir_y, k.g_dir_z);
   if (k.g_aug > 0 && dir.norm() == 0)
     throw std::invalid_argument("hydroshear: g_aug > 0 needs a non-zero direction (g_dir_x, g_dir_y, g_dir_z)");
   k.g_dir_E = dir.norm() > 0 ? Vec3(dir.normalized()) : Vec3::Zero();
-  k.weight_paper = param_flag(p, "weight");
-  k.normal_indenter = param_flag(p, "normal");
-  k.flat_pad_fast = param_flag(p, "flat_pad_fast");
-  if (p.index_of("beta_s") >= 0) k.beta_s = p.get("beta_s"), k.lambda_s2 = p.get("lambda_s2");
-  if (p.index_of("stick_sat") >= 0) k.stick_sat = p.get("stick_sat");
-  if (p.index_of("beta_s3") >= 0) k.beta_s3 = p.get("beta_s3"), k.lambda_s3 = p.get("lambda_s3");
-  if (p.index_of("follow") >= 0) k.follow = p.get("follow");
-  if (p.index_of("aniso_s3") >= 0) k.aniso_s3 = p.get("aniso_s3");
-  if (p.index_of("float32") >= 0) k.single_precision = param_flag(p, "float32");
   return k;
 }
 

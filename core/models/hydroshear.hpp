@@ -47,18 +47,21 @@ namespace sb {
 //     surface more along itself than across it (Cerruti's Poisson term; aniso_s3 = 0 is isotropic).
 std::vector<ParamSpec> hydroshear_param_specs(bool layer = false, bool stick = false, bool contact = false);
 
+// HydroShear's parameters, typed (core/base/typed_params.hpp): each field is one entry of the table behind
+// hydroshear_param_specs, whose names are the JSON keys; a field the variant lacks keeps its value here (off).
 struct HydroShearParams {
-  double lambda_d, lambda_s, mu, kappa_d, kappa_s, K, E, g_aug;
-  double beta_s = 0, lambda_s2 = 0;   // the layer kernel's near-field term (0: the authors' kernel)
-  double stick_sat = 0;               // the stick zone's saturation (1/m; 0: the authors' linear sum)
-  double beta_s3 = 0, lambda_s3 = 0;  // the far-field term (0: none)
-  double follow = 0;                  // contact-following tractions (0: the authors' anchors)
-  double aniso_s3 = 0;                // the far field's anisotropy along the load (0: isotropic)
-  bool single_precision = false;      // the shear sum's products in float (the contact's parameter "float32")
-  Vec3 g_dir_E;                       // unit direction of the gravity augmentation shift, in E
-  bool weight_paper;                  // false: w = f_n (code); true: w = -phi_E (paper)
-  bool normal_indenter;               // false: split along +z_E (code); true: along -n_I (paper)
-  bool flat_pad_fast;                 // analytic phi_E for a flat pad instead of sensor.gel_sdf
+  double lambda_d = 0, lambda_s = 0, mu = 0, kappa_d = 0, kappa_s = 0, K = 0, E = 0, g_aug = 0;
+  double g_dir_x = 0, g_dir_y = 0, g_dir_z = 0;  // the augmentation's direction as given ("g_dir_x", ...)
+  double beta_s = 0, lambda_s2 = 0;              // the layer kernel's near-field term (0: the authors' kernel)
+  double stick_sat = 0;                          // the stick zone's saturation (1/m; 0: the authors' linear sum)
+  double beta_s3 = 0, lambda_s3 = 0;             // the far-field term (0: none)
+  double follow = 0;                             // contact-following tractions (0: the authors' anchors)
+  double aniso_s3 = 0;                           // the far field's anisotropy along the load (0: isotropic)
+  bool single_precision = false;  // "float32": the shear sum's products in float (the contact variant's default)
+  bool weight_paper = false;      // "weight": false: w = f_n (code); true: w = -phi_E (paper)
+  bool normal_indenter = false;   // "normal": false: split along +z_E (code); true: along -n_I (paper)
+  bool flat_pad_fast = true;      // analytic phi_E for a flat pad instead of sensor.gel_sdf
+  Vec3 g_dir_E = Vec3::Zero();    // unit direction of the gravity augmentation shift, in E (from g_dir_*)
   static HydroShearParams from(const ParamSet& p);
 };
 

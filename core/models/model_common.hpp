@@ -105,9 +105,6 @@ void exp_in_place(double* x, int n);
 // W and X must stay readable for 64 doubles past their ends (the vectorised loop may over-read).
 void add_outer_products(const double* W, int nw, const double* X, int stride, int m, double* S);
 
-// A parameter that is really a switch: true when the value is >= 0.5.
-inline bool param_flag(const ParamSet& p, std::string_view name) { return p.get(name) >= 0.5; }
-
 // Throws std::invalid_argument naming the model when a pose is not finite. A string_view: called per
 // slot and step, it must not build a std::string ("tacsl-normalized" is past the small-string buffer).
 void require_finite_pose(const Pose& X_EI, std::string_view model_id);

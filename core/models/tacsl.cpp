@@ -1,5 +1,7 @@
 #include "core/models/tacsl.hpp"
 
+#include "core/base/typed_params.hpp"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -14,20 +16,36 @@ constexpr double kNormalizeFloor = 1e-4;  // HydroShear's normalize_tacsl_shear_
 constexpr int kTacslSlotGrain = 32;       // slots per parallel task (a slot costs about a microsecond)
 }  // namespace
 
-std::vector<ParamSpec> tacsl_param_specs(bool normalized) {
-  std::vector<ParamSpec> s = {
-      {"kn", "1/m", 1.0, 1e-3, 1e6, "normal penalty gain: f_n = kn * depth (TacSL: 1, so f_n is metres)", true},
-      {"kt", "s", 0.1, 1e-4, 1e6, "viscous tangential gain: |f_t| = kt |v_t| in the static branch (TacSL: 0.1)", true},
-      {"mu", "", 2.0, 0, 10, "friction cap |f_t| <= mu f_n (TacSL: 2)"},
-      {"include_normal", "", 1, 0, 1, "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
+namespace {
+ParamFields<TacslParams> tacsl_fields(bool normalized) {
+  using T = TacslParams;
+  ParamFields<TacslParams> f = {
+      {{"kn", "1/m", 1.0, 1e-3, 1e6, "normal penalty gain: f_n = kn * depth (TacSL: 1, so f_n is metres)", true},
+       &T::kn},
+      {{"kt", "s", 0.1, 1e-4, 1e6, "viscous tangential gain: |f_t| = kt |v_t| in the static branch (TacSL: 0.1)", true},
+       &T::kt},
+      {{"mu", "", 2.0, 0, 10, "friction cap |f_t| <= mu f_n (TacSL: 2)"}, &T::mu},
+      {{"include_normal", "", 1, 0, 1, "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
+       &T::include_normal},
   };
   if (normalized)
-    s.push_back({"gain_px", "px", 1.0, 1e-3, 1e6, "length of the unit shear vectors in the output", true});
+    f.push_back(
+        {{"gain_px", "px", 1.0, 1e-3, 1e6, "length of the unit shear vectors in the output", true}, &T::gain_px});
   else
-    s.push_back({"gain_px", "px", 1000.0, 1e-3, 1e9,
-                 "px per unit shear; 1000 gives ~1 px for a 1 mm press sliding at 10 mm/s", true});
-  return s;
+    f.push_back({{"gain_px", "px", 1000.0, 1e-3, 1e9,
+                  "px per unit shear; 1000 gives ~1 px for a 1 mm press sliding at 10 mm/s", true},
+                 &T::gain_px});
+  return f;
 }
+
+// Both tables name the same fields (only gain_px's default and range differ): either reads a set.
+const ParamFields<TacslParams>& tacsl_fields_any() {
+  static const ParamFields<TacslParams> fields = tacsl_fields(false);
+  return fields;
+}
+}  // namespace
+
+std::vector<ParamSpec> tacsl_param_specs(bool normalized) { return specs_of(tacsl_fields(normalized)); }
 
 TacslBatch::TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
                        int slots, const ParamSet& params)
@@ -39,11 +57,7 @@ TacslBatch::TacslBatch(bool normalized, std::shared_ptr<const Sensor> sensor, st
 
 void TacslBatch::set_params(const ParamSet& p) {
   params_ = p;
-  kn_ = p.get("kn");
-  kt_ = p.get("kt");
-  mu_ = p.get("mu");
-  include_normal_ = param_flag(p, "include_normal");
-  gain_px_ = p.get("gain_px");
+  k_ = read_params(tacsl_fields_any(), p);
 }
 
 void TacslBatch::reset() {
@@ -105,19 +119,19 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, 
       const Vec3 v_rel = -(X_EI * c_I - slot.X_prev * c_I) / dt;
       const Vec3 v_t = v_rel - n_E * n_E.dot(v_rel);
       const double vn = v_t.norm();
-      const double f_n = kn_ * d;
-      f_t = -std::min(kt_ * vn, mu_ * f_n) * v_t / std::max(vn, kVelocityFloor);
+      const double f_n = k_.kn * d;
+      f_t = -std::min(k_.kt * vn, k_.mu * f_n) * v_t / std::max(vn, kVelocityFloor);
     }
-    const Vec3 F = include_normal_ ? Vec3(kn_ * d * n_E + f_t) : f_t;
+    const Vec3 F = k_.include_normal ? Vec3(k_.kn * d * n_E + f_t) : f_t;
     slot.shear[j] = F.head<2>();
   }
   clock.lap(Phase::State);
   for (std::size_t j = 0; j < nm; ++j) {
     const Vec2& s = slot.shear[j];
     if (normalized_)
-      disp[j] = s.norm() > kNormalizeFloor ? Vec2(gain_px_ * s / s.norm()) : Vec2::Zero();
+      disp[j] = s.norm() > kNormalizeFloor ? Vec2(k_.gain_px * s / s.norm()) : Vec2::Zero();
     else
-      disp[j] = gain_px_ * s;
+      disp[j] = k_.gain_px * s;
   }
   slot.X_prev = X_EI;
   slot.have_prev = true;

@@ -18,6 +18,13 @@
 
 namespace sb {
 
+// TacSL's parameters, typed (core/base/typed_params.hpp): each field one entry of the table behind
+// tacsl_param_specs (the names are the JSON keys).
+struct TacslParams {
+  double kn = 0, kt = 0, mu = 0, gain_px = 0;
+  bool include_normal = true;
+};
+
 std::vector<ParamSpec> tacsl_param_specs(bool normalized);
 
 class TacslBatch {
@@ -52,8 +59,7 @@ class TacslBatch {
   std::shared_ptr<const Sensor> sensor_;
   std::shared_ptr<const Indenter> indenter_;
   ParamSet params_;
-  double kn_, kt_, mu_, gain_px_;
-  bool include_normal_;
+  TacslParams k_;
   std::vector<Slot> slots_;
   PhaseProfile* profile_ = nullptr;
 };
