@@ -55,9 +55,7 @@ void draw_frames(const std::vector<cv::Mat>& frames, const TrackResult& r, const
       cv::putText(big, std::to_string(m), cv::Point(int(p.x()) + 5, int(p.y()) - 5), cv::FONT_HERSHEY_PLAIN, 0.8,
                   cv::Scalar(255, 255, 255));
     }
-    char name[32];
-    std::snprintf(name, sizeof name, "%06d.png", f);
-    write_png_atomic((fs::path(dir) / name).string(), big.rows, big.cols, big.channels(), big.data);
+    write_png_atomic((fs::path(dir) / frame_file_name(f)).string(), big.rows, big.cols, big.channels(), big.data);
   }
 }
 

@@ -1,4 +1,5 @@
 #include "widgets/fit_section.hpp"
+#include "core/base/format.hpp"
 
 #include <imgui.h>
 
@@ -112,17 +113,15 @@ void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const Fit
 // The fit's loss per iteration with its axes: cost (Ceres, log of the largest and smallest) against iteration.
 void FitSection::draw_loss_plot(const std::vector<float>& losses) {
   const auto [lo, hi] = std::minmax_element(losses.begin(), losses.end());
-  char top[32], bottom[32];
-  std::snprintf(top, sizeof top, "%.3g", double(*hi));
-  std::snprintf(bottom, sizeof bottom, "%.3g", double(*lo));
-  const float axis_w = std::max(ImGui::CalcTextSize(top).x, ImGui::CalcTextSize(bottom).x) + 6;
+  const std::string top = format_number(*hi, "%.3g"), bottom = format_number(*lo, "%.3g");
+  const float axis_w = std::max(ImGui::CalcTextSize(top.c_str()).x, ImGui::CalcTextSize(bottom.c_str()).x) + 6;
   const float h = 60.0f;
   ImGui::TextDisabled("Ceres cost per iteration (all stages)");
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_TextDisabled);
-  dl->AddText(ImVec2(p0.x, p0.y), text, top);
-  dl->AddText(ImVec2(p0.x, p0.y + h - ImGui::GetTextLineHeight()), text, bottom);
+  dl->AddText(ImVec2(p0.x, p0.y), text, top.c_str());
+  dl->AddText(ImVec2(p0.x, p0.y + h - ImGui::GetTextLineHeight()), text, bottom.c_str());
   ImGui::SetCursorScreenPos(ImVec2(p0.x + axis_w, p0.y));
   ImGui::PlotLines("##fitloss", losses.data(), static_cast<int>(losses.size()), 0, nullptr, *lo, *hi,
                    ImVec2(ImGui::GetContentRegionAvail().x, h));

@@ -35,6 +35,12 @@ bool is_tsd_split(const std::string& s) {
   return std::find(tsd_splits().begin(), tsd_splits().end(), s) != tsd_splits().end();
 }
 
+std::string frame_file_name(std::size_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%06zu.png", frame);
+  return name;
+}
+
 const TsdSampleInfo& Dataset::sample(const std::string& id) const {
   for (const auto& s : samples)
     if (s.id == id) return s;
@@ -293,9 +299,7 @@ SampleData read_sample(const Dataset& ds, const std::string& sample_id, Warnings
   if (info.has_forces) read_forces_csv((dir / "forces.csv").string(), data.frames(), &data);
   if (info.has_frames) {
     for (std::size_t k = 0; k < data.frames(); ++k) {
-      char name[32];
-      std::snprintf(name, sizeof name, "%06zu.png", k);
-      const std::string p = (dir / "frames" / name).string();
+      const std::string p = (dir / "frames" / frame_file_name(k)).string();
       // A frame that was not imaged (every marker lost, e.g. the TacTip set's pressed and sliding frames)
       // may lack its image: its path is empty. A frame with data must have one.
       const bool imaged = std::any_of(data.markers_px[k].begin(), data.markers_px[k].end(),

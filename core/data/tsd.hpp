@@ -22,6 +22,8 @@ const std::vector<std::string>& tsd_motions();  // dilation shear twist roll sli
 const std::vector<std::string>& tsd_splits();   // calibration validation
 bool is_tsd_motion(const std::string& s);
 bool is_tsd_split(const std::string& s);
+// A frame image's file name in a sample's frames/ folder: 000042.png for frame 42.
+std::string frame_file_name(std::size_t frame);
 
 struct TsdSampleInfo {
   std::string id;

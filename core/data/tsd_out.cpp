@@ -88,7 +88,6 @@ void write_tsd_dataset(const TsdDatasetOut& out, const std::string& dir) {
     const bool any_frame = std::any_of(s.frames.begin(), s.frames.end(), [](const cv::Mat& m) { return !m.empty(); });
     fs::create_directories(sdir / (any_frame ? "frames" : ""), ec);
     if (ec) throw InputError(sdir.string(), "cannot create sample directory: " + ec.message());
-    char name[32];
     for (std::size_t f = 0; f < s.frames.size(); ++f) {
       if (s.frames[f].empty()) {  // not imaged: then nothing may be tracked in it (read_sample's rule)
         if (f < s.disp_px.size() &&
@@ -97,8 +96,7 @@ void write_tsd_dataset(const TsdDatasetOut& out, const std::string& dir) {
                                       " has tracked markers but no image");
         continue;
       }
-      std::snprintf(name, sizeof name, "%06zu.png", f);
-      write_image_atomically((sdir / "frames" / name).string(), s.frames[f]);
+      write_image_atomically((sdir / "frames" / frame_file_name(f)).string(), s.frames[f]);
     }
     data.push_back(as_sample_data(s));
   }

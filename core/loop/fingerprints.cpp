@@ -1,5 +1,6 @@
 // Fingerprints of effects (see fingerprints.hpp and docs/effects.md, "Fingerprints").
 #include "core/loop/fingerprints.hpp"
+#include "core/base/format.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -511,11 +512,7 @@ bool agree(double a, double b, double agreement) {
   return std::max(a / b, b / a) <= agreement;
 }
 
-std::string number(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
-}
+std::string number(double v) { return format_number(v, "%.3g", "nan"); }
 
 // The estimate and the values within `agreement` of it (its sign kept).
 FingerprintCheck::Band band(const std::string& name, double estimate, double agreement) {

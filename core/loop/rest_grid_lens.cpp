@@ -1,5 +1,6 @@
 // The rest grid's lattice and lens (rest_grid_lens.hpp).
 #include "core/loop/rest_grid_lens.hpp"
+#include "core/base/format.hpp"
 
 #include <ceres/ceres.h>
 
@@ -70,11 +71,7 @@ struct LatticeResidual {
   double hd2_;
 };
 
-std::string fmt(const char* f, double v) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(const char* f, double v) { return format_number(v, f, "nan"); }
 
 }  // namespace
 
