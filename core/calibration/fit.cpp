@@ -240,9 +240,7 @@ class StageCost final : public ceres::CostFunction {
       return true;
     };
     const bool columns = jacobians && jacobians[0];
-    if (!ev_->residuals(x, residuals, nullptr, nullptr,
-                        columns ? StageEvaluator::Run::Central : StageEvaluator::Run::Full))
-      return cancelled();
+    if (!central_run(x, residuals)) return cancelled();
     if (!columns) return true;
     std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
     for (int k = 0; k < P; ++k) {
@@ -271,8 +269,27 @@ class StageCost final : public ceres::CostFunction {
   }
 
  private:
+  // The residuals at x, from a Central run (its state before the scored frames is what the columns of a
+  // field-only parameter start from). Ceres asks for the same point more than once: the line search's probe,
+  // then the candidate's cost, then the Jacobian once the step is accepted. The last point's residuals are
+  // kept and reused (the evaluator's saved state is that run's): one model run instead of three.
+  bool central_run(const double* x, double* residuals) const {
+    const int P = map_->size();
+    const int n = num_residuals();
+    if (static_cast<int>(last_x_.size()) == P && std::equal(x, x + P, last_x_.begin())) {
+      std::copy(last_r_.begin(), last_r_.end(), residuals);
+      return true;
+    }
+    last_x_.clear();
+    if (!ev_->residuals(x, residuals, nullptr, nullptr, StageEvaluator::Run::Central)) return false;
+    last_x_.assign(x, x + P);
+    last_r_.assign(residuals, residuals + n);
+    return true;
+  }
+
   StageEvaluator* ev_;
   const ParamMap* map_;
+  mutable std::vector<double> last_x_, last_r_;  // the last Central run's point and residuals
 };
 
 class ProgressCallback final : public ceres::IterationCallback {
@@ -614,6 +631,10 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
     so.parameter_tolerance = 1e-10;
     so.gradient_tolerance = 1e-14;
     so.num_threads = 1;  // the samples already run in parallel
+    // With bounds, Ceres projects each step by a line search. Its default cubic interpolation asks for the
+    // gradient, i.e. a whole finite-difference Jacobian, at every probe; bisection needs the cost alone (one
+    // model run, which the candidate's evaluation then reuses).
+    so.line_search_interpolation_type = ceres::BISECTION;
     so.logging_type = ceres::SILENT;
     ProgressCallback cb(stage.name, o);
     so.callbacks.push_back(&cb);
