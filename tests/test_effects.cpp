@@ -418,11 +418,12 @@ TEST_CASE("effects compose in order inside EffectModel", "[effects]") {
   CHECK((o.disp_px[0] - (1.2 * d0 + Vec2(1.0, 0.0)) / 2.0).norm() < kExact);
 }
 
-TEST_CASE("tilt_pivot: a tilt about a pivot h below the apex moves the indenter by h (R z - z)", "[effects]") {
+TEST_CASE("tool_frame: a tilt about a pivot h below the apex moves the indenter by h (R z - z)", "[effects]") {
   // R = Rx(t): R z = (0, -sin t, cos t), so the correction is h (0, -sin t, cos t - 1). At t = 60 deg and
   // h = 4 mm: (0, -3.4641, -2.0) mm. A twist (about z) has R z = z: no correction.
-  auto e = make_effect("tilt_pivot");
+  auto e = make_effect("tool_frame");
   REQUIRE(e->acts_on_pose());
+  CHECK(e->needs_tilt());
   ParamSet p = e->params();
   constexpr double h = 0.004, t = std::numbers::pi / 3.0;
   p.set("pivot_depth_m", h);
@@ -440,18 +441,40 @@ TEST_CASE("tilt_pivot: a tilt about a pivot h below the apex moves the indenter 
     // 1 mm above the pad uncorrected (no contact, no field); corrected, 1 mm lower: the centre sits at
     // z = R + 1 mm - 2 mm < R, in contact, so the fixed field appears.
     const auto sensor = make_grid_sensor();
-    auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"tilt_pivot"}, sensor,
+    auto m = wrap_with_effects(std::make_unique<FixedFieldModel>(test_field(9)), {"tool_frame"}, sensor,
                                make_test_indenter());
     FieldOutput o;
     m->step(tilted, kDt, &o);
     CHECK(o.disp_px[0].norm() == 0.0);
     ParamSet mp = m->params();
-    mp.set("tilt_pivot.pivot_depth_m", h);
+    mp.set("tool_frame.pivot_depth_m", h);
     m->set_params(mp);
     m->reset();
     m->step(tilted, kDt, &o);
     CHECK((o.disp_px[0] - test_field(9)[0]).norm() < kExact);
   }
+}
+
+TEST_CASE("tool_frame: a zero d0 past the skin presses every pose d0 deeper along the surface's normal", "[effects]") {
+  // The surface's normal is the indenter's +z, R z in E; deeper is along -R z. Untilted: z drops by d0. Tilted by
+  // t = 60 deg about x: R z = (0, -sin t, cos t), so the translation moves by -d0 (0, -sin t, cos t), at d0 = 1.5 mm
+  // (0, +1.2990, -0.75) mm. With a pivot h too the two corrections add: h (R z - z) - d0 R z.
+  auto e = make_effect("tool_frame");
+  ParamSet p = e->params();
+  constexpr double d0 = 0.0015, h = 0.004, t = std::numbers::pi / 3.0;
+  p.set("press_offset_m", d0);
+  e->set_params(p);
+  const Pose flat = pressed(0.001);
+  CHECK((e->corrected_pose(flat).translation() - (flat.translation() - Vec3(0.0, 0.0, d0))).norm() < kDepthTol);
+  Pose tilted = pressed(-0.001, 0.001, 0.0);
+  tilted.linear() = Eigen::AngleAxisd(t, Vec3::UnitX()).toRotationMatrix();
+  const Vec3 approach(0.0, -std::sin(t), std::cos(t));
+  CHECK((e->corrected_pose(tilted).translation() - (tilted.translation() - d0 * approach)).norm() < kDepthTol);
+  CHECK(e->corrected_pose(tilted).linear().isApprox(tilted.linear(), 0.0));
+  p.set("pivot_depth_m", h);
+  e->set_params(p);
+  const Vec3 both = tilted.translation() + h * (approach - Vec3::UnitZ()) - d0 * approach;
+  CHECK((e->corrected_pose(tilted).translation() - both).norm() < kDepthTol);
 }
 
 TEST_CASE("pin_lever: a pin under a sphere turns with the sphere's face, one outside does not", "[effects]") {
@@ -616,6 +639,65 @@ TEST_CASE("spread_saturation: markers inside a pressed sphere lose the spread of
   std::vector<Vec2> lifted(3, Vec2(0.25, -0.5));
   e->apply(ctx, lifted);
   CHECK(lifted == std::vector<Vec2>(3, Vec2(0.25, -0.5)));
+}
+
+TEST_CASE("skin_indentation: pins under a pressed sphere go in along the dome's normal, towards the principal point",
+          "[effects]") {
+  // Hemisphere R = 20 mm, pins L = 3 mm deep, pinhole camera f = 400 px, D = 50 mm, c = (200, 200) px; the test
+  // sphere (r = 4 mm) pressed 2 mm at the apex, centre (0, 0, 2) mm. Pins at sin(t) = 0, 0.1, 0.3 on the dome:
+  // p = (R sin t, 0, R cos t - R), n = (sin t, 0, cos t), h = relu(r - |p - centre|): 2, 1.0998180 and 0 mm.
+  // Gain 1, no spread: tip = p - L n moves by -h n. The apex pin moves along the principal ray (no image motion).
+  // Pin B: tip (1.7, 0, -3.0852136) mm -> (1.5900182, 0, -4.1795187) mm, u - c = f x / (z + D):
+  // 400 * 1.7 / 46.9147864 = 14.4943660 -> 400 * 1.5900182 / 45.8204813 = 13.8804164 px: -0.6139496 px.
+  // Pin C is outside the sphere (|p - centre| = 5.46 mm): nothing.
+  constexpr double R = 0.02, L = 0.003;
+  constexpr double kTolPx = 2e-6;  // the rest normals are central differences of the SDF (h = 10 um), ~1e-7 px
+  auto s = std::make_shared<Sensor>();
+  s->gel.surface = "spherical_cap";
+  s->gel.radius_m = R;
+  s->gel.footprint_radius_m = R;
+  s->gel.thickness_m = 0.025;
+  s->gel.markers_depth_m = L;
+  s->gel_sdf = make_spherical_cap_sdf(R, R, 0.025);
+  s->camera.model = CameraModel::Pinhole;
+  s->camera.focal_px = 400.0;
+  s->camera.distance_m = 0.05;
+  s->camera.principal_px = Vec2(200.0, 200.0);
+  for (const double sin_t : {0.0, 0.1, 0.3})
+    s->p_EM.push_back(Vec3(R * sin_t, 0.0, R * std::sqrt(1.0 - sin_t * sin_t) - R));
+  for (const Vec3& p : s->p_EM) s->markers_rest_px.push_back(s->camera.project(p));
+  const auto sphere = make_test_indenter();
+  auto e = make_effect("skin_indentation");
+  CHECK(e->acts_on(*s));
+  CHECK_FALSE(e->acts_on(*make_test_sensor({Vec2(0.0, 0.0)})));  // orthographic: the normal motion is invisible
+  ParamSet p = e->params();
+  p.set("gain", 1.0);
+  e->set_params(p);
+  EffectContext ctx = context_for(s.get(), 0.002, true);
+  ctx.indenter = sphere.get();
+  ctx.X_EI = pressed(0.002);
+  std::vector<Vec2> d(3, Vec2(0.25, -0.5));
+  e->apply(ctx, d);
+  CHECK((d[0] - Vec2(0.25, -0.5)).norm() < kTolPx);
+  CHECK((d[1] - Vec2(0.25 - 0.6139496, -0.5)).norm() < kTolPx);
+  CHECK((d[2] - Vec2(0.25, -0.5)).norm() < kTolPx);
+  SECTION("a spread of 2 mm shares the indentation with the neighbours, the outside pin included") {
+    // w = K h, K_jk = exp(-|p_j - p_k|^2 / (2 (2 mm)^2)) normalised per row: w = (1.6501434, 1.3359130, 0.1382238)
+    // mm; imaged as above: 0, -0.7495874 and -0.2336271 px.
+    p.set("spread_m", 0.002);
+    e->set_params(p);
+    std::vector<Vec2> w(3, Vec2::Zero());
+    e->apply(ctx, w);
+    CHECK(w[0].norm() < kTolPx);
+    CHECK((w[1] - Vec2(-0.7495874, 0.0)).norm() < kTolPx);
+    CHECK((w[2] - Vec2(-0.2336271, 0.0)).norm() < kTolPx);
+  }
+  SECTION("the sphere lifted: the identity") {
+    ctx.X_EI = pressed(-0.001);
+    std::vector<Vec2> lifted(3, Vec2(0.25, -0.5));
+    e->apply(ctx, lifted);
+    CHECK(lifted == std::vector<Vec2>(3, Vec2(0.25, -0.5)));
+  }
 }
 
 }  // namespace test_effects

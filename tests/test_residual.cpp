@@ -203,11 +203,12 @@ TEST_CASE("residual loop selects nothing when the data hold no effect", "[residu
   CHECK(j["before"].contains("validation_rmse_px"));
   CHECK(j["before"].contains("validation_cs"));
   CHECK(j["before"]["by_motion"].contains("shear"));
-  // Every catalogued effect but the two that are the identity here: pin_lever (markers on the surface) and
-  // tilt_pivot (the poses only turn about the gel's normal).
-  REQUIRE(j["candidates"].size() == sb::effect_ids().size() - 2);
+  // Every catalogued effect but the three that are the identity here: pin_lever (markers on the surface),
+  // tool_frame (the poses only turn about the gel's normal) and skin_indentation (an orthographic camera).
+  REQUIRE(j["candidates"].size() == sb::effect_ids().size() - 3);
   for (const auto& c : j["candidates"]) CHECK(c["effect"] != "pin_lever");
-  for (const auto& c : j["candidates"]) CHECK(c["effect"] != "tilt_pivot");
+  for (const auto& c : j["candidates"]) CHECK(c["effect"] != "tool_frame");
+  for (const auto& c : j["candidates"]) CHECK(c["effect"] != "skin_indentation");
   for (const auto& c : j["candidates"]) CHECK(c["ci95_pct"].size() == 2);
   const auto dir = sbtest::temp_path("sb_test_residual_plots");
   std::filesystem::create_directories(dir);

@@ -11,24 +11,19 @@ namespace {
 
 constexpr double kUnitM = 0.001;  // depths and offsets in the sum are counted in millimetres
 
-// The depth of each marker inside the indenter, h_k = relu(-phi_I(X_IE p_EM_k)), for the markers inside.
+// The markers inside the indenter and their depths h_k > 0.
 struct InsideMarkers {
   std::vector<int> index;
   std::vector<double> depth_m;
 };
 
 InsideMarkers markers_inside(const EffectContext& ctx) {
-  const std::vector<Vec3>& p_EM = ctx.sensor->p_EM;
-  const Pose X_IE = ctx.X_EI.inverse(Eigen::Isometry);
-  std::vector<Vec3> p_IM(p_EM.size());
-  for (std::size_t k = 0; k < p_EM.size(); ++k) p_IM[k] = X_IE * p_EM[k];
-  std::vector<double> phi(p_EM.size());
-  ctx.indenter->sdf->values(p_IM, phi);  // one batched query (the TacTip: 327 pins per scored frame)
+  const std::vector<double> h = marker_penetration(ctx);
   InsideMarkers in;
-  for (int k = 0; k < static_cast<int>(phi.size()); ++k) {
-    if (phi[k] >= 0) continue;
+  for (int k = 0; k < static_cast<int>(h.size()); ++k) {
+    if (h[k] <= 0) continue;
     in.index.push_back(k);
-    in.depth_m.push_back(-phi[k]);
+    in.depth_m.push_back(h[k]);
   }
   return in;
 }

@@ -45,6 +45,17 @@ Vec3 gel_normal_at(const Sdf& gel_sdf_E, const Vec3& p_E) {
   }
   return g.squaredNorm() == 0.0 ? Vec3::Zero() : Vec3(g.normalized());
 }
+
+std::vector<double> marker_penetration(const EffectContext& ctx) {
+  const std::vector<Vec3>& p_EM = ctx.sensor->p_EM;
+  const Pose X_IE = ctx.X_EI.inverse(Eigen::Isometry);
+  std::vector<Vec3> p_IM(p_EM.size());
+  for (std::size_t k = 0; k < p_EM.size(); ++k) p_IM[k] = X_IE * p_EM[k];
+  std::vector<double> depth_m(p_EM.size());
+  ctx.indenter->sdf->values(p_IM, depth_m);  // one batched query (the TacTip: 327 pins per scored frame)
+  for (double& h : depth_m) h = std::max(0.0, -h);
+  return depth_m;
+}
 }  // namespace effects
 
 // ---------------------------------------------------------------------------------------- depth
@@ -286,10 +297,11 @@ const std::vector<Registered>& registry() {
       {"load_stiffening", effects::make_load_stiffening},
       {"tracker_bias", effects::make_tracker_bias},
       {"camera_misalignment", effects::make_camera_misalignment},
-      {"tilt_pivot", effects::make_tilt_pivot},
+      {"tool_frame", effects::make_tool_frame},
       {"pin_lever", effects::make_pin_lever},
       {"dome_sway", effects::make_dome_sway},
       {"spread_saturation", effects::make_spread_saturation},
+      {"skin_indentation", effects::make_skin_indentation},
   };
   return r;
 }

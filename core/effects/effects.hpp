@@ -69,6 +69,9 @@ class Effect {
   // False when the effect is the identity on every field of this sensor (pins on the surface for pin_lever):
   // the loop does not try it there.
   virtual bool acts_on(const Sensor& /*sensor*/) const { return true; }
+  // True for a pose effect the loop tries only where the poses tilt (tool_frame: its rotation centre matters only
+  // when a pose turns, and its zero trades with the centre under a tilt; a user may still give it elsewhere).
+  virtual bool needs_tilt() const { return false; }
   virtual Pose corrected_pose(const Pose& X_EI) const { return X_EI; }
   // True for an effect that follows the path between fields (dome_sway's slide): it is shown every step's pose
   // (as the base saw it) and penetration, before apply() and also at steps that want no field. Cheaper than

@@ -47,6 +47,7 @@ class EffectSearch {
   std::vector<std::string> hold_fingerprint(const std::string& candidate, const FingerprintCheck& fp, ParamSet* start);
   std::vector<std::string> held_of(const std::string& effect, const std::string& candidate,
                                    const std::vector<std::string>& held_now) const;
+  ParamSet grid_start(const std::string& model_id, const std::vector<FitStage>& stages, const ParamSet& start) const;
   EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
                  std::string* screen_note) const;

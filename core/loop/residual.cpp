@@ -31,8 +31,7 @@ std::string effect_set_key(const std::vector<std::string>& ids) {
 
 namespace {
 
-// True when some pose turns the indenter's approach axis (+z) away from E's: a pose effect (tilt_pivot) is
-// the identity on every other pose, so on a set without tilt it has nothing to fit.
+// True when some pose turns the indenter's approach axis (+z) away from E's (Effect::needs_tilt).
 bool any_tilt(const ResidualInputs& in) {
   constexpr double kTiltRad = 1e-6;
   for (const auto* split : {&in.calibration, &in.validation})
@@ -43,13 +42,13 @@ bool any_tilt(const ResidualInputs& in) {
 }
 
 // Every catalogued effect that can change this data's model: not one that is the identity on this sensor
-// (Effect::acts_on) or a pose effect on a set without tilt (the caller's list when it gives one).
+// (Effect::acts_on) or on a set without tilt (Effect::needs_tilt); the caller's list when it gives one.
 std::vector<std::string> default_candidates(const ResidualInputs& in) {
   std::vector<std::string> out = effect_ids();
   const bool tilted = any_tilt(in);
   std::erase_if(out, [&](const std::string& id) {
     const auto e = make_effect(id);
-    return !e->acts_on(*in.sensor) || (e->acts_on_pose() && !tilted);
+    return !e->acts_on(*in.sensor) || (e->needs_tilt() && !tilted);
   });
   return out;
 }
