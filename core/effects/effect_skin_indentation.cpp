@@ -81,7 +81,8 @@ class SkinIndentation final : public TypedEffect<SkinIndentationParams> {
     for (std::size_t j = 0; sigma > 0.0 && j < n; ++j) {
       double* row = &kernel_[j * n];
       double sum = 0.0;
-      for (std::size_t k = 0; k < n; ++k) sum += row[k] = std::exp(-(p_EM[j] - p_EM[k]).squaredNorm() / (2 * sigma * sigma));
+      for (std::size_t k = 0; k < n; ++k)
+        sum += row[k] = std::exp(-(p_EM[j] - p_EM[k]).squaredNorm() / (2 * sigma * sigma));
       for (std::size_t k = 0; k < n; ++k) row[k] /= sum;
     }
     kernel_for_spread_m_ = sigma;
