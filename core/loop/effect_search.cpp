@@ -184,7 +184,8 @@ std::vector<std::string> EffectSearch::held_of(const std::string& effect, const 
 // ranges instead: kGridPoints per parameter (cell centres) and the start, up to two parameters.
 ParamSet EffectSearch::grid_start(const std::string& model_id, const std::vector<FitStage>& stages,
                                   const ParamSet& start) const {
-  constexpr int kGridPoints = 4, kMaxGridParams = 2;
+  constexpr int kGridPoints = 4;
+  constexpr std::size_t kMaxGridParams = 2;
   std::vector<std::string> names;
   for (const auto& st : stages) names.insert(names.end(), st.params.begin(), st.params.end());
   if (names.empty() || names.size() > kMaxGridParams) return start;
