@@ -42,6 +42,9 @@ struct ParamMap {
   std::vector<int> index;
   std::vector<bool> log;
   std::vector<bool> field_only;  // the model's own table says so (its finite differences replay less)
+  // An effect's parameter on the base's field (EffectModel::acts_after_base): its finite differences replay the
+  // base's remembered field (EffectModel::remember_base_field), so they run first after the central run.
+  std::vector<bool> after_base;
   std::vector<double> lo, hi;
 
   ParamMap(const ParamSet& p, const std::vector<std::string>& names, const std::string& model_id) {
@@ -54,6 +57,7 @@ struct ParamMap {
       index.push_back(i);
       log.push_back(lg);
       field_only.push_back(false);
+      after_base.push_back(false);
       lo.push_back(lg ? std::log(s.min) : s.min);
       hi.push_back(lg ? std::log(s.max) : s.max);
     }
@@ -65,6 +69,21 @@ struct ParamMap {
       const int j = model_table.index_of(p.specs()[index[k]].name);
       field_only[k] = j >= 0 && model_table.specs()[j].field_only;
     }
+  }
+  void mark_after_base(const ShearModel& model, const ParamSet& p) {
+    const auto* effect_model = dynamic_cast<const EffectModel*>(&model);
+    for (int k = 0; k < size(); ++k)
+      after_base[k] = effect_model != nullptr && effect_model->acts_after_base(p.specs()[index[k]].name);
+  }
+  // The finite differences' order: the parameters after the base first (the memo holds the central run's
+  // base field until a column that changes it), then the others as listed.
+  std::vector<int> column_order() const {
+    std::vector<int> order;
+    for (int k = 0; k < size(); ++k)
+      if (after_base[k]) order.push_back(k);
+    for (int k = 0; k < size(); ++k)
+      if (!after_base[k]) order.push_back(k);
+    return order;
   }
   double to_x(int k, double value) const { return log[k] ? std::log(value) : value; }
   std::vector<double> to_x(const ParamSet& p) const {
@@ -117,7 +136,10 @@ class StageEvaluator {
         robust_(robust),
         robust_scale_(robust_scale),
         cancel_(cancel) {
-    for (const auto& s : slots_) n_ += static_cast<int>(s.active->size());
+    for (const auto& s : slots_) {
+      n_ += static_cast<int>(s.active->size());
+      if (auto* effect_model = dynamic_cast<EffectModel*>(s.model)) effect_model->remember_base_field(true);
+    }
     pred_.resize(n_);
     meas_.resize(n_);
     for (const auto& s : slots_) {
@@ -244,12 +266,13 @@ class StageCost final : public ceres::CostFunction {
     if (!central_run(x, residuals)) return cancelled();
     if (!columns) return true;
     std::vector<double> xp(x, x + P), xm(x, x + P), rp(n), rm(n);
-    for (int k = 0; k < P; ++k) {
+    for (const int k : map_->column_order()) {
       const double h = map_->log[k] ? kDiffStepLog
                                     : kDiffStepLinear * std::max(std::abs(x[k]), 0.01 * (map_->hi[k] - map_->lo[k]));
       xp[k] = std::min(x[k] + h, map_->hi[k]);
       xm[k] = std::max(x[k] - h, map_->lo[k]);
-      const auto run = map_->field_only[k] ? StageEvaluator::Run::FromScored : StageEvaluator::Run::Full;
+      const auto run = map_->field_only[k] && !map_->after_base[k] ? StageEvaluator::Run::FromScored
+                                                                   : StageEvaluator::Run::Full;
       // At a bound the difference is one-sided and its side is the central run itself: no second run of the
       // same point (HydroShear's mu sits at its upper bound on the TacTip: one whole-split run per Jacobian).
       if (xp[k] == x[k]) {
@@ -625,6 +648,7 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
 
     ParamMap map(result.params, stage.params, model_id);
     map.mark_field_only(slots.front().model->params(), result.params);
+    map.mark_after_base(*slots.front().model, result.params);
     StageEvaluator ev(std::move(slots), result.params, map, stage.rescale, o.robust, o.robust_scale_px, o.cancel);
     std::vector<double> x = map.to_x(result.params);
     double sse = 0;

@@ -196,6 +196,7 @@ void EffectModel::set_params(const ParamSet& params) {
   base_->set_params(base_params);
   for (std::size_t k = 0; k < effects_.size(); ++k) effects_[k]->set_params(effect_params[k]);
   rebuild_param_table();
+  if (memo_) memo_->set_base_params(base_->params().values());
 }
 
 void EffectModel::reset() {
@@ -206,6 +207,37 @@ void EffectModel::reset() {
   last_penetration_ = Penetration{};
   pending_.reset();
   step_index_ = 0;
+  base_steps_ = 0;
+}
+
+void EffectModel::remember_base_field(bool on) {
+  if (!on) {
+    memo_.reset();
+  } else if (!memo_) {
+    memo_ = std::make_unique<BaseFieldMemo>();
+    memo_->set_base_params(base_->params().values());
+  }
+}
+
+bool EffectModel::acts_after_base(const std::string& param_name) const {
+  return std::any_of(effects_.begin(), effects_.end(), [&](const auto& e) {
+    const std::string prefix = e->id() + kEffectParamSeparator;
+    return !e->acts_on_pose() && param_name.rfind(prefix, 0) == 0;
+  });
+}
+
+// The base's step, or its remembered field. A step the memo cannot answer after some it did finds the base
+// behind: the base is brought up to it first by replaying the remembered poses (they are this run's: every
+// earlier step matched).
+void EffectModel::step_base(std::size_t step, const Pose& X_EI_seen, double dt, FieldOutput* out) {
+  if (memo_ && memo_->replay(step, X_EI_seen, dt, out)) return;
+  if (base_steps_ != step) {
+    base_->reset();
+    for (std::size_t k = 0; k < step; ++k) base_->step(memo_->pose(k), memo_->dt(k), nullptr);
+  }
+  base_->step(X_EI_seen, dt, out);  // throws on a non-finite pose before any state here changes
+  base_steps_ = step + 1;
+  if (memo_) memo_->record(step, X_EI_seen, dt, out);
 }
 
 void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
@@ -215,7 +247,7 @@ void EffectModel::step(const Pose& X_EI, double dt, FieldOutput* out) {
   if (out == nullptr && field_needed) out = &scratch_field_;
   Pose X_EI_seen = X_EI;
   for (const auto& e : effects_) X_EI_seen = e->corrected_pose(X_EI_seen);
-  base_->step(X_EI_seen, dt, out);  // throws on a non-finite pose before any state here changes
+  step_base(step_index_, X_EI_seen, dt, out);
   time_s_ += dt;
   const std::size_t step = step_index_++;
   for (auto& e : effects_)
@@ -269,7 +301,13 @@ const Penetration& EffectModel::last_penetration() const {
 std::unique_ptr<ShearModel> EffectModel::clone() const {
   std::vector<std::unique_ptr<Effect>> effects;
   for (const auto& e : effects_) effects.push_back(e->clone());
-  auto copy = std::make_unique<EffectModel>(base_->clone(), std::move(effects), sensor_, indenter_);
+  // A base behind its memo's replays is brought up to this step first (the copy has no memo to replay from).
+  std::unique_ptr<ShearModel> base = base_->clone();
+  if (base_steps_ != step_index_) {
+    base->reset();
+    for (std::size_t k = 0; k < step_index_; ++k) base->step(memo_->pose(k), memo_->dt(k), nullptr);
+  }
+  auto copy = std::make_unique<EffectModel>(std::move(base), std::move(effects), sensor_, indenter_);
   copy->time_s_ = time_s_;
   copy->previous_depth_m_ = previous_depth_m_;
   copy->last_penetration_ = last_penetration_;
@@ -277,6 +315,7 @@ std::unique_ptr<ShearModel> EffectModel::clone() const {
   // Not the penetration cache: it only saves time, gives identical results when rebuilt, and grows with the
   // steps taken, so copying it made the workbench's checkpoints (a clone every 16 steps) cost O(path) each.
   copy->step_index_ = step_index_;
+  copy->base_steps_ = step_index_;
   return copy;
 }
 

@@ -13,6 +13,7 @@
 
 #include "core/base/params.hpp"
 #include "core/base/typed_params.hpp"
+#include "core/effects/base_field_memo.hpp"
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
 #include "core/sensor/sensor.hpp"
@@ -135,6 +136,14 @@ class EffectModel final : public ShearModel {
   std::vector<std::string> effect_ids() const;
   // The context of the last step (for diagnostics and the GUI).
   const Penetration& last_penetration() const;
+  // On: the base's field at every step is remembered (BaseFieldMemo), and a later run with the same base
+  // parameters over the same corrected poses replays it instead of stepping the base: a fit's finite difference
+  // in an effect's parameter then costs the effects alone. Replayed steps carry no diagnostics (p_EP, anchors,
+  // point states), so only fits turn it on. Off by default; clones start with it off.
+  void remember_base_field(bool on);
+  // True for a parameter of an effect here that acts on the base's field (not on the pose the base sees): the
+  // base's field does not depend on it.
+  bool acts_after_base(const std::string& param_name) const;
 
  private:
   void rebuild_param_table();
@@ -153,7 +162,10 @@ class EffectModel final : public ShearModel {
   const Penetration& penetration_at(std::size_t step, const Pose& X_EI) const;
   std::size_t step_index_ = 0;                                           // steps since reset()
   mutable std::vector<std::pair<Pose, Penetration>> penetration_cache_;  // per step index: pose and its penetration
-  FieldOutput scratch_field_;  // a stateful effect's field when none is wanted
+  FieldOutput scratch_field_;            // a stateful effect's field when none is wanted
+  std::unique_ptr<BaseFieldMemo> memo_;  // remember_base_field
+  std::size_t base_steps_ = 0;           // steps the base itself has taken since reset() (fewer after replays)
+  void step_base(std::size_t step, const Pose& X_EI_seen, double dt, FieldOutput* out);
 };
 
 // True when one of `effect_ids` corrects the pose (Effect::acts_on_pose): the base must run under it, a

@@ -280,6 +280,39 @@ void EffectSearch::add_verdict(const std::string& candidate, const std::vector<s
   ef->fit.model_form_symptom = true;
 }
 
+std::vector<std::string> EffectSearch::shaping_held(const std::vector<std::string>& warm) const {
+  if (!any_acts_on_pose(warm)) return {};
+  const ParamSet form_table = model_spec_params(form_);
+  std::vector<std::string> held;
+  for (const auto& name : form_free_)
+    if (!form_table.specs()[static_cast<std::size_t>(form_table.index_of(name))].field_only) held.push_back(name);
+  const ParamSet& warm_params = fits_.at(effect_set_key(warm)).fit.params;
+  for (const auto& id : warm)
+    if (any_acts_on_pose({id})) {
+      const auto names = effect_fit_params(warm_params, id);
+      held.insert(held.end(), names.begin(), names.end());
+    }
+  return held;
+}
+
+std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string>& selected) {
+  if (selected.empty()) return std::nullopt;
+  const std::vector<std::string> warm(selected.begin(), selected.end() - 1);
+  if (shaping_held(warm).empty()) return std::nullopt;
+  const auto t0 = std::chrono::steady_clock::now();
+  const EffectFit& rounds_fit = fits_.at(effect_set_key(selected));
+  std::vector<std::string> joint = form_free_;
+  for (const auto& id : selected) {
+    const auto free = without(effect_fit_params(rounds_fit.fit.params, id), held_of(id, "", {}));
+    joint.insert(joint.end(), free.begin(), free.end());
+  }
+  progress("final joint refit " + form_ + "+" + effect_set_key(selected));
+  EffectFit ef = joint_refit(selected, joint, rounds_fit.fit.params);
+  ef.fit.fingerprint = rounds_fit.fit.fingerprint;
+  ef.time_s = seconds_since(t0);
+  return ef;
+}
+
 FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
   const std::string key = effect_set_key(ids);
   if (auto it = fits_.find(key); it != fits_.end()) return it->second.fit;
@@ -296,9 +329,10 @@ FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
     if (fp && fp->consistent) held_now = hold_fingerprint(candidate, *fp, &start.params);
   }
   std::vector<FitStage> stages;
-  std::vector<std::string> joint = form_free_;
+  const std::vector<std::string> shaping = shaping_held(start.warm);
+  std::vector<std::string> joint = without(form_free_, shaping);
   for (const auto& id : ids) {
-    const auto free = without(effect_fit_params(start.params, id), held_of(id, candidate, held_now));
+    const auto free = without(without(effect_fit_params(start.params, id), held_of(id, candidate, held_now)), shaping);
     joint.insert(joint.end(), free.begin(), free.end());
     if (std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end() && !free.empty())
       stages.push_back({"effect:" + id, free, tsd_motions(), false, {}});
@@ -308,9 +342,10 @@ FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
   const std::size_t free_count = ef.fit.free_params - fits_.at(effect_set_key(start.warm)).fit.free_params;
   std::string screen_note;
   const bool refit = promising(ef, effect_set_key(start.warm), fp, &screen_note);
-  if (refit && joint.size() > free_count)
+  if (refit && joint.size() > free_count) {
     ef = joint_refit(ids, joint, ef.fit.params);
-  else if (joint.size() > free_count && !fp)
+    ef.fit.free_params += shaping.size();  // fitted all the same, in an earlier round
+  } else if (joint.size() > free_count && !fp)
     ef.fit.veto = screen_note;
   add_verdict(candidate, held_now, fp, &ef);
   ef.fit.fingerprint = fp;

@@ -27,6 +27,10 @@ class EffectSearch {
   // select_effects' FitAndScore: the set `ids` fitted on top of the form and scored (cached by set).
   FitResult fit_and_score(const std::vector<std::string>& ids);
   std::map<std::string, EffectFit> take_fits() { return std::move(fits_); }
+  // The selected set fitted once more with every parameter free (the form's and all effects' but those a
+  // fingerprint settled) when its rounds held what shapes the form's field (shaping_held); nullopt otherwise:
+  // the set's own fit already is the joint one.
+  std::optional<EffectFit> final_refit(const std::vector<std::string>& selected);
 
  private:
   struct Recording {
@@ -47,6 +51,11 @@ class EffectSearch {
   std::vector<std::string> hold_fingerprint(const std::string& candidate, const FingerprintCheck& fp, ParamSet* start);
   std::vector<std::string> held_of(const std::string& effect, const std::string& candidate,
                                    const std::vector<std::string>& held_now) const;
+  // Once a pose effect is selected, every run of a joint refit that moves the form's state (its parameters
+  // that are not field-only) or a pose reruns the form over every sample's whole path: in the rounds after it
+  // these stay at the warm fit's values (the pose effect was fitted jointly with the form in its own round),
+  // and the final refit frees them. Empty while `warm` has no pose effect.
+  std::vector<std::string> shaping_held(const std::vector<std::string>& warm) const;
   ParamSet grid_start(const std::string& model_id, const std::vector<FitStage>& stages, const ParamSet& start) const;
   EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,

@@ -141,17 +141,19 @@ EffectRounds ResidualLoop::effect_rounds(const std::string& form, const EffectFi
   rounds.form = form;
   rounds.selection = select_effects(
       candidates_, [&](const std::vector<std::string>& ids) { return search.fit_and_score(ids); }, o_.selection);
+  rounds.final_refit = search.final_refit(rounds.selection.selected);
   rounds.fits = search.take_fits();
   return rounds;
 }
 
 // Step 4: the form plus the selected effects. Every selected set was fitted jointly with the form in the
 // rounds (a set is accepted only after its joint refit, or when the form is not fitted), so its fit is the
-// final model's.
+// final model's; after a pose effect the rounds held the form's state and the pose, and the final refit
+// (step 3's last act) freed them.
 FinalModel ResidualLoop::final_fit(const EffectRounds& rounds) const {
-  FinalModel m{ModelSpec{rounds.form, rounds.selection.selected}.id(),
-               rounds.fits.at(effect_set_key(rounds.selection.selected))};
-  return m;
+  if (rounds.final_refit) return {ModelSpec{rounds.form, rounds.selection.selected}.id(), *rounds.final_refit};
+  return {ModelSpec{rounds.form, rounds.selection.selected}.id(),
+          rounds.fits.at(effect_set_key(rounds.selection.selected))};
 }
 
 // Step 5: the residual structure of a model over every sample (calibration + validation).

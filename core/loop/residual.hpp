@@ -82,6 +82,9 @@ struct EffectRounds {
   std::string form;  // the model the effects wrap: the selected form, else the base
   SelectionResult selection;
   std::map<std::string, EffectFit> fits;  // keyed by effect_set_key ("" = the form as fitted)
+  // The selected set fitted with everything free once more, when the rounds after a pose effect held the form's
+  // state and the pose (EffectSearch::final_refit); empty when the selected set's fit already was joint.
+  std::optional<EffectFit> final_refit;
 };
 
 // Step 4's output: the loop's answer.

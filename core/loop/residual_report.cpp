@@ -234,6 +234,7 @@ std::string slug(const std::string& s) {
 
 // Tables: three decimals, a dash where a value is missing.
 std::string f3(double v) { return format_number(v, "%.3f", "–"); }
+double rmse_of(const EffectFit& f) { return f.validation.overall.result().rmse_px; }
 
 // The contact-frame tables: where (relative to the contact edge, ahead of or behind the travel), when
 // (phase) and under which load the model is wrong, and in which direction.
@@ -328,6 +329,11 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
     }
   }
   j["effects_on"] = r.effects.form;
+  if (r.effects.final_refit) {
+    j["final_refit"] = {{"rounds_rmse_px", rmse_of(r.effects.fits.at(effect_set_key(r.effects.selection.selected)))},
+                        {"refit_rmse_px", rmse_of(*r.effects.final_refit)},
+                        {"time_s", r.effects.final_refit->time_s}};
+  }
   j["effects_reference"] = metrics_json(r.effects.fits.at(""));
   nlohmann::ordered_json cands = nlohmann::ordered_json::array(), symptoms = nlohmann::ordered_json::array(),
                          rounds = nlohmann::ordered_json::array();
@@ -428,7 +434,15 @@ std::string held_note(const ModelFormRound& m) {
          f3(m.joint_rmse_px) + " px when the joint refinement moves them too)";
 }
 
-double rmse_of(const EffectFit& f) { return f.validation.overall.result().rmse_px; }
+// After a pose effect the rounds held the form's state and the pose; the answer is the final joint refit.
+std::string final_refit_note(const EffectRounds& e) {
+  if (!e.final_refit) return "";
+  const EffectFit& rounds_fit = e.fits.at(effect_set_key(e.selection.selected));
+  return "\n- fitted jointly once more after the rounds (they held the form's state and the pose effect's "
+         "parameters after its round): validation " +
+         f3(rmse_of(rounds_fit)) + " px as the rounds fitted it, " + f3(rmse_of(*e.final_refit)) +
+         " px refitted (the answer's)";
+}
 
 // The answer first: the model the loop ends with, and how it got there.
 std::string answer_markdown(const ResidualReport& r) {
@@ -444,7 +458,7 @@ std::string answer_markdown(const ResidualReport& r) {
   md += "- effects on " + r.effects.form + ": " +
         (r.effects.selection.selected.empty() ? std::string("none selected")
                                               : effect_set_key(r.effects.selection.selected)) +
-        "\n\nLoad it anywhere as `--model " + r.after_model +
+        final_refit_note(r.effects) + "\n\nLoad it anywhere as `--model " + r.after_model +
         "` with the parameter file written beside this report "
         "(`--params`), or open this report in the workbench.\n\n";
   return md;
