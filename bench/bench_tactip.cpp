@@ -1,10 +1,12 @@
 // The real TacTip path (the goals: each model fitted on the whole calibration split within 5 min on 2
 // cores): one sample's steps (the press, the slide, the one scored frame), a whole-split evaluation, and the
 // fit of every model as `params --rebuild --set tactip_shear` runs it (its stages, then the joint refinement,
-// at most 10 iterations per stage). Needs the data root ($SHEARBENCH_DATA or ../shared/data); the import
+// at most 10 iterations per stage), the fit of the loop's answer, and the whole loop without its model-form round.
+// Needs the data root ($SHEARBENCH_DATA or ../shared/data); the import
 // (about 45 s) is kept in $TMPDIR/shearbench_bench_tactip and reused.
 // Run: ./build/shearbench_bench --benchmark_filter=Tactip
 //      ./build/shearbench_bench --benchmark_filter='Tactip(Fit|Evaluate)' --benchmark_min_time=1x   (minutes)
+//      ./build/shearbench_bench --benchmark_filter=TactipLoop   (about an hour)
 
 #include <benchmark/benchmark.h>
 
@@ -15,18 +17,20 @@
 #include "core/base/data_root.hpp"
 #include "core/calibration/fit.hpp"
 #include "core/calibration/fit_data.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/data/importers.hpp"
 #include "core/data/tsd.hpp"
 #include "core/effects/model_spec.hpp"
+#include "core/loop/residual.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-// The import of raw/tactip_shear and its calibration split, loaded once per process.
-const sb::FitData& tactip_calibration() {
+// The import of raw/tactip_shear (made once, kept in $TMPDIR).
+const sb::Dataset& tactip_dataset() {
   static std::once_flag once;
-  static std::unique_ptr<sb::FitData> data;
+  static std::unique_ptr<sb::Dataset> ds;
   std::call_once(once, [] {
     const std::string root = sb::resolve_data_root();
     const fs::path dir = fs::temp_directory_path() / "shearbench_bench_tactip";
@@ -34,9 +38,33 @@ const sb::FitData& tactip_calibration() {
       fs::remove_all(dir);
       sb::import_tactip_shear((fs::path(root) / "raw" / "tactip_shear").string(), dir.string());
     }
-    data = std::make_unique<sb::FitData>(sb::load_calibration_data(sb::read_dataset(dir.string()), root));
+    ds = std::make_unique<sb::Dataset>(sb::read_dataset(dir.string()));
+  });
+  return *ds;
+}
+
+// Its calibration split, loaded once per process.
+const sb::FitData& tactip_calibration() {
+  static std::once_flag once;
+  static std::unique_ptr<sb::FitData> data;
+  std::call_once(once, [] {
+    data = std::make_unique<sb::FitData>(sb::load_calibration_data(tactip_dataset(), sb::resolve_data_root()));
   });
   return *data;
+}
+
+// Its validation split (999 samples), loaded once per process.
+const std::vector<sb::FitSample>& tactip_validation() {
+  static std::once_flag once;
+  static std::vector<sb::FitSample> samples;
+  std::call_once(once, [] {
+    const sb::Dataset& ds = tactip_dataset();
+    const auto indenters = sb::dataset_indenters(ds, sb::resolve_data_root(), "validation");
+    for (const auto& info : ds.samples)
+      if (info.split == "validation")
+        samples.push_back(sb::to_fit_sample(info, sb::read_sample(ds, info.id), indenters.at(info.indenter)));
+  });
+  return samples;
 }
 
 // One sample's whole path (frames 0..11: above, pressed, the slide; only the last is scored) under HydroShear.
@@ -83,5 +111,35 @@ BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))
     ->UseRealTime()
     ->Iterations(1);
 BENCHMARK_CAPTURE(BM_TactipFit, tacsl, std::string("tacsl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
+// The model the loop answers with on this set (docs/residuals/real_tactip_loop), from its defaults: the pose
+// effect's columns rerun HydroShear, the field effects' replay its remembered field (BaseFieldMemo).
+BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_tool_frame_dome_sway_skin_indentation,
+                  std::string("hydroshear+tool_frame+dome_sway+skin_indentation"))
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
+
+// The whole residual loop as `shearbench residual --dataset <import> --model hydroshear --no-model-forms
+// --max-iterations 10` runs it: HydroShear fitted from the shipped set's values, the default candidates in
+// greedy rounds, the final joint refit, the residual structure. Goal (issue 32): 20 min with the model-form
+// round; this one is without it.
+void BM_TactipLoop(benchmark::State& state) {
+  sb::ResidualInputs in;
+  in.dataset = "tactip_shear";
+  in.model_id = "hydroshear";
+  in.sensor = tactip_calibration().sensor;
+  in.calibration = tactip_calibration().samples;
+  in.validation = tactip_validation();
+  in.base_params = sb::load_param_set("tactip_shear").params("hydroshear");
+  sb::ResidualOptions o;
+  o.max_iterations = 10;
+  o.model_forms = false;
+  for (auto _ : state) {
+    const sb::ResidualReport r = sb::run_residual_loop(in, o);
+    state.SetLabel(r.after_model);
+    state.counters["validation_rmse_px"] = r.after.validation.overall.result().rmse_px;
+  }
+}
+BENCHMARK(BM_TactipLoop)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
 
 }  // namespace
