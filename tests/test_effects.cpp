@@ -596,6 +596,20 @@ TEST_CASE("dome_sway: a normal load off the apex of a dome pushes the tip away, 
   constexpr double kFdNormalTolPx = 2e-6;
   CHECK((d[0] - Vec2(apex_px, 0.0)).norm() < kFdNormalTolPx);
   CHECK((d[1] - Vec2(std::cos(std::numbers::pi / 4) * apex_px, 0.0)).norm() < kFdNormalTolPx);
+  SECTION("the tip turns towards the load about a point on its axis") {
+    // No shift; r = 4 mrad per unit load, centre 20 mm below the apex. The load (-4/sqrt 5, 0) turns the tip by
+    // theta = 0.016/sqrt(5) = 0.0071554175 rad about -y (z x load = (0, -4/sqrt 5, 0)): p - c = (x, 0, z) goes to
+    // (x cos theta - z sin theta, 0, ...). Apex (0, 0, 20) mm: dx = -20 sin theta mm = -2.2572102 px; the pin at
+    // 45 deg, (14.142136, 0, 14.142136) mm: dx = 14.142136 (cos theta - 1 - sin theta) mm = -1.6017990 px.
+    p.set("compliance_m", 0.0);
+    p.set("rotation_rad", 0.004);
+    p.set("centre_depth_m", 0.02);
+    e->set_params(p);
+    std::vector<Vec2> t(2, Vec2::Zero());
+    e->apply(ctx, t);
+    CHECK((t[0] - Vec2(-2.2572102, 0.0)).norm() < kFdNormalTolPx);
+    CHECK((t[1] - Vec2(-1.6017990, 0.0)).norm() < kFdNormalTolPx);
+  }
   SECTION("no compliance, no contact: the identity") {
     std::vector<Vec2> z(2, Vec2(1.0, 2.0));
     p.set("compliance_m", 0.0);

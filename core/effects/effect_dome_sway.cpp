@@ -27,7 +27,7 @@ double rim_polar_rad(const GelSpec& gel) {
 }
 
 struct DomeSwayParams {
-  double compliance_m = 0, friction = 0, load_exponent = 0, stick_travel_m = 0;
+  double compliance_m = 0, friction = 0, load_exponent = 0, stick_travel_m = 0, rotation_rad = 0, centre_depth_m = 0;
 };
 
 const ParamFields<DomeSwayParams>& dome_sway_fields() {
@@ -41,6 +41,13 @@ const ParamFields<DomeSwayParams>& dome_sway_fields() {
        &DomeSwayParams::load_exponent},
       {{"stick_travel_m", "m", 3e-4, 1e-5, 3e-3, "slide in contact after which the skin fully slips"},
        &DomeSwayParams::stick_travel_m},
+      {{"rotation_rad", "rad", 0.0, 0.0, 0.005,
+        "the tip's turn per unit lateral load, towards the load (a bent post's top tilts as it deflects)"},
+       &DomeSwayParams::rotation_rad},
+      {{"centre_depth_m", "m", 0.02, 0.0, 0.05,
+        "depth below the apex of the point on the axis the tip turns about (the rim's clamp of a hemisphere: its "
+        "radius)"},
+       &DomeSwayParams::centre_depth_m},
   };
   return fields;
 }
@@ -49,7 +56,9 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
  public:
   // Ranges: the apex shift per unit load from none to 2 mm (the whole 4-5 mm deep TacTip press moves the field by
   // ~1 mm); an effective sliding friction up to 3 (silicone on a rough plate); the load's growth with depth
-  // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm.
+  // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm; the
+  // turn per unit load from none to 5 mrad (0.3 deg: at the TacTip's deepest presses, load ~ 50, 14 deg); its
+  // centre from the apex down to 2.5 dome radii (the tip's body below the skin's clamp).
   DomeSway() : TypedEffect(dome_sway_fields()) {}
 
   std::string id() const override { return "dome_sway"; }
@@ -59,7 +68,10 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
            "w = cos(pi/2 theta / theta_rim), theta the pin's polar angle. The normal load ~ delta^q pushes along the "
            "skin's normal at the contact (its lateral part -n_xy: a tilted flat on a dome); sliding friction adds "
            "mu times it along the slide s (|s| <= 1: the travel in contact over the stick length, clipped as the "
-           "contact slips). Kernel models of a half-space (HydroShear, FOTS, TacSL) have no such global mode.";
+           "contact slips). The tip also turns towards the load about a point on its axis at depth z_c below the "
+           "apex: every pin tip p goes to c + Rot(omega)(p - c), omega = r (delta / 1 mm)^q z x (mu s - n_xy) (a bent "
+           "post's top tilts as it deflects; with the rim clamped, the turn rocks the whole skin). Kernel models of a "
+           "half-space (HydroShear, FOTS, TacSL) have no such global mode.";
   }
   bool observes_steps() const override { return true; }
   void reset() override {
@@ -82,7 +94,7 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
     const double c = v().compliance_m;
-    if (c == 0.0 || !ctx.in_contact || ctx.depth_m <= 0.0) return;
+    if ((c == 0.0 && v().rotation_rad == 0.0) || !ctx.in_contact || ctx.depth_m <= 0.0) return;
     require_marker_count(ctx, disp_px, "dome_sway");
     const Sensor& s = *ctx.sensor;
     const Vec3 n_contact = surface_normal_near(*s.gel_sdf, Vec3(ctx.contact_centre_E.x(), ctx.contact_centre_E.y(), 0));
@@ -90,13 +102,24 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
     const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, v().load_exponent) *
                       (v().friction * slide - n_contact.head<2>());
     const Vec3 u_apex(c * load.x(), c * load.y(), 0.0);
+    const Eigen::AngleAxisd turn = turn_towards(load);
+    const Vec3 centre_E(0.0, 0.0, -v().centre_depth_m);
     cache_pins(s);
-    for (std::size_t j = 0; j < disp_px.size(); ++j)
-      disp_px[j] += s.camera.project(tips_E_[j] + weights_[j] * u_apex) - s.camera.project(tips_E_[j]);
+    for (std::size_t j = 0; j < disp_px.size(); ++j) {
+      const Vec3 turned_E = centre_E + turn * (tips_E_[j] - centre_E);
+      disp_px[j] += s.camera.project(turned_E + weights_[j] * u_apex) - s.camera.project(tips_E_[j]);
+    }
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<DomeSway>(*this); }
 
  private:
+  // omega = r z x load: about the horizontal axis across the load, by r |load| (the identity without a load).
+  Eigen::AngleAxisd turn_towards(const Vec2& load) const {
+    const Vec3 omega = v().rotation_rad * Vec3(-load.y(), load.x(), 0.0);
+    const double angle = omega.norm();
+    return angle > 0.0 ? Eigen::AngleAxisd(angle, omega / angle) : Eigen::AngleAxisd(0.0, Vec3::UnitZ());
+  }
+
   // The pins' tips and profile weights depend on the sensor alone: computed once per sensor, not per field (a
   // fit applies the effect at every scored frame of every sample, hundreds of times).
   void cache_pins(const Sensor& s) {
