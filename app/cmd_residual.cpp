@@ -29,6 +29,7 @@ struct ResidualArgs {
   std::vector<std::string> validation_ids;  // with calibration_ids: only these validate (a fixed subset of a large set)
   int max_iterations = 30;
   int resamples = 2000;
+  std::size_t max_effects = SelectionOptions{}.max_effects;
   bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
@@ -66,6 +67,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   ResidualOptions o;
   o.max_iterations = a.max_iterations;
   o.selection.bootstrap_resamples = a.resamples;
+  o.selection.max_effects = a.max_effects;
   o.candidates = a.effects;
   o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
@@ -131,6 +133,8 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
       ->delimiter(',');
   sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
+  sub.add_option("--max-effects", a.max_effects, "greedy rounds: at most this many effects are selected")
+      ->check(CLI::Range(1, 10));
   sub.add_flag(
       "--no-model-forms", a.no_model_forms,
       "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "
