@@ -48,7 +48,9 @@ int main(int argc, char** argv) {
   try {
     cli.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return cli.exit(e);
+    // A bad flag is bad input: exit 2 like every other (CLI11's own codes, 100-120, were undocumented); --help
+    // and --version stay 0.
+    return cli.exit(e) == 0 ? 0 : 2;
   }
   sb::set_home_flag(global.home_flag);
 

@@ -24,6 +24,10 @@ expect "\-\-hold.*lambda_x: no stage of hydroshear fits it" "$exe" fit --dataset
 expect "\-\-model.*unknown effect 'wobble'" "$exe" simulate --scene "$work/broken_scene.json" --model hydroshear+wobble --out "$work/out"
 expect "\-\-model.*unknown model id 'hydroshear-nope'" "$exe" evaluate --dataset "$work/nope" --model hydroshear-nope+lens_distortion --json "$work/e.json"
 expect "\-\-predictions.*one --model" "$exe" evaluate --dataset "$work/nope" --model all --predictions "$work/p.csv" --json "$work/e.json"
+# residual: the greedy rounds' count outside 1..10, refused before any dataset is read.
+expect "\-\-max-effects.*0" "$exe" residual --dataset "$work/nope" --model hydroshear --max-effects 0 --json "$work/r.json" \
+  --report "$work/r.md"
+[[ ! -e "$work/r.json" ]] || { echo "FAIL: the refused residual run wrote $work/r.json"; fail=1; }
 # inject: an unknown effect, a value outside its range, and never into a folder that holds a dataset.
 expect "\-\-effect.*unknown effect 'wobble'" "$exe" inject --dataset data:twin/twin_sphere8 --effect wobble --out "$work/inj"
 expect "\-\-set.*tau_s.*range" "$exe" inject --dataset data:twin/twin_sphere8 --effect viscoelastic_creep --set tau_s=99 --out "$work/inj"
