@@ -136,9 +136,11 @@ class StageEvaluator {
         robust_(robust),
         robust_scale_(robust_scale),
         cancel_(cancel) {
+    // The memo only pays where a column replays it: elsewhere it would copy every run's field for nothing.
+    const bool replayed = std::find(map.after_base.begin(), map.after_base.end(), true) != map.after_base.end();
     for (const auto& s : slots_) {
       n_ += static_cast<int>(s.active->size());
-      if (auto* effect_model = dynamic_cast<EffectModel*>(s.model)) effect_model->remember_base_field(true);
+      if (auto* effect_model = dynamic_cast<EffectModel*>(s.model)) effect_model->remember_base_field(replayed);
     }
     pred_.resize(n_);
     meas_.resize(n_);
