@@ -30,6 +30,7 @@ struct ResidualArgs {
   int max_iterations = 30;
   int resamples = 2000;
   std::size_t max_effects = SelectionOptions{}.max_effects;
+  std::size_t joint_refits = ResidualOptions{}.joint_refits_per_round;
   bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
@@ -68,6 +69,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   o.max_iterations = a.max_iterations;
   o.selection.bootstrap_resamples = a.resamples;
   o.selection.max_effects = a.max_effects;
+  o.joint_refits_per_round = a.joint_refits;
   o.candidates = a.effects;
   o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
@@ -135,6 +137,9 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
   sub.add_option("--max-effects", a.max_effects, "greedy rounds: at most this many effects are selected")
       ->check(CLI::Range(1, 10));
+  sub.add_option("--joint-refits", a.joint_refits,
+                 "per round, the candidates (best alone first) refitted jointly with the form; the rest are screened")
+      ->check(CLI::Range(1, 100));
   sub.add_flag(
       "--no-model-forms", a.no_model_forms,
       "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "

@@ -610,6 +610,40 @@ TEST_CASE("dome_sway: a normal load off the apex of a dome pushes the tip away, 
     CHECK((t[0] - Vec2(-2.2572102, 0.0)).norm() < kFdNormalTolPx);
     CHECK((t[1] - Vec2(-1.6017990, 0.0)).norm() < kFdNormalTolPx);
   }
+  SECTION("friction off the axis, or a twisting contact, twists the dome about its axis") {
+    // No shift, no turn; k = 1 mrad per unit torque, mu = 1, load 4 (2 mm, q = 2), stick 0.3 mm.
+    // Slid 0.1 mm along y with the contact centre at (10, 0) mm: s = (0, 1/3), torque 4 (10 x 1/3) = 13.333333,
+    // twist 0.0133333 rad; the apex pin is on the axis (still), the 45 deg pin at 14.142136 mm turns by
+    // cos(pi/4) of it, a = 0.0094280904 rad: dx = 14.142136 (cos a - 1) mm = -0.0099137966 px,
+    // dy = 14.142136 sin a mm = 2.1030183 px.
+    p.set("compliance_m", 0.0);
+    p.set("torsion_rad", 0.001);
+    e->set_params(p);
+    Penetration pen;
+    pen.penetrating = true;
+    pen.depth_m = 0.002;
+    Pose X = Pose::Identity();
+    e->observe_step(X, pen);
+    X.translation() = Vec3(0.0, 1e-4, 0.0);
+    e->observe_step(X, pen);
+    std::vector<Vec2> t(2, Vec2::Zero());
+    e->apply(ctx, t);
+    CHECK(t[0].norm() < kFdNormalTolPx);
+    CHECK((t[1] - Vec2(-0.0099137966, 2.1030183)).norm() < kFdNormalTolPx);
+    // Turned 2 mrad in place at the axis: the contact's mean lever on the cap rho = 2/3 sqrt(2 R delta) =
+    // 5.9628479 mm, its arc 0.011926 mm of the 0.3 mm stick (s_psi = 0.039752320), torque 4 rho s_psi = 0.94814815:
+    // the 45 deg pin moves dx = -5.0132358e-5 px, dy = 0.14955017 px.
+    e->reset();
+    ctx.contact_centre_E = Vec2::Zero();
+    e->observe_step(Pose::Identity(), pen);
+    X = Pose::Identity();
+    X.linear() = Eigen::AngleAxisd(0.002, Vec3::UnitZ()).toRotationMatrix();
+    e->observe_step(X, pen);
+    std::vector<Vec2> w(2, Vec2::Zero());
+    e->apply(ctx, w);
+    CHECK(w[0].norm() < kFdNormalTolPx);
+    CHECK((w[1] - Vec2(-5.0132358e-5, 0.14955017)).norm() < kFdNormalTolPx);
+  }
   SECTION("no compliance, no contact: the identity") {
     std::vector<Vec2> z(2, Vec2(1.0, 2.0));
     p.set("compliance_m", 0.0);

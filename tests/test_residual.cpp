@@ -6,6 +6,7 @@
 #include "temp_path.hpp"
 #include "test_poses.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>

@@ -27,7 +27,8 @@ double rim_polar_rad(const GelSpec& gel) {
 }
 
 struct DomeSwayParams {
-  double compliance_m = 0, friction = 0, load_exponent = 0, stick_travel_m = 0, rotation_rad = 0, centre_depth_m = 0;
+  double compliance_m = 0, friction = 0, load_exponent = 0, stick_travel_m = 0, rotation_rad = 0, centre_depth_m = 0,
+         torsion_rad = 0;
 };
 
 const ParamFields<DomeSwayParams>& dome_sway_fields() {
@@ -48,6 +49,10 @@ const ParamFields<DomeSwayParams>& dome_sway_fields() {
         "depth below the apex of the point on the axis the tip turns about (the rim's clamp of a hemisphere: its "
         "radius)"},
        &DomeSwayParams::centre_depth_m},
+      {{"torsion_rad", "rad", 0.0, 0.0, 0.002,
+        "the tip's twist about its axis per unit torque (unit load x 1 mm): friction at a contact off the axis, or "
+        "a twisting contact, winds the dome up"},
+       &DomeSwayParams::torsion_rad},
   };
   return fields;
 }
@@ -58,7 +63,8 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
   // ~1 mm); an effective sliding friction up to 3 (silicone on a rough plate); the load's growth with depth
   // between a line contact's (1/2) and three times a cylinder's (1); the stick length from 10 um to 3 mm; the
   // turn per unit load from none to 5 mrad (0.3 deg: at the TacTip's deepest presses, load ~ 50, 14 deg); its
-  // centre from the apex down to 2.5 dome radii (the tip's body below the skin's clamp).
+  // centre from the apex down to 2.5 dome radii (the tip's body below the skin's clamp); the twist per unit torque
+  // from none to 2 mrad (the TacTip's deepest tilted slides, torque ~ 25 x 10 mm, 0.5 rad at most).
   DomeSway() : TypedEffect(dome_sway_fields()) {}
 
   std::string id() const override { return "dome_sway"; }
@@ -70,13 +76,20 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
            "mu times it along the slide s (|s| <= 1: the travel in contact over the stick length, clipped as the "
            "contact slips). The tip also turns towards the load about a point on its axis at depth z_c below the "
            "apex: every pin tip p goes to c + Rot(omega)(p - c), omega = r (delta / 1 mm)^q z x (mu s - n_xy) (a bent "
-           "post's top tilts as it deflects; with the rim clamped, the turn rocks the whole skin). Kernel models of a "
-           "half-space (HydroShear, FOTS, TacSL) have no such global mode.";
+           "post's top tilts as it deflects; with the rim clamped, the turn rocks the whole skin). The friction's "
+           "torque "
+           "about the axis twists the dome: tau = (delta / 1 mm)^q mu ((p_c x s)_z + rho s_psi) / 1 mm, p_c the "
+           "contact's centre, rho = 2a/3 the mean lever of a flat's contact on the cap (a = sqrt(2 R delta)), s_psi "
+           "the "
+           "indenter's turn in contact times rho over the stick length (clipped like s); each pin turns about the axis "
+           "by w(theta) k tau. Kernel models of a half-space (HydroShear, FOTS, TacSL) have no such global mode.";
   }
   bool observes_steps() const override { return true; }
   void reset() override {
     travel_E_ = Vec2::Zero();
     last_xy_E_.reset();
+    turn_rad_ = 0.0;
+    last_yaw_.reset();
   }
 
   // The slide s: the indenter's travel in contact, the anchor dragged along once it exceeds the stick length.
@@ -90,24 +103,32 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
     last_xy_E_ = xy;
     const double t0 = v().stick_travel_m;
     if (travel_E_.norm() > t0) travel_E_ *= t0 / travel_E_.norm();
+    // The indenter's turn about z_E in contact (apply clips its arc at the contact's mean lever at t0).
+    const Mat3 R = X_EI.linear();
+    const double yaw = std::atan2(R(1, 0), R(0, 0));
+    if (last_yaw_) turn_rad_ += std::remainder(yaw - *last_yaw_, 2.0 * std::numbers::pi);
+    last_yaw_ = yaw;
   }
 
   void apply(const EffectContext& ctx, std::vector<Vec2>& disp_px) override {
     const double c = v().compliance_m;
-    if ((c == 0.0 && v().rotation_rad == 0.0) || !ctx.in_contact || ctx.depth_m <= 0.0) return;
+    if ((c == 0.0 && v().rotation_rad == 0.0 && v().torsion_rad == 0.0) || !ctx.in_contact || ctx.depth_m <= 0.0)
+      return;
     require_marker_count(ctx, disp_px, "dome_sway");
     const Sensor& s = *ctx.sensor;
     const Vec3 n_contact = surface_normal_near(*s.gel_sdf, Vec3(ctx.contact_centre_E.x(), ctx.contact_centre_E.y(), 0));
     const Vec2 slide = travel_E_ / v().stick_travel_m;
-    const Vec2 load = std::pow(ctx.depth_m / kReferenceDepthM, v().load_exponent) *
-                      (v().friction * slide - n_contact.head<2>());
+    const double normal_load = std::pow(ctx.depth_m / kReferenceDepthM, v().load_exponent);
+    const Vec2 load = normal_load * (v().friction * slide - n_contact.head<2>());
     const Vec3 u_apex(c * load.x(), c * load.y(), 0.0);
     const Eigen::AngleAxisd turn = turn_towards(load);
+    const double twist = v().torsion_rad * normal_load * v().friction * torque_lever(ctx, slide, s.gel);
     const Vec3 centre_E(0.0, 0.0, -v().centre_depth_m);
     cache_pins(s);
     for (std::size_t j = 0; j < disp_px.size(); ++j) {
       const Vec3 turned_E = centre_E + turn * (tips_E_[j] - centre_E);
-      disp_px[j] += s.camera.project(turned_E + weights_[j] * u_apex) - s.camera.project(tips_E_[j]);
+      const Vec3 twisted_E = Eigen::AngleAxisd(weights_[j] * twist, Vec3::UnitZ()) * turned_E;
+      disp_px[j] += s.camera.project(twisted_E + weights_[j] * u_apex) - s.camera.project(tips_E_[j]);
     }
   }
   std::unique_ptr<Effect> clone() const override { return std::make_unique<DomeSway>(*this); }
@@ -118,6 +139,18 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
     const Vec3 omega = v().rotation_rad * Vec3(-load.y(), load.x(), 0.0);
     const double angle = omega.norm();
     return angle > 0.0 ? Eigen::AngleAxisd(angle, omega / angle) : Eigen::AngleAxisd(0.0, Vec3::UnitZ());
+  }
+
+  // (p_c x s)_z + rho s_psi in mm: the friction's lever about the axis per unit friction load. The twist's lever
+  // rho = 2a/3 (a flat's contact on a cap of radius R: a = sqrt(2 R delta), uniform pressure); none on other gels.
+  double torque_lever(const EffectContext& ctx, const Vec2& slide, const GelSpec& gel) const {
+    const double off_axis = ctx.contact_centre_E.x() * slide.y() - ctx.contact_centre_E.y() * slide.x();
+    double twisting = 0.0;
+    if (gel.surface == "spherical_cap" && gel.radius_m > 0 && turn_rad_ != 0.0) {
+      const double rho = 2.0 / 3.0 * std::sqrt(2.0 * gel.radius_m * ctx.depth_m);
+      twisting = std::clamp(rho * turn_rad_ / v().stick_travel_m, -1.0, 1.0) * rho;
+    }
+    return (off_axis + twisting) / kReferenceDepthM;
   }
 
   // The pins' tips and profile weights depend on the sensor alone: computed once per sensor, not per field (a
@@ -137,10 +170,12 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
   }
 
   const Sensor* cached_for_ = nullptr;
-  std::vector<Vec3> tips_E_;       // pin tips, L below the surface along the rest normal
-  std::vector<double> weights_;    // cos(pi/2 theta / theta_rim)
-  Vec2 travel_E_ = Vec2::Zero();   // the slide in contact, |travel| <= stick length
-  std::optional<Vec2> last_xy_E_;  // the indenter's xy at the last step in contact
+  std::vector<Vec3> tips_E_;        // pin tips, L below the surface along the rest normal
+  std::vector<double> weights_;     // cos(pi/2 theta / theta_rim)
+  Vec2 travel_E_ = Vec2::Zero();    // the slide in contact, |travel| <= stick length
+  std::optional<Vec2> last_xy_E_;   // the indenter's xy at the last step in contact
+  double turn_rad_ = 0.0;           // the indenter's turn about z_E in contact
+  std::optional<double> last_yaw_;  // the indenter's yaw about z_E at the last step in contact
 };
 
 }  // namespace

@@ -97,9 +97,21 @@ EffectFit score_fit(const ResidualInputs& in, std::vector<std::string> effects, 
   return ef;
 }
 
+std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse_px,
+                                           const std::vector<bool>& in_ranking) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < alone_rmse_px.size(); ++i)
+    if (in_ranking.at(i)) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return alone_rmse_px[a] < alone_rmse_px[b]; });
+  std::vector<std::size_t> rank(alone_rmse_px.size(), 0);
+  for (std::size_t r = 0; r < order.size(); ++r) rank[order[r]] = r + 1;
+  return rank;
+}
+
 EffectSearch::EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
-                           const EffectFit& form_fit, std::size_t candidate_count)
-    : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidate_count_(candidate_count) {
+                           const EffectFit& form_fit, std::vector<std::string> candidates)
+    : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidates_(std::move(candidates)) {
   if (o.fit_base) form_free_ = joint_stage(form_, false).params;
   fits_[""] = form_fit;
   fp_cal_ = fingerprint_samples(*in.sensor, in.calibration);
@@ -107,8 +119,8 @@ EffectSearch::EffectSearch(const ResidualInputs& in, const ResidualOptions& o, c
 }
 
 void EffectSearch::progress(const std::string& what) const {
-  const double total = static_cast<double>(candidate_count_ * o_.selection.max_effects + 1);
-  o_.progress(what, static_cast<double>(fits_.size()) / total);
+  const double total = static_cast<double>(candidates_.size() * o_.selection.max_effects + 1);
+  o_.progress(what, (static_cast<double>(fits_.size()) + 0.5 * static_cast<double>(alone_.size())) / total);
 }
 
 EffectSearch::Start EffectSearch::start_of(const std::vector<std::string>& ids) const {
@@ -242,12 +254,14 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
 // fingerprint was found. Joint refits may let the form's parameters lean on the effect, but an effect the
 // data hold shows on the form as fitted.
 bool EffectSearch::promising(const EffectFit& alone, const std::string& warm_key,
-                             const std::optional<FingerprintCheck>& fp, std::string* screen_note) const {
+                             const std::optional<FingerprintCheck>& fp, std::string* screen_note,
+                             bool* by_evidence) const {
   const FitResult& ref = fits_.at(warm_key).fit;
   const double ref_rmse = validation_rmse(ref.validation);
   const double alone_pct = 100.0 * (ref_rmse - validation_rmse(alone.fit.validation)) / ref_rmse;
   const double drift_pct = fingerprint_explained_pct(ref, alone.fit, o_.selection);
   const bool drift = std::isfinite(drift_pct) && drift_pct >= o_.selection.min_fingerprint_pct;
+  *by_evidence = (fp && fp->consistent) || (!fp && drift);
   if (fp) return fp->consistent;
   if (alone_pct >= o_.screen_min_pct || drift) return true;
   *screen_note = "screened: alone over the fitted base it gains " + format_number(alone_pct, "%.2f") + "% (< " +
@@ -313,44 +327,94 @@ std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string
   return ef;
 }
 
-FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
-  const std::string key = effect_set_key(ids);
-  if (auto it = fits_.find(key); it != fits_.end()) return it->second.fit;
+EffectSearch::Alone EffectSearch::fit_alone_phase(const std::vector<std::string>& ids) {
   const auto t0 = std::chrono::steady_clock::now();
-  Start start = start_of(ids);
+  Alone a;
+  a.start = start_of(ids);
   const std::string& candidate = ids.back();
   // The candidate's fingerprint, against the reference (the warm start's model). Found: its parameters are
   // held at the estimate (evidence beyond model form), or fitted as without a fingerprint and checked against
   // its band (evidence model form can mimic: it may add a verdict, never lift one). Not found: fitted alone.
-  std::optional<FingerprintCheck> fp;
-  std::vector<std::string> held_now;
-  if (has_fingerprint(candidate) && start.warm.size() + 1 == ids.size()) {
-    fp = fingerprint_of(candidate, start.warm);
-    if (fp && fp->consistent) held_now = hold_fingerprint(candidate, *fp, &start.params);
+  if (has_fingerprint(candidate) && a.start.warm.size() + 1 == ids.size()) {
+    a.fp = fingerprint_of(candidate, a.start.warm);
+    if (a.fp && a.fp->consistent) a.held_now = hold_fingerprint(candidate, *a.fp, &a.start.params);
   }
   std::vector<FitStage> stages;
-  const std::vector<std::string> shaping = shaping_held(start.warm);
-  std::vector<std::string> joint = without(form_free_, shaping);
+  a.shaping = shaping_held(a.start.warm);
+  a.joint = without(form_free_, a.shaping);
   for (const auto& id : ids) {
-    const auto free = without(without(effect_fit_params(start.params, id), held_of(id, candidate, held_now)), shaping);
-    joint.insert(joint.end(), free.begin(), free.end());
-    if (std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end() && !free.empty())
+    const auto free =
+        without(without(effect_fit_params(a.start.params, id), held_of(id, candidate, a.held_now)), a.shaping);
+    a.joint.insert(a.joint.end(), free.begin(), free.end());
+    if (std::find(a.start.warm.begin(), a.start.warm.end(), id) == a.start.warm.end() && !free.empty())
       stages.push_back({"effect:" + id, free, tsd_motions(), false, {}});
   }
-  progress("fit " + form_ + "+" + key);
-  EffectFit ef = fit_alone(ids, start, stages);
-  const std::size_t free_count = ef.fit.free_params - fits_.at(effect_set_key(start.warm)).fit.free_params;
-  std::string screen_note;
-  const bool refit = promising(ef, effect_set_key(start.warm), fp, &screen_note);
-  if (refit && joint.size() > free_count) {
-    ef = joint_refit(ids, joint, ef.fit.params);
-    ef.fit.free_params += shaping.size();  // fitted all the same, in an earlier round
-  } else if (joint.size() > free_count && !fp)
-    ef.fit.veto = screen_note;
-  add_verdict(candidate, held_now, fp, &ef);
-  ef.fit.fingerprint = fp;
-  ef.time_s = seconds_since(t0);
-  return (fits_[key] = std::move(ef)).fit;
+  progress("fit " + form_ + "+" + effect_set_key(ids));
+  a.fit = fit_alone(ids, a.start, stages);
+  const std::string warm_key = effect_set_key(a.start.warm);
+  a.free_count = a.fit.fit.free_params - fits_.at(warm_key).fit.free_params;
+  bool by_evidence = false;
+  a.promising = promising(a.fit, warm_key, a.fp, &a.screen_note, &by_evidence);
+  a.by_evidence = by_evidence;
+  a.time_s = seconds_since(t0);
+  return a;
+}
+
+void EffectSearch::prepare_round(const std::vector<std::string>& selected) {
+  std::vector<std::string> keys;
+  for (const auto& c : candidates_) {
+    if (std::find(selected.begin(), selected.end(), c) != selected.end()) continue;
+    std::vector<std::string> ids = selected;
+    ids.push_back(c);
+    const std::string key = effect_set_key(ids);
+    if (fits_.count(key) != 0 || alone_.count(key) != 0) continue;
+    alone_.emplace(key, fit_alone_phase(ids));
+    keys.push_back(key);
+  }
+  // A joint refit reruns the form on every run (minutes on a real set): only the best few alone get one.
+  std::vector<double> rmse;
+  std::vector<bool> in_ranking;
+  for (const auto& k : keys) {
+    const Alone& a = alone_.at(k);
+    rmse.push_back(validation_rmse(a.fit.fit.validation));
+    in_ranking.push_back(a.promising && !a.by_evidence && a.joint.size() > a.free_count);
+  }
+  const std::vector<std::size_t> rank = joint_refit_ranks(rmse, in_ranking);
+  const auto ranked = static_cast<std::size_t>(std::count(in_ranking.begin(), in_ranking.end(), true));
+  const std::size_t keep = o_.joint_refits_per_round;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    if (rank[i] <= keep) continue;
+    Alone& a = alone_.at(keys[i]);
+    const double ref = validation_rmse(fits_.at(effect_set_key(a.start.warm)).fit.validation);
+    a.promising = false;
+    a.screen_note = "screened: alone over the fitted base it gains " +
+                    format_number(100.0 * (ref - rmse[i]) / ref, "%.2f") + "%, " + std::to_string(rank[i]) + " of " +
+                    std::to_string(ranked) + " promising candidates; only the " + std::to_string(keep) +
+                    " best alone get the joint refit";
+  }
+}
+
+EffectFit EffectSearch::finish(const std::vector<std::string>& ids, Alone a) {
+  const auto t0 = std::chrono::steady_clock::now();
+  EffectFit ef = std::move(a.fit);
+  if (a.promising && a.joint.size() > a.free_count) {
+    progress("joint refit " + form_ + "+" + effect_set_key(ids));
+    ef = joint_refit(ids, a.joint, ef.fit.params);
+    ef.fit.free_params += a.shaping.size();  // fitted all the same, in an earlier round
+  } else if (a.joint.size() > a.free_count && !a.fp)
+    ef.fit.veto = a.screen_note;
+  add_verdict(ids.back(), a.held_now, a.fp, &ef);
+  ef.fit.fingerprint = a.fp;
+  ef.time_s = a.time_s + seconds_since(t0);
+  return ef;
+}
+
+FitResult EffectSearch::fit_and_score(const std::vector<std::string>& ids) {
+  const std::string key = effect_set_key(ids);
+  if (auto it = fits_.find(key); it != fits_.end()) return it->second.fit;
+  if (alone_.count(key) == 0) prepare_round({ids.begin(), ids.end() - 1});
+  auto node = alone_.extract(key);
+  return (fits_[key] = finish(ids, std::move(node.mapped()))).fit;
 }
 
 }  // namespace sb

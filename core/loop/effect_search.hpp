@@ -18,11 +18,17 @@ namespace sb {
 EffectFit score_fit(const ResidualInputs& in, std::vector<std::string> effects, const ParamSet& params,
                     std::size_t free_params, const SampleModelFactory& make_cal, const SampleModelFactory& make_val);
 
+// A round's candidates ranked for the joint refit: rank r (1-based) by ascending alone validation RMSE among
+// those `in_ranking` (promising, refitted only by rank), stable in candidate order; 0 for the others.
+std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse_px,
+                                           const std::vector<bool>& in_ranking);
+
 class EffectSearch {
  public:
   // `form_fit` is the form as fitted (the search's reference, key ""); `fo` the fits' options.
+  // `candidates` are select_effects' candidates: a round's sets are the selection so far plus each of the rest.
   EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
-               const EffectFit& form_fit, std::size_t candidate_count);
+               const EffectFit& form_fit, std::vector<std::string> candidates);
 
   // select_effects' FitAndScore: the set `ids` fitted on top of the form and scored (cached by set).
   FitResult fit_and_score(const std::vector<std::string>& ids);
@@ -41,8 +47,27 @@ class EffectSearch {
     ParamSet params;
     std::vector<std::string> warm;
   };
+  // A set's first phase: its candidate fitted alone (over the reference's recorded field, or rerunning the form
+  // for a pose effect), and what its joint refit would free. The round ranks these before any joint refit.
+  struct Alone {
+    Start start;
+    std::optional<FingerprintCheck> fp;
+    std::vector<std::string> held_now, shaping, joint;
+    std::size_t free_count = 0;  // the candidate's own free parameters
+    EffectFit fit;
+    bool promising = false;
+    bool by_evidence = false;  // a found fingerprint or explained held drift: refitted whatever its rank
+    std::string screen_note;
+    double time_s = 0;
+  };
 
   Start start_of(const std::vector<std::string>& ids) const;
+  Alone fit_alone_phase(const std::vector<std::string>& ids);
+  // Every set of the round that extends `selected`, fitted alone; the promising ones ranked by their alone
+  // validation RMSE, and only the best ResidualOptions::joint_refits_per_round (plus any whose fingerprint was
+  // found) keep their joint refit.
+  void prepare_round(const std::vector<std::string>& selected);
+  EffectFit finish(const std::vector<std::string>& ids, Alone a);
   const Recording& recording(const std::vector<std::string>& ids);
   SampleModelFactory replay(const std::vector<std::string>& ids, const std::string& warm_key,
                             const std::vector<RecordedField>& field) const;
@@ -59,7 +84,7 @@ class EffectSearch {
   ParamSet grid_start(const std::string& model_id, const std::vector<FitStage>& stages, const ParamSet& start) const;
   EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
-                 std::string* screen_note) const;
+                 std::string* screen_note, bool* by_evidence) const;
   EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
                         const ParamSet& from);
   void add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,
@@ -71,8 +96,9 @@ class EffectSearch {
   FitOptions fo_;
   std::string form_;
   std::vector<std::string> form_free_;  // the form's joint parameters (none when the base is not fitted)
-  std::size_t candidate_count_;
+  std::vector<std::string> candidates_;
   std::map<std::string, EffectFit> fits_;
+  std::map<std::string, Alone> alone_;  // this round's alone phases, by set key, until finished
   std::map<std::string, Recording> recordings_;
   std::vector<FingerprintSample> fp_cal_, fp_val_;
   std::map<std::string, std::vector<std::string>> held_by_effect_;  // parameters a fingerprint settled (full names)

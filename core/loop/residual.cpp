@@ -136,7 +136,7 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
 
 // Step 3: the catalogued effects on top of the form, greedily (residual_select.hpp, effect_search.hpp).
 EffectRounds ResidualLoop::effect_rounds(const std::string& form, const EffectFit& form_fit) const {
-  EffectSearch search(in_, o_, fit_options(), form, form_fit, candidates_.size());
+  EffectSearch search(in_, o_, fit_options(), form, form_fit, candidates_);
   EffectRounds rounds;
   rounds.form = form;
   rounds.selection = select_effects(

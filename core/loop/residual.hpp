@@ -53,6 +53,9 @@ struct ResidualOptions {
   // A candidate gets its joint refit (form + effects, every run a full model run) only when its effect
   // alone, over the reference's recorded field, improves the validation RMSE by at least this (%).
   double screen_min_pct = 0.5;
+  // Of a round's candidates that pass that screen, only this many, the best alone, get the joint refit (those
+  // whose fingerprint was found or that explain the held drift always do); the rest are reported as screened.
+  std::size_t joint_refits_per_round = 3;
   int bins = 6;  // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;

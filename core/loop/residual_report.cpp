@@ -631,7 +631,9 @@ std::string effects_markdown(const ResidualReport& r) {
   std::string md = "\n## Which effect explains it\n\n";
   md += "Each catalogued effect was wrapped around " + r.effects.form +
         " (the model form the round above ended with) "
-        "and fitted alone over its recorded field, then (unless screened) jointly with it on calibration; accepted "
+        "and fitted alone over its recorded field, then (unless screened: too small a gain alone, or not among the "
+        "round's "
+        "few best alone) jointly with it on calibration; accepted "
         "when the 95 % paired-bootstrap interval of the validation improvement lies above the margin (or the effect "
         "explains the held drift) and the calibration BIC improves, and vetoed when a parameter sits at a bound of its "
         "range (docs/effects.md).\n\n";
