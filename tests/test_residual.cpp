@@ -6,7 +6,6 @@
 #include "temp_path.hpp"
 #include "test_poses.hpp"
 
-#include <algorithm>
 #include <array>
 #include <cmath>
 #include <filesystem>
