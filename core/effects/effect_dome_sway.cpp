@@ -77,12 +77,11 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
            "contact slips). The tip also turns towards the load about a point on its axis at depth z_c below the "
            "apex: every pin tip p goes to c + Rot(omega)(p - c), omega = r (delta / 1 mm)^q z x (mu s - n_xy) (a bent "
            "post's top tilts as it deflects; with the rim clamped, the turn rocks the whole skin). The friction's "
-           "torque "
-           "about the axis twists the dome: tau = (delta / 1 mm)^q mu ((p_c x s)_z + rho s_psi) / 1 mm, p_c the "
-           "contact's centre, rho = 2a/3 the mean lever of a flat's contact on the cap (a = sqrt(2 R delta)), s_psi "
-           "the "
-           "indenter's turn in contact times rho over the stick length (clipped like s); each pin turns about the axis "
-           "by w(theta) k tau. Kernel models of a half-space (HydroShear, FOTS, TacSL) have no such global mode.";
+           "torque about the axis twists the dome: tau = (delta / 1 mm)^q mu ((p_c x s)_z + rho s_psi) / 1 mm, p_c "
+           "the contact's centre, rho = 2a/3 the mean lever of a flat's contact on the cap (a = sqrt(2 R delta)), "
+           "s_psi the indenter's turn in contact times rho over the stick length (clipped like s); each pin turns "
+           "about the axis by w(theta) k tau. Kernel models of a half-space (HydroShear, FOTS, TacSL) have no such "
+           "global mode.";
   }
   bool observes_steps() const override { return true; }
   void reset() override {

@@ -353,9 +353,7 @@ EffectSearch::Alone EffectSearch::fit_alone_phase(const std::vector<std::string>
   a.fit = fit_alone(ids, a.start, stages);
   const std::string warm_key = effect_set_key(a.start.warm);
   a.free_count = a.fit.fit.free_params - fits_.at(warm_key).fit.free_params;
-  bool by_evidence = false;
-  a.promising = promising(a.fit, warm_key, a.fp, &a.screen_note, &by_evidence);
-  a.by_evidence = by_evidence;
+  a.promising = promising(a.fit, warm_key, a.fp, &a.screen_note, &a.by_evidence);
   a.time_s = seconds_since(t0);
   return a;
 }
