@@ -3,12 +3,14 @@
 // attribute it to catalogued effects and report the validation error before and after (core/loop/residual.hpp).
 // PNG plots are written beside the Markdown report.
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
 #include "core/base/data_root.hpp"
+#include "core/base/elapsed.hpp"
 #include "core/calibration/evaluate.hpp"
 #include "core/calibration/fit_data.hpp"
 #include "core/calibration/param_sets.hpp"
@@ -31,6 +33,7 @@ struct ResidualArgs {
   int resamples = 2000;
   std::size_t max_effects = SelectionOptions{}.max_effects;
   std::size_t joint_refits = ResidualOptions{}.joint_refits_per_round;
+  std::size_t search_samples = ResidualOptions{}.search_samples;
   bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
@@ -70,6 +73,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   o.selection.bootstrap_resamples = a.resamples;
   o.selection.max_effects = a.max_effects;
   o.joint_refits_per_round = a.joint_refits;
+  o.search_samples = a.search_samples;
   o.candidates = a.effects;
   o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
@@ -90,8 +94,10 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   InterruptScope interrupt;  // Ctrl-C: sb::Cancelled, exit 130, nothing written
   o.progress.cancel = interrupt.flag();
   if (!g.quiet)
-    o.progress.report = [](const std::string& stage, double fraction) {
-      std::fprintf(stderr, "residual: [%3.0f%%] %s\n", 100.0 * std::max(0.0, fraction), stage.c_str());
+    o.progress.report = [t0 = std::chrono::steady_clock::now()](const std::string& stage, double fraction) {
+      // The elapsed time on every line: where a long run spends it reads off the log.
+      std::fprintf(stderr, "residual: [%3.0f%%] %6.0f s  %s\n", 100.0 * std::max(0.0, fraction), seconds_since(t0),
+                   stage.c_str());
     };
   const ResidualReport rep = run_residual_loop(in, o);
 
@@ -140,6 +146,10 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
   sub.add_option("--joint-refits", a.joint_refits,
                  "per round, the candidates (best alone first) refitted jointly with the form; the rest are screened")
       ->check(CLI::Range(1, 100));
+  sub.add_option("--search-samples", a.search_samples,
+                 "calibration samples (evenly spaced) the fits that rerun the form see during the search; 0: all. "
+                 "Scores use every sample, and the answer is refitted on all")
+      ->check(CLI::Range(0, 1000000));
   sub.add_flag(
       "--no-model-forms", a.no_model_forms,
       "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "

@@ -259,6 +259,50 @@ TEST_CASE(
   CHECK(r.after.validation.overall.result().rmse_px < 1.3 * std::sqrt(2.0) * kNoisePx);
 }
 
+// The search's joint refits see a subset of the calibration samples (ResidualOptions::search_samples); the answer
+// is the selected set refitted on all of them, and every view says so.
+TEST_CASE("residual loop: joint refits on an evenly spaced subset, the answer refitted on every calibration sample",
+          "[residual]") {
+  sb::ResidualInputs in;
+  in.dataset = "synthetic:tracker_bias";
+  in.model_id = kBase;
+  in.sensor = setup().sensor;
+  in.base_params = sb::default_params(kBase);
+  in.calibration = trajectories("calibration");
+  in.validation = trajectories("validation");
+  const Truths truth = {{"tracker_bias", {{"bias_x_px", 0.3}, {"bias_y_px", -0.2}}}};
+  simulate(&in.calibration, truth, in.sensor, 11);
+  simulate(&in.validation, truth, in.sensor, 23);
+  sb::ResidualOptions o;
+  o.max_iterations = 15;
+  o.model_forms = false;
+  o.candidates = {"tracker_bias"};
+  o.search_samples = 2;  // of the 4 calibration presses: the first and the third (evenly_spaced(4, 2) = 0, 2)
+  const auto r = sb::run_residual_loop(in, o);
+  const auto j = sb::residual_to_json(r);
+  INFO(j["candidates"].dump(1));
+  REQUIRE(r.effects.selection.selected == std::vector<std::string>{"tracker_bias"});
+  REQUIRE(r.effects.final_refit.has_value());
+  CHECK(r.effects.final_refit_why == "the search fitted it on 2 of the 4 calibration samples");
+  CHECK(j["search_calibration_samples"]["fitted_on"] == 2);
+  CHECK(j["search_calibration_samples"]["of"] == 4);
+  CHECK(j["final_refit"]["why"] == r.effects.final_refit_why);
+  // The answer is the final refit; started from the subset's optimum, its fit on all four presses can only lower
+  // the calibration error over all four (Levenberg-Marquardt accepts no step that raises it).
+  const sb::FitResult& rounds = r.effects.fits.at("tracker_bias").fit;
+  CHECK(r.after.fit.params.get("tracker_bias.bias_x_px") ==
+        r.effects.final_refit->fit.params.get("tracker_bias.bias_x_px"));
+  CHECK(r.after.fit.calibration_sse_px2 <= rounds.calibration_sse_px2 * (1 + 1e-12));
+  CHECK(std::abs(r.after.fit.params.get("tracker_bias.bias_x_px") - 0.3) <= kParamRelTol * 0.3);
+  CHECK(sb::residual_to_markdown(r, {}).find("saw 2 of the 4 calibration samples") != std::string::npos);
+
+  // Without a subset the joint refit already saw every sample: no final refit.
+  o.search_samples = 0;
+  const auto all = sb::run_residual_loop(in, o);
+  CHECK_FALSE(all.effects.final_refit.has_value());
+  CHECK(sb::residual_to_json(all)["search_calibration_samples"]["fitted_on"] == 4);
+}
+
 TEST_CASE("residual loop selects nothing when the data hold no effect", "[residual][slow]") {
   const auto r = run_loop("", {});
   INFO(sb::residual_to_json(r)["candidates"].dump(1));

@@ -45,6 +45,20 @@ TEST_CASE("with no contact the RMSE of a frame is the measured field's RMS", "[r
   }
 }
 
+TEST_CASE("a field already computed: its RMSE per frame against the measurement, to the shorter of the two",
+          "[rmse_series]") {
+  // Two markers. Frame 0: field (1, 0) and (0, 0) against measured (1, 3) and (0, 4): errors 3 and 4 px,
+  // RMSE sqrt((9 + 16) / 2) = sqrt(12.5). Frame 1: nothing measured moves (0.1 px < the 0.5 px threshold): NaN.
+  // The measurement has a third frame the field lacks: two values.
+  const std::vector<std::vector<sb::Vec2>> field = {{sb::Vec2(1, 0), sb::Vec2(0, 0)}, {sb::Vec2(5, 5), sb::Vec2(5, 5)}};
+  const std::vector<std::vector<sb::Vec2>> meas = {
+      {sb::Vec2(1, 3), sb::Vec2(0, 4)}, {sb::Vec2(0.1, 0), sb::Vec2(0, 0.1)}, {sb::Vec2(9, 9), sb::Vec2(9, 9)}};
+  const auto rmse = sb::rmse_of_fields(field, meas);
+  REQUIRE(rmse.size() == 2);
+  CHECK(rmse[0] == Approx(std::sqrt(12.5)).margin(kRmseTol));
+  CHECK(std::isnan(rmse[1]));
+}
+
 TEST_CASE("the series job runs off the caller's thread and keeps the latest request", "[rmse_series]") {
   auto sensor = sbtest::test_sensor();
   const std::size_t M = sensor->markers_rest_px.size();

@@ -11,7 +11,7 @@
 
 // This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
 // test files as one translation unit.
-namespace test_sensor {
+namespace test_sensor_tests {  // not test_sensor: the fixtures (model_fixtures.hpp) have a function of that name
 
 using sbtest::kMiniMarkers;
 
@@ -138,4 +138,4 @@ TEST_CASE("sensor with the mesh gel: markers on the domed surface, mesh SDF", "[
   CHECK_THROWS_AS(sb::make_sensor(camera, spec, {}), std::invalid_argument);
 }
 
-}  // namespace test_sensor
+}  // namespace test_sensor_tests

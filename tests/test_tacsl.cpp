@@ -23,13 +23,13 @@ constexpr double kBox = 8e-3;        // 8 mm box: the 9 markers under it are 1.9
 
 TEST_CASE("TacSL: at rest the shear is zero", "[models][tacsl]") {
   for (const std::string id : {"tacsl", "tacsl-normalized"}) {
-    auto m = make_model(id, test_sensor(), box_indenter(kBox));
+    auto m = make_model(id, sbtest::test_sensor(), box_indenter(kBox));
     run(*m, box_pose(kBox, 0, 0, -1e-3));
     const auto d = run(*m, box_pose(kBox, 0, 0, -1e-3));
     CHECK(max_norm(d) == 0.0);
   }
   // A sphere at rest: f_t = 0; the code's shear still carries f_n n_xy (radial); f_t only gives 0.
-  auto m = make_model("tacsl", test_sensor(), sphere_indenter(4e-3));
+  auto m = make_model("tacsl", sbtest::test_sensor(), sphere_indenter(4e-3));
   ParamSet p = m->params();
   run(*m, sphere_pose(4e-3, 0, 0, 1e-3));
   const auto with_normal = run(*m, sphere_pose(4e-3, 0, 0, 1e-3));
@@ -42,7 +42,7 @@ TEST_CASE("TacSL: at rest the shear is zero", "[models][tacsl]") {
 }
 
 TEST_CASE("TacSL: sliding gives a viscous shear capped by mu kn d; release gives zero", "[models][tacsl]") {
-  auto sensor = test_sensor();
+  auto sensor = sbtest::test_sensor();
   TacslBatch raw(false, sensor, box_indenter(kBox), 1, default_params("tacsl"));
   std::vector<Vec2> disp(kMiniMarkers);
   auto step = [&](const Pose& X, double dt) { raw.step(std::span<const Pose>(&X, 1), dt, disp, {}); };

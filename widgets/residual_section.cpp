@@ -60,17 +60,21 @@ void ResidualSection::update_corrected(const AppSnapshot& snap, const AppState& 
   corrected_started_ = true;
 }
 
-const std::vector<Vec2>* ResidualSection::corrected_at_step(const AppSnapshot& snap, std::string& message) {
+const std::vector<std::vector<Vec2>>* ResidualSection::corrected_series(std::string& message) {
   if (!show_corrected_ || !corrected_started_ || corrected_job_.running()) return nullptr;
-  const std::vector<std::vector<Vec2>>* series_ptr = nullptr;
   try {
-    series_ptr = &corrected_job_.result();
+    return &corrected_job_.result();
   } catch (const std::exception& e) {  // the worker failed: say so once, stop showing it
     message = std::string("corrected model: ") + e.what();
     show_corrected_ = false;
     corrected_job_.clear();
     return nullptr;
   }
+}
+
+const std::vector<Vec2>* ResidualSection::corrected_at_step(const AppSnapshot& snap, std::string& message) {
+  const std::vector<std::vector<Vec2>>* series_ptr = corrected_series(message);
+  if (series_ptr == nullptr) return nullptr;
   const auto& series = *series_ptr;
   const int k = snap.step;
   if (k < 0 || k >= snap.measured_steps || k >= static_cast<int>(series.size())) return nullptr;

@@ -43,6 +43,8 @@ class ResidualSection {
   // The corrected model's field at the snapshot's step (null while computing or out of range); a failed
   // worker is said once in `message` and the corrected view switched off.
   const std::vector<Vec2>* corrected_at_step(const AppSnapshot& snap, std::string& message);
+  // The corrected model's field at every step (null while computing or not shown); a failed worker as above.
+  const std::vector<std::vector<Vec2>>* corrected_series(std::string& message);
   const std::string& corrected_title() const { return residual_->after_model; }
   bool correcting() const { return corrected_job_.running(); }
   void wait() const { corrected_job_.wait(); }

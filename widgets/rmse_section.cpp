@@ -37,7 +37,7 @@ void RmseSection::wait() const {
   while (job_.running()) std::this_thread::sleep_for(std::chrono::milliseconds(2));
 }
 
-void RmseSection::draw(const AppSnapshot& snap) const {
+void RmseSection::draw(const AppSnapshot& snap, const RmseRowOverride& replaced) const {
   const auto series = job_.result();
   if (series.size() != snap.models.size()) {
     ImGui::TextDisabled(job_.running() ? "computing ..." : "no measured frames to compare");
@@ -45,18 +45,24 @@ void RmseSection::draw(const AppSnapshot& snap) const {
   }
   const float width = ImGui::GetContentRegionAvail().x;
   for (std::size_t m = 0; m < series.size(); ++m) {
+    const bool swapped = static_cast<int>(m) == replaced.slot;
+    const std::vector<double>& row = swapped ? replaced.series : series[m];
     // Frames where nothing measured moves do not count (core/calibration/metrics.hpp): drawn as 0.
-    std::vector<float> v(series[m].size());
+    std::vector<float> v(row.size());
     double sum = 0;
     int n = 0;
     for (std::size_t k = 0; k < v.size(); ++k) {
-      const bool counts = std::isfinite(series[m][k]);
-      v[k] = counts ? static_cast<float>(series[m][k]) : 0.0f;
-      if (counts) sum += series[m][k], ++n;
+      const bool counts = std::isfinite(row[k]);
+      v[k] = counts ? static_cast<float>(row[k]) : 0.0f;
+      if (counts) sum += row[k], ++n;
     }
-    char overlay[96];
-    std::snprintf(overlay, sizeof overlay, "%s  mean %.2f px", display_name(snap.models[m].id).c_str(),
-                  n ? sum / n : 0.0);
+    // The answer's id is long: its mean first, so a narrow column cuts the name, not the number.
+    char overlay[160];
+    if (swapped)
+      std::snprintf(overlay, sizeof overlay, "mean %.2f px  %s", n ? sum / n : 0.0, replaced.title.c_str());
+    else
+      std::snprintf(overlay, sizeof overlay, "%s  mean %.2f px", display_name(snap.models[m].id).c_str(),
+                    n ? sum / n : 0.0);
     const ImVec2 p0 = ImGui::GetCursorScreenPos();
     const float h = 34.0f;
     ImGui::PlotLines(("##rmse" + std::to_string(m)).c_str(), v.data(), static_cast<int>(v.size()), 0, overlay, 0.0f,

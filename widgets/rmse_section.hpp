@@ -1,6 +1,7 @@
 #pragma once
 // The "RMSE over time" section: every model's RMSE against the measurement, frame by frame, computed on a
 // worker thread (core/calibration/rmse_series) whenever the models' parameters change.
+#include <string>
 #include <vector>
 
 #include "core/calibration/rmse_series.hpp"
@@ -9,6 +10,13 @@
 
 namespace sb::ui {
 
+// A row drawn in place of a model's: the residual loop's answer where its panel shows it.
+struct RmseRowOverride {
+  int slot = -1;
+  std::string title;
+  std::vector<double> series;
+};
+
 class RmseSection {
  public:
   // A new sample: its series is computed afresh.
@@ -16,7 +24,7 @@ class RmseSection {
   // Starts the series again when the models' parameters differ from those of the last request, once the
   // physics has applied them (no pending edits).
   void update(const AppSnapshot& snap, const AppState& state, const MeasuredData& measured);
-  void draw(const AppSnapshot& snap) const;
+  void draw(const AppSnapshot& snap, const RmseRowOverride& replaced = {}) const;
   // Blocks until the series is done (headless renders are deterministic).
   void wait() const;
 

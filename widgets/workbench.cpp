@@ -150,13 +150,22 @@ void Workbench::apply_action(Action action, WorkbenchRequest& req) {
   }
 }
 
+// Where a model's panel shows the residual loop's answer, its RMSE row shows the answer's too (one model per view).
+RmseRowOverride Workbench::corrected_rmse_row() {
+  const int slot = residual_.corrected_slot(snap_);
+  if (slot < 0 || !residual_.corrected_shown()) return {};
+  const auto* series = residual_.corrected_series(message_);
+  if (series == nullptr) return {};
+  return {slot, residual_.corrected_title(), rmse_of_fields(*series, measured_.disp_px)};
+}
+
 // The control column: every section under its header, in a fixed order.
 void Workbench::draw_controls(WorkbenchRequest& req) {
   ImGui::TextWrapped("%s", title_.c_str());
   ImGui::Separator();
   if (ImGui::CollapsingHeader("Replay", ImGuiTreeNodeFlags_DefaultOpen)) replay_section(snap_, replay_, *state_, req);
   if (!measured_.disp_px.empty() && ImGui::CollapsingHeader("RMSE over time", ImGuiTreeNodeFlags_DefaultOpen))
-    rmse_.draw(snap_);
+    rmse_.draw(snap_, corrected_rmse_row());
   // Beside the RMSE plots: what the residual analysis says the model is missing.
   if (residual_.take_open_request()) ImGui::SetNextItemOpen(true);
   if (ImGui::CollapsingHeader("Residual")) residual_.draw(snap_, *state_, !measured_.poses.empty(), message_, req);

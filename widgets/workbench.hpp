@@ -141,6 +141,7 @@ class Workbench {
   void apply_action(Action action, WorkbenchRequest& req);
   void update_background();
   void draw_controls(WorkbenchRequest& req);
+  RmseRowOverride corrected_rmse_row();
   void draw_fields(float width, float height);
   FieldGrid field_grid(float width, float height) const;
   FieldPanelInput panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual);

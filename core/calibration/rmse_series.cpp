@@ -8,6 +8,15 @@
 
 namespace sb {
 
+namespace {
+
+double frame_rmse_or_nan(const std::vector<Vec2>& field, const std::vector<Vec2>& measured) {
+  const MetricsResult m = frame_metrics(field, measured);
+  return m.n > 0 ? m.rmse_px : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
 std::vector<double> rmse_over_time(ShearModel& model, const std::vector<Pose>& path, double dt_s,
                                    const std::vector<std::vector<Vec2>>& measured_px, const std::atomic<bool>* cancel) {
   const std::size_t n = std::min(path.size(), measured_px.size());
@@ -18,9 +27,16 @@ std::vector<double> rmse_over_time(ShearModel& model, const std::vector<Pose>& p
   for (std::size_t k = 0; k < n; ++k) {
     if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) break;
     model.step(path[k], dt_s, &out);
-    const MetricsResult m = frame_metrics(out.disp_px, measured_px[k]);
-    series.push_back(m.n > 0 ? m.rmse_px : std::numeric_limits<double>::quiet_NaN());
+    series.push_back(frame_rmse_or_nan(out.disp_px, measured_px[k]));
   }
+  return series;
+}
+
+std::vector<double> rmse_of_fields(const std::vector<std::vector<Vec2>>& fields,
+                                   const std::vector<std::vector<Vec2>>& measured_px) {
+  const std::size_t n = std::min(fields.size(), measured_px.size());
+  std::vector<double> series(n);
+  for (std::size_t k = 0; k < n; ++k) series[k] = frame_rmse_or_nan(fields[k], measured_px[k]);
   return series;
 }
 

@@ -21,6 +21,11 @@ std::vector<double> rmse_over_time(ShearModel& model, const std::vector<Pose>& p
                                    const std::vector<std::vector<Vec2>>& measured_px,
                                    const std::atomic<bool>* cancel = nullptr);
 
+// Frame k's RMSE (px) of fields[k] against measured_px[k] for k < min(sizes), NaN where the frame does not count:
+// rmse_over_time's series for a field already computed (the residual loop's answer, core/workbench).
+std::vector<double> rmse_of_fields(const std::vector<std::vector<Vec2>>& fields,
+                                   const std::vector<std::vector<Vec2>>& measured_px);
+
 struct RmseSeriesRequest {
   std::vector<std::string> model_ids;
   std::vector<ParamSet> params;  // per model

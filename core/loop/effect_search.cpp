@@ -110,8 +110,8 @@ std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse
 }
 
 EffectSearch::EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
-                           const EffectFit& form_fit, std::vector<std::string> candidates)
-    : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidates_(std::move(candidates)) {
+                           const EffectFit& form_fit, std::vector<std::string> candidates, SearchSubset subset)
+    : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidates_(std::move(candidates)), subset_(subset) {
   if (o.fit_base) form_free_ = joint_stage(form_, false).params;
   fits_[""] = form_fit;
   fp_cal_ = fingerprint_samples(*in.sensor, in.calibration);
@@ -215,7 +215,7 @@ ParamSet EffectSearch::grid_start(const std::string& model_id, const std::vector
   do {
     if (fo_.cancel != nullptr && fo_.cancel->load()) break;
     for (std::size_t i = 0; i < names.size(); ++i) trial.set(names[i], axes[i][at[i]]);
-    if (const double rmse = fit_rmse_px(model_id, in_.sensor, in_.calibration, trial); rmse < best_rmse) {
+    if (const double rmse = fit_rmse_px(model_id, in_.sensor, subset_.calibration, trial); rmse < best_rmse) {
       best_rmse = rmse;
       best = trial;
     }
@@ -232,8 +232,10 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
     return std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end();
   });
   SampleModelFactory make_cal, make_val;
+  const std::vector<FitSample>* fit_on = &in_.calibration;
   if (any_acts_on_pose(added)) {
     make_cal = make_val = spec_model_factory(ModelSpec{form_, ids}.id(), in_.sensor);
+    fit_on = &subset_.calibration;  // the factory ignores the sample's index: any subset will do
   } else {
     const Recording& rec = recording(start.warm);
     make_cal = replay(ids, warm_key, rec.cal);
@@ -242,7 +244,7 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
   ParamSet from = start.params;
   if (any_acts_on_pose(added) && !stages.empty()) from = grid_start(ModelSpec{form_, ids}.id(), stages, from);
   CalibrationResult r{form_ + "+" + key, from, {}, false, 0};
-  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, in_.calibration, from, fo_);
+  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, *fit_on, from, fo_);
   throw_if_cancelled(r, o_.progress);
   std::size_t free_count = 0;
   for (const auto& st : stages) free_count += st.params.size();
@@ -270,13 +272,13 @@ bool EffectSearch::promising(const EffectFit& alone, const std::string& warm_key
 }
 
 EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
-                                    const ParamSet& from) {
+                                    const ParamSet& from, const std::vector<FitSample>& samples) {
   const std::string model = ModelSpec{form_, ids}.id();
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
   const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
     return make_spec_model(model, in_.sensor, std::move(ind));
   };
-  const CalibrationResult r = run_fit_stages(model, make, stage, in_.calibration, from, fo_);
+  const CalibrationResult r = run_fit_stages(model, make, stage, samples, from, fo_);
   throw_if_cancelled(r, o_.progress);
   const SampleModelFactory full = spec_model_factory(model, in_.sensor);
   return score_fit(in_, ids, r.params, joint.size(), full, full);
@@ -309,10 +311,18 @@ std::vector<std::string> EffectSearch::shaping_held(const std::vector<std::strin
   return held;
 }
 
-std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string>& selected) {
-  if (selected.empty()) return std::nullopt;
-  const std::vector<std::string> warm(selected.begin(), selected.end() - 1);
-  if (shaping_held(warm).empty()) return std::nullopt;
+std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string>& selected, std::string* why) {
+  const std::vector<std::string> warm(selected.begin(), selected.end() - (selected.empty() ? 0 : 1));
+  const bool held = !selected.empty() && !shaping_held(warm).empty();
+  // With the form fitted, every selected set was refitted jointly (on the subset); without, a pose effect was.
+  const bool on_subset = subsampled() && (subset_.form_fitted_on_it ||
+                                          (!selected.empty() && (!form_free_.empty() || any_acts_on_pose(selected))));
+  if (!held && !on_subset) return std::nullopt;
+  const std::size_t n = subset_.calibration.size(), all = in_.calibration.size();
+  *why = held ? "the rounds held the form's state and the pose effect's parameters after its round" : "";
+  if (on_subset)
+    *why += (why->empty() ? "" : "; ") + std::string("the search fitted it on ") + std::to_string(n) + " of the " +
+            std::to_string(all) + " calibration samples";
   const auto t0 = std::chrono::steady_clock::now();
   const EffectFit& rounds_fit = fits_.at(effect_set_key(selected));
   std::vector<std::string> joint = form_free_;
@@ -320,8 +330,9 @@ std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string
     const auto free = without(effect_fit_params(rounds_fit.fit.params, id), held_of(id, "", {}));
     joint.insert(joint.end(), free.begin(), free.end());
   }
-  progress("final joint refit " + form_ + "+" + effect_set_key(selected));
-  EffectFit ef = joint_refit(selected, joint, rounds_fit.fit.params);
+  if (joint.empty()) return std::nullopt;
+  progress("final joint refit " + ModelSpec{form_, selected}.id());
+  EffectFit ef = joint_refit(selected, joint, rounds_fit.fit.params, in_.calibration);
   ef.fit.fingerprint = rounds_fit.fit.fingerprint;
   ef.time_s = seconds_since(t0);
   return ef;
@@ -397,7 +408,7 @@ EffectFit EffectSearch::finish(const std::vector<std::string>& ids, Alone a) {
   EffectFit ef = std::move(a.fit);
   if (a.promising && a.joint.size() > a.free_count) {
     progress("joint refit " + form_ + "+" + effect_set_key(ids));
-    ef = joint_refit(ids, a.joint, ef.fit.params);
+    ef = joint_refit(ids, a.joint, ef.fit.params, subset_.calibration);
     ef.fit.free_params += a.shaping.size();  // fitted all the same, in an earlier round
   } else if (a.joint.size() > a.free_count && !a.fp)
     ef.fit.veto = a.screen_note;

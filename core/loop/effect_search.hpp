@@ -23,20 +23,29 @@ EffectFit score_fit(const ResidualInputs& in, std::vector<std::string> effects, 
 std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse_px,
                                            const std::vector<bool>& in_ranking);
 
+// The calibration samples the search's costly fits see (ResidualOptions::search_samples), and whether the form's
+// own fit saw only them (a model-form variant's does; the base's saw every sample).
+struct SearchSubset {
+  const std::vector<FitSample>& calibration;
+  bool form_fitted_on_it = false;
+};
+
 class EffectSearch {
  public:
   // `form_fit` is the form as fitted (the search's reference, key ""); `fo` the fits' options.
   // `candidates` are select_effects' candidates: a round's sets are the selection so far plus each of the rest.
+  // A fit that reruns the form on every run (a pose effect's alone fit and grid start, a joint refit) sees
+  // `subset`'s samples; one that replays the form's recorded field sees all, and every score uses all.
   EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
-               const EffectFit& form_fit, std::vector<std::string> candidates);
+               const EffectFit& form_fit, std::vector<std::string> candidates, SearchSubset subset);
 
   // select_effects' FitAndScore: the set `ids` fitted on top of the form and scored (cached by set).
   FitResult fit_and_score(const std::vector<std::string>& ids);
   std::map<std::string, EffectFit> take_fits() { return std::move(fits_); }
-  // The selected set fitted once more with every parameter free (the form's and all effects' but those a
-  // fingerprint settled) when its rounds held what shapes the form's field (shaping_held); nullopt otherwise:
-  // the set's own fit already is the joint one.
-  std::optional<EffectFit> final_refit(const std::vector<std::string>& selected);
+  // The selected set fitted once more on every calibration sample with every parameter free (the form's and all
+  // effects' but those a fingerprint settled) when its rounds held what shapes the form's field (shaping_held)
+  // or fitted it on the subset; `why` says which. nullopt otherwise: the set's own fit already is the answer.
+  std::optional<EffectFit> final_refit(const std::vector<std::string>& selected, std::string* why);
 
  private:
   struct Recording {
@@ -86,7 +95,9 @@ class EffectSearch {
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
                  std::string* screen_note, bool* by_evidence) const;
   EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
-                        const ParamSet& from);
+                        const ParamSet& from, const std::vector<FitSample>& samples);
+  // True when the search's costly fits saw fewer samples than the calibration split.
+  bool subsampled() const { return subset_.calibration.size() < in_.calibration.size(); }
   void add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,
                    const std::optional<FingerprintCheck>& fp, EffectFit* ef) const;
   void progress(const std::string& what) const;
@@ -97,6 +108,7 @@ class EffectSearch {
   std::string form_;
   std::vector<std::string> form_free_;  // the form's joint parameters (none when the base is not fitted)
   std::vector<std::string> candidates_;
+  SearchSubset subset_;
   std::map<std::string, EffectFit> fits_;
   std::map<std::string, Alone> alone_;  // this round's alone phases, by set key, until finished
   std::map<std::string, Recording> recordings_;

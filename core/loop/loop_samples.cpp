@@ -182,6 +182,20 @@ void throw_if_cancelled(const CalibrationResult& r, const Progress& progress) {
   if (r.cancelled || progress.cancelled()) throw Cancelled("residual analysis");
 }
 
+std::vector<std::size_t> evenly_spaced(std::size_t count, std::size_t n) {
+  if (n == 0 || n > count) n = count;
+  std::vector<std::size_t> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = i * count / n;
+  return out;
+}
+
+std::vector<FitSample> subset(const std::vector<FitSample>& samples, const std::vector<std::size_t>& indices) {
+  std::vector<FitSample> out;
+  out.reserve(indices.size());
+  for (std::size_t i : indices) out.push_back(samples.at(i));
+  return out;
+}
+
 void copy_shared(const ParamSet& from, ParamSet* to) {
   for (std::size_t i = 0; i < to->size(); ++i) {
     const int j = from.index_of(to->specs()[i].name);

@@ -62,6 +62,11 @@ std::vector<FingerprintSample> with_model_field(std::vector<FingerprintSample> f
 // sb::Cancelled when `r` was cancelled or `progress` asks to.
 void throw_if_cancelled(const CalibrationResult& r, const Progress& progress);
 
+// The indices of `n` of `count` samples spread evenly over the split (index floor(i * count / n), i < n), every
+// index when n is 0 or at least `count`. A split is stored in recording order, so the subset spans the collection.
+std::vector<std::size_t> evenly_spaced(std::size_t count, std::size_t n);
+std::vector<FitSample> subset(const std::vector<FitSample>& samples, const std::vector<std::size_t>& indices);
+
 // Copies the values of the names both tables share.
 void copy_shared(const ParamSet& from, ParamSet* to);
 

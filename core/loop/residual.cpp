@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "core/base/elapsed.hpp"
+#include "core/base/format.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/loop/effect_search.hpp"
@@ -56,7 +57,10 @@ std::vector<std::string> default_candidates(const ResidualInputs& in) {
 }  // namespace
 
 ResidualLoop::ResidualLoop(const ResidualInputs& in, const ResidualOptions& options)
-    : in_(in), o_(options), candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates) {
+    : in_(in),
+      o_(options),
+      candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates),
+      search_cal_(subset(in.calibration, evenly_spaced(in.calibration.size(), options.search_samples))) {
   if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
   if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
   default_params(in.model_id);                         // an unknown model fails before any work
@@ -92,30 +96,90 @@ EffectFit ResidualLoop::fit_base() const {
   return ef;
 }
 
-// Step 2: each variant fitted like the base (its stages, then jointly) from the fitted base's values and the
-// variant's own defaults, scored against the base by the selection rule; the selected one fitted again with
-// model_form_hold held after their first stage, kept when held-out data prefer it.
+// Step 2, a variant alone: its own parameters (those its joint stage adds to the base's) fitted on the search's
+// subset from their defaults, the base's at their fitted values.
+EffectFit ResidualLoop::fit_variant_alone(const std::string& v, const EffectFit& base) const {
+  o_.progress("model form " + v + " alone", 0.0);
+  const auto t0 = std::chrono::steady_clock::now();
+  ParamSet start = default_params(v);
+  copy_shared(base.fit.params, &start);
+  const std::vector<std::string> base_joint = joint_stage(in_.model_id, false).params;
+  std::vector<std::string> own = joint_stage(v, false).params;
+  std::erase_if(own, [&](const std::string& n) { return std::count(base_joint.begin(), base_joint.end(), n) != 0; });
+  ParamSet fitted = start;
+  if (!own.empty()) {
+    const FitStage stage{"alone", own, joint_stage(v, false).motions, false, {}};
+    const CalibrationResult r = run_fit_stages(v, spec_fit_factory(v), {stage}, search_cal_, start, fit_options());
+    throw_if_cancelled(r, o_.progress);
+    fitted = r.params;
+  }
+  EffectFit ef = scored(v, {}, fitted, base.fit.free_params + own.size());
+  ef.time_s = seconds_since(t0);
+  return ef;
+}
+
+// Step 2, a variant refitted: fitted like the base (its stages, then jointly) on the search's subset, from the
+// fitted base's values and the variant's own defaults, with `hold` kept after their first stage. Not jointly from
+// its alone fit: on the FE twin slice that start leaves the contact variant in a shallower valley, where a tracker
+// bias then passes the held-out rule on top of it.
+EffectFit ResidualLoop::fit_variant(const std::string& v, const EffectFit& base,
+                                    const std::vector<std::string>& hold) const {
+  o_.progress("model form " + v + (hold.empty() ? "" : ", held after their stage: " + effect_set_key(hold)), 0.0);
+  const auto t0 = std::chrono::steady_clock::now();
+  ParamSet start = default_params(v);
+  copy_shared(base.fit.params, &start);
+  FitOptions fo = fit_options();
+  fo.hold = hold;
+  const CalibrationResult r = fit_model(v, in_.sensor, search_cal_, start, fo);
+  throw_if_cancelled(r, o_.progress);
+  EffectFit ef = scored(v, {}, r.params, joint_stage(v, false).params.size());
+  ef.time_s = seconds_since(t0);
+  return ef;
+}
+
+FitModelFactory ResidualLoop::spec_fit_factory(const std::string& model_id) const {
+  return [model_id, sensor = in_.sensor](std::shared_ptr<const Indenter> ind) {
+    return make_spec_model(model_id, sensor, std::move(ind));
+  };
+}
+
+// Step 2: the variants as the effect rounds treat a candidate. Each is fitted alone (fit_variant_alone); those
+// that gain at least ResidualOptions::screen_min_pct on validation, best alone first, up to
+// joint_refits_per_round, are refitted (fit_variant) and scored against the base by the selection rule; the others
+// are reported as screened. The selected one is refitted with model_form_hold held after their first stage (the
+// dilation kernel as the presses fit it), kept when held-out data prefer it.
 ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
   ModelFormRound round;
   if (!o_.model_forms || !o_.fit_base) return round;
-  const auto fit_variant = [&](const std::string& v, const std::vector<std::string>& hold) {
-    o_.progress("model form " + v + (hold.empty() ? "" : ", held after their stage: " + effect_set_key(hold)), 0.0);
-    const auto t0 = std::chrono::steady_clock::now();
-    ParamSet start = default_params(v);
-    copy_shared(base.fit.params, &start);
-    FitOptions fo = fit_options();
-    fo.hold = hold;
-    const CalibrationResult r = fit_model(v, in_.sensor, in_.calibration, start, fo);
-    throw_if_cancelled(r, o_.progress);
-    EffectFit ef = scored(v, {}, r.params, joint_stage(v, false).params.size());
-    ef.time_s = seconds_since(t0);
+  const std::vector<std::string> variants = model_form_variants(in_.model_id);
+  const double base_rmse = validation_rmse(base.fit.validation);
+  std::vector<EffectFit> alone;
+  std::vector<double> alone_rmse, gain_pct;
+  std::vector<bool> in_ranking;
+  for (const std::string& v : variants) {
+    alone.push_back(fit_variant_alone(v, base));
+    alone_rmse.push_back(validation_rmse(alone.back().fit.validation));
+    gain_pct.push_back(100.0 * (base_rmse - alone_rmse.back()) / base_rmse);
+    in_ranking.push_back(gain_pct.back() >= o_.screen_min_pct);
+  }
+  const std::vector<std::size_t> rank = joint_refit_ranks(alone_rmse, in_ranking);
+  const auto ranked = static_cast<std::size_t>(std::count(in_ranking.begin(), in_ranking.end(), true));
+  double best_rmse_px = 0;
+  for (std::size_t i = 0; i < variants.size(); ++i) {
+    const std::string& v = variants[i];
+    EffectFit ef = alone[i];
+    if (rank[i] >= 1 && rank[i] <= o_.joint_refits_per_round) {
+      ef = fit_variant(v, base, {});
+      ef.time_s += alone[i].time_s;
+    } else {
+      ef.fit.veto = "screened: alone over the fitted base it gains " + format_number(gain_pct[i], "%.2f") + "%" +
+                    (rank[i] == 0 ? " (< " + format_number(o_.screen_min_pct, "%.2f") + "%), no joint refit"
+                                  : ", " + std::to_string(rank[i]) + " of " + std::to_string(ranked) +
+                                        " promising variants; only the " + std::to_string(o_.joint_refits_per_round) +
+                                        " best alone get the joint refit");
+    }
     CandidateScore sc = score_candidate(base.fit, ef.fit, o_.selection);
     sc.candidate = v;
-    return std::pair{std::move(ef), std::move(sc)};
-  };
-  double best_rmse_px = 0;
-  for (const std::string& v : model_form_variants(in_.model_id)) {
-    auto [ef, sc] = fit_variant(v, {});
     if (sc.accepted && (round.selected.empty() || sc.rmse_px < best_rmse_px))
       round.selected = v, best_rmse_px = sc.rmse_px;
     round.scores.push_back(std::move(sc));
@@ -123,7 +187,9 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
   }
   const std::vector<std::string> hold = model_form_hold(in_.model_id);
   if (round.selected.empty() || hold.empty()) return round;
-  auto [ef, sc] = fit_variant(round.selected, hold);
+  EffectFit ef = fit_variant(round.selected, base, hold);
+  CandidateScore sc = score_candidate(base.fit, ef.fit, o_.selection);
+  sc.candidate = round.selected;
   if (!sc.accepted || sc.rmse_px >= best_rmse_px) return round;
   round.held = hold;
   round.joint_rmse_px = best_rmse_px;
@@ -135,13 +201,15 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
 }
 
 // Step 3: the catalogued effects on top of the form, greedily (residual_select.hpp, effect_search.hpp).
+// A selected model-form variant was fitted on the search's subset; the base on every sample.
 EffectRounds ResidualLoop::effect_rounds(const std::string& form, const EffectFit& form_fit) const {
-  EffectSearch search(in_, o_, fit_options(), form, form_fit, candidates_);
+  const bool form_on_subset = form != in_.model_id && search_cal_.size() < in_.calibration.size();
+  EffectSearch search(in_, o_, fit_options(), form, form_fit, candidates_, {search_cal_, form_on_subset});
   EffectRounds rounds;
   rounds.form = form;
   rounds.selection = select_effects(
       candidates_, [&](const std::vector<std::string>& ids) { return search.fit_and_score(ids); }, o_.selection);
-  rounds.final_refit = search.final_refit(rounds.selection.selected);
+  rounds.final_refit = search.final_refit(rounds.selection.selected, &rounds.final_refit_why);
   rounds.fits = search.take_fits();
   return rounds;
 }
@@ -181,6 +249,8 @@ ResidualReport ResidualLoop::run() const {
   rep.dataset = in_.dataset;
   rep.model_id = in_.model_id;
   rep.fit_base = o_.fit_base;
+  rep.search_samples = search_cal_.size();
+  rep.calibration_samples = in_.calibration.size();
   rep.sensor = in_.sensor;
   rep.before = fit_base();
   rep.model_form = model_form_round(rep.before);

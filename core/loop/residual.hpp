@@ -56,6 +56,12 @@ struct ResidualOptions {
   // Of a round's candidates that pass that screen, only this many, the best alone, get the joint refit (those
   // whose fingerprint was found or that explain the held drift always do); the rest are reported as screened.
   std::size_t joint_refits_per_round = 3;
+  // Every fit after the base's that reruns the form on each run (a model-form variant's, a pose effect's alone
+  // fit and its grid start, a joint refit) sees at most this many calibration samples, evenly spaced
+  // (evenly_spaced; 0: all of them). Their scores (the BIC's calibration error, validation) use every sample of
+  // both splits, and the answer is refitted on the whole calibration split (EffectSearch::final_refit). On the
+  // real TacTip a run of HydroShear over its 1000 calibration samples costs ~0.5 s and a joint refit hundreds.
+  std::size_t search_samples = 250;
   int bins = 6;  // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;
@@ -85,9 +91,11 @@ struct EffectRounds {
   std::string form;  // the model the effects wrap: the selected form, else the base
   SelectionResult selection;
   std::map<std::string, EffectFit> fits;  // keyed by effect_set_key ("" = the form as fitted)
-  // The selected set fitted with everything free once more, when the rounds after a pose effect held the form's
-  // state and the pose (EffectSearch::final_refit); empty when the selected set's fit already was joint.
+  // The selected set fitted with everything free once more, on every calibration sample, when the rounds after
+  // a pose effect held the form's state and the pose or fitted it on a subset (EffectSearch::final_refit); empty
+  // when the selected set's fit already was joint and on every sample. `final_refit_why` says which.
   std::optional<EffectFit> final_refit;
+  std::string final_refit_why;
 };
 
 // Step 4's output: the loop's answer.
@@ -100,6 +108,8 @@ struct ResidualReport {
   std::string dataset;
   std::string model_id;  // the base model
   bool fit_base = true;
+  // Calibration samples the search's form-rerunning fits saw (ResidualOptions::search_samples) and the split's.
+  std::size_t search_samples = 0, calibration_samples = 0;
   std::shared_ptr<const Sensor> sensor;
   EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
@@ -144,10 +154,14 @@ class ResidualLoop {
   EffectFit scored(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
                    std::size_t free_params) const;
   FitOptions fit_options() const;
+  EffectFit fit_variant_alone(const std::string& v, const EffectFit& base) const;
+  EffectFit fit_variant(const std::string& v, const EffectFit& base, const std::vector<std::string>& hold) const;
+  FitModelFactory spec_fit_factory(const std::string& model_id) const;
 
   const ResidualInputs& in_;
   const ResidualOptions& o_;
   std::vector<std::string> candidates_;
+  std::vector<FitSample> search_cal_;  // the calibration samples the search's costly fits see (search_samples)
 };
 
 // The whole loop: ResidualLoop(in, options).run().

@@ -317,6 +317,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   j["dataset"] = r.dataset;
   j["model"] = r.model_id;
   j["base_fitted"] = r.fit_base;
+  j["search_calibration_samples"] = {{"fitted_on", r.search_samples}, {"of", r.calibration_samples}};
   j["after_model"] = r.after_model;
   j["before"] = metrics_json(r.before);
   j["after"] = metrics_json(r.after);
@@ -332,6 +333,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   if (r.effects.final_refit) {
     j["final_refit"] = {{"rounds_rmse_px", rmse_of(r.effects.fits.at(effect_set_key(r.effects.selection.selected)))},
                         {"refit_rmse_px", rmse_of(*r.effects.final_refit)},
+                        {"why", r.effects.final_refit_why},
                         {"time_s", r.effects.final_refit->time_s}};
   }
   j["effects_reference"] = metrics_json(r.effects.fits.at(""));
@@ -434,14 +436,23 @@ std::string held_note(const ModelFormRound& m) {
          f3(m.joint_rmse_px) + " px when the joint refinement moves them too)";
 }
 
-// After a pose effect the rounds held the form's state and the pose; the answer is the final joint refit.
+// After a pose effect the rounds held the form's state and the pose, or the search fitted on a subset of the
+// calibration samples; the answer is the final joint refit on all of them.
 std::string final_refit_note(const EffectRounds& e) {
   if (!e.final_refit) return "";
   const EffectFit& rounds_fit = e.fits.at(effect_set_key(e.selection.selected));
-  return "\n- fitted jointly once more after the rounds (they held the form's state and the pose effect's "
-         "parameters after its round): validation " +
-         f3(rmse_of(rounds_fit)) + " px as the rounds fitted it, " + f3(rmse_of(*e.final_refit)) +
+  return "\n- fitted jointly once more after the rounds on every calibration sample (" + e.final_refit_why +
+         "): validation " + f3(rmse_of(rounds_fit)) + " px as the rounds fitted it, " + f3(rmse_of(*e.final_refit)) +
          " px refitted (the answer's)";
+}
+
+// The search's costly fits on a subset of the calibration split (ResidualOptions::search_samples).
+std::string search_subset_note(const ResidualReport& r) {
+  if (r.search_samples >= r.calibration_samples) return "";
+  return "The search's fits that rerun the form on every run (model-form variants, pose effects, joint refits) saw " +
+         std::to_string(r.search_samples) + " of the " + std::to_string(r.calibration_samples) +
+         " calibration samples, evenly spaced; every score uses all samples of both splits, and the answer is "
+         "refitted on the whole calibration split.\n\n";
 }
 
 // The answer first: the model the loop ends with, and how it got there.
@@ -667,7 +678,7 @@ std::string residual_to_markdown(const ResidualReport& r, const std::vector<std:
   std::string md = "# Residual attribution: " + r.model_id + " on " + r.dataset + "\n\n";
   md += std::string("Base model ") +
         (r.fit_base ? "fitted on the calibration split (staged + joint)" : "with the given parameters (not refitted)") +
-        "; scores on the validation split. Residual = measured − predicted.\n\n";
+        "; scores on the validation split. Residual = measured − predicted.\n\n" + search_subset_note(r);
   md += answer_markdown(r) + structure_markdown(r.structure_before, plots) + response_markdown(r) +
         model_form_markdown(r) + effects_markdown(r) + errors_markdown(r);
   if (timings_in_outputs()) md += "Run time " + f3(r.time_s) + " s.\n";
