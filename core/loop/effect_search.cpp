@@ -109,6 +109,14 @@ std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse
   return rank;
 }
 
+std::string screen_note(double gain_pct, double min_pct, std::size_t rank, std::size_t ranked, std::size_t keep,
+                        const std::string& what) {
+  const std::string gain = "screened: alone over the fitted base it gains " + format_number(gain_pct, "%.2f") + "%";
+  if (rank == 0) return gain + " (< " + format_number(min_pct, "%.2f") + "%), no joint refit";
+  return gain + ", " + std::to_string(rank) + " of " + std::to_string(ranked) + " promising " + what + "; only the " +
+         std::to_string(keep) + " best alone get the joint refit";
+}
+
 EffectSearch::EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
                            const EffectFit& form_fit, std::vector<std::string> candidates, SearchSubset subset)
     : in_(in), o_(o), fo_(fo), form_(std::move(form)), candidates_(std::move(candidates)), subset_(subset) {
@@ -266,8 +274,7 @@ bool EffectSearch::promising(const EffectFit& alone, const std::string& warm_key
   *by_evidence = (fp && fp->consistent) || (!fp && drift);
   if (fp) return fp->consistent;
   if (alone_pct >= o_.screen_min_pct || drift) return true;
-  *screen_note = "screened: alone over the fitted base it gains " + format_number(alone_pct, "%.2f") + "% (< " +
-                 format_number(o_.screen_min_pct, "%.2f") + "%), no joint refit";
+  *screen_note = sb::screen_note(alone_pct, o_.screen_min_pct, 0, 0, 0, "candidates");
   return false;
 }
 
@@ -275,10 +282,7 @@ EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const s
                                     const ParamSet& from, const std::vector<FitSample>& samples) {
   const std::string model = ModelSpec{form_, ids}.id();
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
-  const FitModelFactory make = [&](std::shared_ptr<const Indenter> ind) {
-    return make_spec_model(model, in_.sensor, std::move(ind));
-  };
-  const CalibrationResult r = run_fit_stages(model, make, stage, samples, from, fo_);
+  const CalibrationResult r = run_fit_stages(model, spec_fit_factory(model, in_.sensor), stage, samples, from, fo_);
   throw_if_cancelled(r, o_.progress);
   const SampleModelFactory full = spec_model_factory(model, in_.sensor);
   return score_fit(in_, ids, r.params, joint.size(), full, full);
@@ -396,10 +400,7 @@ void EffectSearch::prepare_round(const std::vector<std::string>& selected) {
     Alone& a = alone_.at(keys[i]);
     const double ref = validation_rmse(fits_.at(effect_set_key(a.start.warm)).fit.validation);
     a.promising = false;
-    a.screen_note = "screened: alone over the fitted base it gains " +
-                    format_number(100.0 * (ref - rmse[i]) / ref, "%.2f") + "%, " + std::to_string(rank[i]) + " of " +
-                    std::to_string(ranked) + " promising candidates; only the " + std::to_string(keep) +
-                    " best alone get the joint refit";
+    a.screen_note = screen_note(100.0 * (ref - rmse[i]) / ref, o_.screen_min_pct, rank[i], ranked, keep, "candidates");
   }
 }
 

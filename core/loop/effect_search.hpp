@@ -30,6 +30,11 @@ struct SearchSubset {
   bool form_fitted_on_it = false;
 };
 
+// Why a candidate (an effect, or a model-form variant) got no joint refit: it gains `gain_pct` alone over the
+// fitted base; `rank` 0 when below `min_pct`, else its joint_refit_ranks rank of `ranked`, past the best `keep`.
+std::string screen_note(double gain_pct, double min_pct, std::size_t rank, std::size_t ranked, std::size_t keep,
+                        const std::string& what);
+
 class EffectSearch {
  public:
   // `form_fit` is the form as fitted (the search's reference, key ""); `fo` the fits' options.

@@ -21,6 +21,12 @@ SampleModelFactory spec_model_factory(const std::string& model_id, const std::sh
   return [model_id, sensor](const FitSample& s, std::size_t) { return make_spec_model(model_id, sensor, s.indenter); };
 }
 
+FitModelFactory spec_fit_factory(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor) {
+  return [model_id, sensor](std::shared_ptr<const Indenter> ind) {
+    return make_spec_model(model_id, sensor, std::move(ind));
+  };
+}
+
 namespace {
 
 // Held-drift sums of one sample (FitResult::held_*).

@@ -28,6 +28,9 @@ using SampleModelFactory = std::function<std::unique_ptr<ShearModel>(const FitSa
 // The model `model_id` (core/effects/model_spec.hpp: a form and effects) for every sample.
 SampleModelFactory spec_model_factory(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor);
 
+// The same model for a fit's samples (run_fit_stages), by indenter.
+FitModelFactory spec_fit_factory(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor);
+
 // Per-sample squared error and marker-frame count over the scored set, the metric accumulators and the
 // held-drift sums (FitResult::held_*).
 struct SplitScores {

@@ -6,7 +6,6 @@
 #include <stdexcept>
 
 #include "core/base/elapsed.hpp"
-#include "core/base/format.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
 #include "core/loop/effect_search.hpp"
@@ -109,7 +108,8 @@ EffectFit ResidualLoop::fit_variant_alone(const std::string& v, const EffectFit&
   ParamSet fitted = start;
   if (!own.empty()) {
     const FitStage stage{"alone", own, joint_stage(v, false).motions, false, {}};
-    const CalibrationResult r = run_fit_stages(v, spec_fit_factory(v), {stage}, search_cal_, start, fit_options());
+    const CalibrationResult r =
+        run_fit_stages(v, spec_fit_factory(v, in_.sensor), {stage}, search_cal_, start, fit_options());
     throw_if_cancelled(r, o_.progress);
     fitted = r.params;
   }
@@ -135,12 +135,6 @@ EffectFit ResidualLoop::fit_variant(const std::string& v, const EffectFit& base,
   EffectFit ef = scored(v, {}, r.params, joint_stage(v, false).params.size());
   ef.time_s = seconds_since(t0);
   return ef;
-}
-
-FitModelFactory ResidualLoop::spec_fit_factory(const std::string& model_id) const {
-  return [model_id, sensor = in_.sensor](std::shared_ptr<const Indenter> ind) {
-    return make_spec_model(model_id, sensor, std::move(ind));
-  };
 }
 
 // Step 2: the variants as the effect rounds treat a candidate. Each is fitted alone (fit_variant_alone); those
@@ -172,11 +166,7 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
       ef = fit_variant(v, base, {});
       ef.time_s += alone[i].time_s;
     } else {
-      ef.fit.veto = "screened: alone over the fitted base it gains " + format_number(gain_pct[i], "%.2f") + "%" +
-                    (rank[i] == 0 ? " (< " + format_number(o_.screen_min_pct, "%.2f") + "%), no joint refit"
-                                  : ", " + std::to_string(rank[i]) + " of " + std::to_string(ranked) +
-                                        " promising variants; only the " + std::to_string(o_.joint_refits_per_round) +
-                                        " best alone get the joint refit");
+      ef.fit.veto = screen_note(gain_pct[i], o_.screen_min_pct, rank[i], ranked, o_.joint_refits_per_round, "variants");
     }
     CandidateScore sc = score_candidate(base.fit, ef.fit, o_.selection);
     sc.candidate = v;

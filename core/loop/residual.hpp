@@ -156,7 +156,6 @@ class ResidualLoop {
   FitOptions fit_options() const;
   EffectFit fit_variant_alone(const std::string& v, const EffectFit& base) const;
   EffectFit fit_variant(const std::string& v, const EffectFit& base, const std::vector<std::string>& hold) const;
-  FitModelFactory spec_fit_factory(const std::string& model_id) const;
 
   const ResidualInputs& in_;
   const ResidualOptions& o_;
