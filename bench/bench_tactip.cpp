@@ -106,6 +106,10 @@ BENCHMARK_CAPTURE(BM_TactipFit, hydroshear, std::string("hydroshear"))
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);
+BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_contact, std::string("hydroshear-contact"))
+    ->Unit(benchmark::kSecond)
+    ->UseRealTime()
+    ->Iterations(1);
 BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))
     ->Unit(benchmark::kSecond)
     ->UseRealTime()

@@ -190,6 +190,26 @@ TEST_CASE("a rescale stage fits the field's shape whatever its size", "[fit]") {
   CHECK(r.stages[0].scale == Approx(3.0).epsilon(kRecoveryRelTol));
 }
 
+// A stage with no iteration pays its loss before, Ceres's first evaluation (the point and its Jacobian) and its
+// loss after. Model runs over the stage's samples, P = 2 columns (lambda, gain; coarse scan off):
+//   before 1 + point 1 + one-sided columns P + after 1 = P + 3 = 5   (central differences: 2P + 3 = 7).
+// With mu at its upper bound (5) its column is the backward one: still one run, P = 3 -> 6.
+TEST_CASE("a stage's Jacobian costs one model run per column, one-sided at a bound", "[fit]") {
+  const auto samples = toy_samples(toy_truth());
+  const sb::FitModelFactory make = [](std::shared_ptr<const sb::Indenter>) { return std::make_unique<ToyModel>(); };
+  sb::FitOptions o;
+  o.max_iterations = 0;
+  o.coarse_scan = false;
+  ParamSet start(ToyModel::specs());
+  const std::vector<sb::FitStage> two = {{"two", {"lambda", "gain"}, {"dilation"}, false, {}}};
+  CHECK(sb::run_fit_stages("toy", make, two, samples, start, o).stages.at(0).evaluations == 2 + 3);
+  start.set("mu", 5.0);
+  const std::vector<sb::FitStage> three = {{"three", {"lambda", "gain", "mu"}, {"dilation"}, false, {}}};
+  const auto r = sb::run_fit_stages("toy", make, three, samples, start, o);
+  CHECK(r.stages.at(0).evaluations == 3 + 3);
+  CHECK(r.params.get("mu") == 5.0);
+}
+
 TEST_CASE("a robust loss keeps the fit on the inliers", "[fit]") {
   // One marker of every active frame corrupted by 50 px: least squares is dragged, Cauchy is not.
   const ParamSet truth = toy_truth();
