@@ -30,8 +30,8 @@ inline std::vector<Vec2> hs_path_field(HydroShearBatch& batch) {
   return disp;
 }
 
-inline std::vector<Vec2> hs_path_field(const ParamSet& p) {
-  HydroShearBatch batch(test_sensor(), hs_box(), 1, p);
+inline std::vector<Vec2> hs_path_field(const ParamSet& p, std::shared_ptr<const Sensor> sensor = test_sensor()) {
+  HydroShearBatch batch(std::move(sensor), hs_box(), 1, p);
   return hs_path_field(batch);
 }
 

@@ -39,14 +39,29 @@ ParamSet contact_params(double beta_s3, double lambda_s3, double follow, double 
 }
 
 // The shear part of a parameter set's field (doubling kappa_s doubles it and leaves the dilation).
-std::vector<Vec2> shear_part(ParamSet p) {
-  const auto once = hs_path_field(p);
+std::vector<Vec2> shear_part(ParamSet p, const std::shared_ptr<const Sensor>& sensor) {
+  const auto once = hs_path_field(p, sensor);
   p.set("kappa_s", 2 * p.get("kappa_s"));
-  const auto twice = hs_path_field(p);
+  const auto twice = hs_path_field(p, sensor);
   std::vector<Vec2> s(once.size());
   for (std::size_t j = 0; j < s.size(); ++j) s[j] = twice[j] - once[j];
   return s;
 }
+
+// The test sensor with its markers moved off the grid (up to 0.3 mm in the plane, up to 0.2 mm below the surface,
+// deterministically): the shear sum then takes its path for markers anywhere (the TacTip's pins), one point
+// against every marker, instead of the grid's factored Gaussians.
+std::shared_ptr<const Sensor> off_grid_sensor() {
+  auto s = std::make_shared<Sensor>(*test_sensor());
+  for (std::size_t j = 0; j < s->p_EM.size(); ++j) {
+    const double t = static_cast<double>(j);
+    s->p_EM[j] += Vec3(0.3e-3 * std::sin(1.7 * t), 0.3e-3 * std::cos(2.3 * t), -0.1e-3 * (1 + std::sin(0.9 * t)));
+  }
+  return s;
+}
+
+// The grid's sensor or the same markers off the grid (GENERATE: each test case runs both).
+std::shared_ptr<const Sensor> either_sensor(bool off_grid) { return off_grid ? off_grid_sensor() : test_sensor(); }
 
 }  // namespace
 
@@ -80,7 +95,7 @@ TEST_CASE("hydroshear-contact's far field adds a third Gaussian linearly", "[mod
   const auto base = hs_path_field(d);
   ParamSet wide = d;
   wide.set("lambda_s", ls3);
-  const auto S3 = shear_part(wide);
+  const auto S3 = shear_part(wide, test_sensor());
   double far_s = 0;
   for (std::size_t j = 0; j < far.size(); ++j) {
     INFO("marker " << j);
@@ -98,8 +113,11 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   d.set("lambda_s", kLambdaS);
   const double ks = d.get("kappa_s"), ls = d.get("lambda_s"), E = d.get("E"), K = d.get("K");
   constexpr double kFollow = 0.8;
+  const bool off_grid = GENERATE(false, true);
+  INFO((off_grid ? "markers off the grid" : "markers on the grid"));
+  const auto sensor = either_sensor(off_grid);
   // The state, from a plain run (the following does not change it).
-  HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
+  HydroShearBatch plain(sensor, hs_box(), 1, d);
   (void)hs_path_field(plain);
   const auto points = plain.tracked(0);
   REQUIRE(!points.empty());
@@ -113,7 +131,6 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
   CHECK(c.norm() > 0.1e-3);  // the box slid 0.32 mm while stuck: the shift is not a rounding
   // The shifted sum by hand.
   const Pose X = hs_box_path().back();
-  const auto sensor = test_sensor();
   std::vector<Vec2> expected(sensor->p_EM.size(), Vec2::Zero());
   for (const HydroShearPoint& t : points) {
     Vec3 a = X * hs_box()->samples.p_IS[t.index] + t.u_E;
@@ -122,8 +139,8 @@ TEST_CASE("hydroshear-contact's following moves every kernel by follow times the
     for (std::size_t j = 0; j < expected.size(); ++j)
       expected[j] += ks * v * std::exp(-ls * (sensor->p_EM[j] - a).squaredNorm());
   }
-  const auto S = shear_part(contact_params(0, 3e4, kFollow, kLambdaS));
-  const auto S0 = shear_part(contact_params(0, 3e4, 0, kLambdaS));
+  const auto S = shear_part(contact_params(0, 3e4, kFollow, kLambdaS), sensor);
+  const auto S0 = shear_part(contact_params(0, 3e4, 0, kLambdaS), sensor);
   double moved = 0;
   for (std::size_t j = 0; j < S.size(); ++j) {
     INFO("marker " << j);
@@ -144,12 +161,14 @@ TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to e
   constexpr double kBeta3 = 0.3, kLambda3 = 2e4, kAniso = 3;  // 5 mm wide: it reaches every marker
   const ParamSet d = default_params("hydroshear");
   const double ks = d.get("kappa_s"), E = d.get("E"), K = d.get("K");
-  HydroShearBatch plain(test_sensor(), hs_box(), 1, d);
+  const bool off_grid = GENERATE(false, true);
+  INFO((off_grid ? "markers off the grid" : "markers on the grid"));
+  const auto sensor = either_sensor(off_grid);
+  HydroShearBatch plain(sensor, hs_box(), 1, d);
   (void)hs_path_field(plain);
   const auto points = plain.tracked(0);
   REQUIRE(!points.empty());
   const Pose X = hs_box_path().back();
-  const auto sensor = test_sensor();
   std::vector<Vec2> expected(sensor->p_EM.size(), Vec2::Zero());
   for (const HydroShearPoint& t : points) {
     const Vec3 a = X * hs_box()->samples.p_IS[t.index] + t.u_E;
@@ -161,9 +180,9 @@ TEST_CASE("hydroshear-contact's far-field anisotropy adds aniso l d (d . v) to e
     }
   }
   ParamSet p = contact_params(kBeta3, kLambda3, 0);
-  const auto iso = hs_path_field(p);
+  const auto iso = hs_path_field(p, sensor);
   p.set("aniso_s3", kAniso);
-  const auto aniso = hs_path_field(p);
+  const auto aniso = hs_path_field(p, sensor);
   double largest = 0;
   for (std::size_t j = 0; j < aniso.size(); ++j) {
     INFO("marker " << j);

@@ -457,6 +457,44 @@ void lane_sums(const double* Sacc, int n, double* out) {
   }
 }
 
+SB_VECTOR_CLONES
+void scattered_exponents(const double* mx, const double* my, const double* mz, int nm, const double* a, double lambda,
+                         double min_exponent, double* g) {
+  const double ax = a[0], ay = a[1], az = a[2];
+  SB_IVDEP
+  for (int j = 0; j < nm; ++j) {
+    const double dx = mx[j] - ax, dy = my[j] - ay, dz = mz[j] - az;
+    g[j] = max2(-lambda * (dx * dx + dy * dy + dz * dz), min_exponent);
+  }
+}
+
+SB_VECTOR_CLONES
+void scattered_add(const double* mx, const double* my, int nm, const double* a, const double* v, double kl,
+                   const double* g, const ScatteredSums& s) {
+  const double ax = a[0], ay = a[1], vx = v[0], vy = v[1], vw = v[2];
+  double* sx = s.x;
+  double* sy = s.y;
+  if (kl == 0) {
+    SB_IVDEP
+    for (int j = 0; j < nm; ++j) {
+      sx[j] += vx * g[j];
+      sy[j] += vy * g[j];
+    }
+  } else {
+    SB_IVDEP
+    for (int j = 0; j < nm; ++j) {
+      const double dx = mx[j] - ax, dy = my[j] - ay;
+      const double along = kl * (dx * vx + dy * vy);
+      sx[j] += (vx + along * dx) * g[j];
+      sy[j] += (vy + along * dy) * g[j];
+    }
+  }
+  if (s.w == nullptr) return;
+  double* sw = s.w;
+  SB_IVDEP
+  for (int j = 0; j < nm; ++j) sw[j] += vw * g[j];
+}
+
 // Blocks of 8 markers held in four vector accumulators while the inside markers stream past: each
 // output is stored once, and the kernel rows are read once per block.
 SB_VECTOR_CLONES

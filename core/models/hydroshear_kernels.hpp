@@ -123,6 +123,21 @@ void lane_sums(const float* Sacc, int n, double* out);
 // out[j] = the sum of the 4 lanes of Sacc[4 j .. 4 j + 3] (the double add_products_acc's partial sums).
 void lane_sums(const double* Sacc, int n, double* out);
 
+// The shear sum off a grid (markers anywhere: the TacTip's pins on its dome), one point a at a time against every
+// marker m_j held as columns mx, my, mz: the term's exponents (scattered_exponents), exp_in_place, then the
+// point's share (scattered_add). Markers in columns and the branches out of the loops, so both vectorise.
+//   g[j] = max(-lambda |m_j - a|^2, min_exponent)
+void scattered_exponents(const double* mx, const double* my, const double* mz, int nm, const double* a, double lambda,
+                         double min_exponent, double* g);
+// The sums one point adds to: x, y per marker and w (may be null: no stick saturation).
+struct ScatteredSums {
+  double *x, *y, *w;
+};
+//   s_j += (v + kl d_j (d_j . v)) g[j] with d_j = (mx_j - a_x, my_j - a_y), v = (v[0], v[1]) (the anisotropic
+//   term's factor 1 + kl d d^T; kl = 0: isotropic), and w_j += v[2] g[j].
+void scattered_add(const double* mx, const double* my, int nm, const double* a, const double* v, double kl,
+                   const double* g, const ScatteredSums& s);
+
 // The dilation's sums over the markers inside the indenter: d[j] = sum_q h[q] K[ks[q] * stride + j] for
 // j < stride, for both axes (Kx, Ky k-major, rows padded with zeros to dilation_stride(markers)).
 inline int dilation_stride(int markers) { return (markers + 7) / 8 * 8; }

@@ -185,7 +185,9 @@ void ShearPass::add_term(const ShearTerm& term, int mp) const {
   const double* w = sc.ww.data();
   const double tw = term.weight;
   if (!factored(term)) {
-    for (int i = 0; i < n; ++i) shear_point_slow(term, i, tw * vx[i], tw * vy[i], tw * w[i]);
+    for (int i = 0; i < n; ++i)
+      if (vx[i] != 0 || vy[i] != 0 || (term.with_weights && w[i] != 0))
+        shear_point_slow(term, i, tw * vx[i], tw * vy[i], tw * w[i]);
     return;
   }
   sc.axis_args.resize(4 * static_cast<std::size_t>(mp));
@@ -296,18 +298,13 @@ void ShearPass::shear_point_slow(const ShearTerm& term, int i, double vx, double
   }
   // Exponents first, then one vectorised exp over them (a point's 327 TacTip pins: this was a third of a scored
   // frame's time in libm's scalar exp). Below kMinExponent the Gaussian is < 1e-304 of its peak: nothing.
-  const auto& M = m.sensor->p_EM;
-  const int nm = static_cast<int>(M.size());
+  const int nm = m.markers();
   sc.marker_gauss.resize(nm);
   double* g = sc.marker_gauss.data();
-  for (int j = 0; j < nm; ++j) g[j] = std::max(-ls * (M[j] - a).squaredNorm(), kMinExponent);
+  const double p_a[3] = {a.x(), a.y(), a.z()}, v[3] = {vx, vy, vw};
+  kernels::scattered_exponents(m.marker_x.data(), m.marker_y.data(), m.marker_z.data(), nm, p_a, ls, kMinExponent, g);
   exp_in_place(g, nm);
-  for (int j = 0; j < nm; ++j) {
-    const Vec2 v = aniso_term(term, (M[j] - a).head<2>(), vx, vy);
-    sx[j] += v.x() * g[j];
-    sy[j] += v.y() * g[j];
-    if (sw != nullptr) sw[j] += vw * g[j];
-  }
+  kernels::scattered_add(m.marker_x.data(), m.marker_y.data(), nm, p_a, v, term.aniso * ls, g, {sx, sy, sw});
 }
 
 const ShearSums& shear_sum(const HydroShearModel& m, const FieldPoints& f, ShearBuffers& buf) {

@@ -69,8 +69,9 @@ struct HydroShearModel {
   std::shared_ptr<const PointTable> table;
   HydroShearParams k;
   MarkerGridLayout grid;
-  double marker_z_max = 0;  // highest marker (the dilation needs the indenter below it)
-  bool flat = false;        // the gel is a flat pad: phi_E analytic
+  std::vector<double> marker_x, marker_y, marker_z;  // p_EM as columns (the shear sum off a grid)
+  double marker_z_max = 0;                           // highest marker (the dilation needs the indenter below it)
+  bool flat = false;                                 // the gel is a flat pad: phi_E analytic
   FlatPad pad;
   double cull_z = 0;  // flat pad: points with z_E >= cull_z are outside the gel
   bool cull = false;
