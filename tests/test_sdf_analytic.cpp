@@ -98,16 +98,21 @@ TEST_CASE("spherical cap SDF: dome, rim, wall and bottom; against the cap's mesh
   // (1, 1) mm off the rim corner (F, -4 mm) in (r, z): the polar angle atan(13 / 17) = 37.4 deg is past the
   // rim's atan(12 / 16) = 36.9 deg, and the wall's nearest point is the corner too: sqrt 2 mm.
   CHECK(cap->value(Vec3(0, F + 1e-3, -4e-3 + 1e-3)) == Approx(std::sqrt(2.0) * 1e-3).margin(kTol));
-  SECTION("the distance alone (the fast path) is the distance with its gradient, everywhere") {
+  SECTION("the distance alone (the fast path, one point or a batch) is the distance with its gradient, everywhere") {
     // A 41^3 lattice over the cap's box grown by 5 mm: inside, outside, on the axis, beside the rim and wall.
+    std::vector<Vec3> lattice;
     for (int i = 0; i <= 40; ++i)
       for (int j = 0; j <= 40; ++j)
-        for (int k = 0; k <= 40; ++k) {
-          const Vec3 p(-17e-3 + 34e-3 * i / 40, -17e-3 + 34e-3 * j / 40, -15e-3 + 20e-3 * k / 40);
-          Vec3 g2;
-          const double with_gradient = cap->value_and_gradient(p, &g2);
-          REQUIRE(std::abs(cap->value(p) - with_gradient) < 1e-15);
-        }
+        for (int k = 0; k <= 40; ++k)
+          lattice.emplace_back(-17e-3 + 34e-3 * i / 40, -17e-3 + 34e-3 * j / 40, -15e-3 + 20e-3 * k / 40);
+    std::vector<double> batch(lattice.size());
+    cap->values(lattice, batch);  // the vectorised loop
+    for (std::size_t i = 0; i < lattice.size(); ++i) {
+      Vec3 g2;
+      const double with_gradient = cap->value_and_gradient(lattice[i], &g2);
+      REQUIRE(std::abs(cap->value(lattice[i]) - with_gradient) < 1e-15);
+      REQUIRE(std::abs(batch[i] - with_gradient) < 1e-15);
+    }
   }
   SECTION("impossible shapes are refused") {
     CHECK_THROWS_AS(make_spherical_cap_sdf(R, 25e-3, T), std::invalid_argument);  // footprint > radius

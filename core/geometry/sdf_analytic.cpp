@@ -5,6 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/base/vector_clones.hpp"
 #include "core/geometry/sdf.hpp"
 
 namespace sb {
@@ -54,6 +55,31 @@ class SphereSdf final : public Sdf {
 // (0, 0, -R) above its rim z_rim = -R (1 - cos theta_max), F = R sin theta_max the footprint radius, on a
 // cylinder r <= F from z_rim down to -T. Worked in the (r, z) half-plane of a solid of revolution: the
 // distance is the one to the nearest of the profile's arc, wall and bottom; inside is the union of the two.
+struct CapShape {
+  double R, F, T, z_rim, sin_rim, cos_rim;
+};
+
+// The cap's signed distance at (x, y, z): squared distances to the arc's circle or its rim end, the wall and the
+// bottom, one square root each. Selects, no branches: cap_distances vectorises it over points.
+inline double cap_distance(const CapShape& c, double x, double y, double z) {
+  const double r = std::sqrt(x * x + y * y), zc = z + c.R;
+  const double arc = std::sqrt(r * r + zc * zc) - c.R;
+  const double to_rim = (r - c.F) * (r - c.F) + (z - c.z_rim) * (z - c.z_rim);
+  double d2 = r * c.cos_rim - zc * c.sin_rim > 0 ? to_rim : arc * arc;
+  const double zw = z - std::clamp(z, -c.T, c.z_rim);
+  d2 = std::min(d2, (r - c.F) * (r - c.F) + zw * zw);
+  const double rb = r - std::min(r, c.F);
+  d2 = std::min(d2, rb * rb + (z + c.T) * (z + c.T));
+  const bool inside = (z >= -c.T) & (((z <= c.z_rim) & (r <= c.F)) | ((z > c.z_rim) & (r * r + zc * zc <= c.R * c.R)));
+  return inside ? -std::sqrt(d2) : std::sqrt(d2);
+}
+
+SB_VECTOR_CLONES
+void cap_distances(const CapShape& c, const Vec3* p, int n, double* phi) {
+  SB_IVDEP
+  for (int i = 0; i < n; ++i) phi[i] = cap_distance(c, p[i].x(), p[i].y(), p[i].z());
+}
+
 class SphericalCapSdf final : public Sdf {
  public:
   SphericalCapSdf(double R, double F, double T)
@@ -62,25 +88,10 @@ class SphericalCapSdf final : public Sdf {
         T_(T),
         z_rim_(-(R - std::sqrt(std::max(R * R - F * F, 0.0)))),
         sin_rim_(F / R),
-        cos_rim_((z_rim_ + R) / R) {}
-  // The distance alone (HydroShear asks it of every point near the gel at every step): squared distances to the
-  // arc's circle or its rim end, the wall and the bottom, one square root each.
-  double value(const Vec3& p) const override {
-    const double r = std::sqrt(p.x() * p.x() + p.y() * p.y()), z = p.z(), zc = z + R_;
-    double d2;
-    if (r * cos_rim_ - zc * sin_rim_ > 0) {
-      d2 = (r - F_) * (r - F_) + (z - z_rim_) * (z - z_rim_);
-    } else {
-      const double arc = std::sqrt(r * r + zc * zc) - R_;
-      d2 = arc * arc;
-    }
-    const double zw = z - std::clamp(z, -T_, z_rim_);
-    d2 = std::min(d2, (r - F_) * (r - F_) + zw * zw);
-    const double rb = r - std::min(r, F_);
-    d2 = std::min(d2, rb * rb + (z + T_) * (z + T_));
-    const bool inside = z >= -T_ && ((z <= z_rim_ && r <= F_) || (z > z_rim_ && r * r + zc * zc <= R_ * R_));
-    return inside ? -std::sqrt(d2) : std::sqrt(d2);
-  }
+        cos_rim_((z_rim_ + R) / R),
+        shape_{R_, F_, T_, z_rim_, sin_rim_, cos_rim_} {}
+  // The distance alone (HydroShear asks it of every point near the gel at every step): cap_distance.
+  double value(const Vec3& p) const override { return cap_distance(shape_, p.x(), p.y(), p.z()); }
   double value_and_gradient(const Vec3& p, Vec3* g) const override {
     const double r = std::sqrt(p.x() * p.x() + p.y() * p.y()), z = p.z();
     const Vec2 q(r, z);
@@ -98,7 +109,7 @@ class SphericalCapSdf final : public Sdf {
     return inside ? -dist : dist;
   }
   void values(std::span<const Vec3> p, std::span<double> phi) const override {
-    for (std::size_t i = 0; i < p.size(); ++i) phi[i] = SphericalCapSdf::value(p[i]);
+    cap_distances(shape_, p.data(), static_cast<int>(p.size()), phi.data());
   }
   Eigen::AlignedBox3d bounds() const override {
     const double e = 2 * std::max(F_, T_);
@@ -126,6 +137,7 @@ class SphericalCapSdf final : public Sdf {
     return a + t * ab;
   }
   double R_, F_, T_, z_rim_, sin_rim_, cos_rim_;
+  CapShape shape_;
 };
 
 class TorusSdf final : public Sdf {

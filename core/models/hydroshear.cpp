@@ -13,6 +13,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <memory>
+#include <mutex>
 #include <numeric>
 #include <set>
 #include <stdexcept>
@@ -169,6 +171,7 @@ HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shar
     m.marker_y.push_back(p.y());
     m.marker_z.push_back(p.z());
   }
+  if (!sensor->gel_mesh.empty()) m.gel_mesh_bounds = sensor->gel_mesh.bounds();
   m.marker_z_max = -kInf;
   for (const Vec3& p : sensor->p_EM) m.marker_z_max = std::max(m.marker_z_max, p.z());
   m.table = hydroshear::make_point_table(*indenter);
@@ -257,6 +260,46 @@ std::shared_ptr<const hydroshear::PointTable> hydroshear::make_point_table(const
   return table;
 }
 
+namespace {
+
+// The dilation kernel of a sensor's markers for one lambda_d (HydroShearModel::dil_x, dil_y).
+struct DilationKernel {
+  std::vector<double> x, y;
+};
+
+std::shared_ptr<const DilationKernel> make_dilation_kernel(const std::vector<Vec3>& m, double lambda_d) {
+  const int n = static_cast<int>(m.size());
+  const int stride = kernels::dilation_stride(n);
+  auto d = std::make_shared<DilationKernel>();
+  d->x.assign(static_cast<std::size_t>(n) * stride, 0.0);
+  d->y.assign(d->x.size(), 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double w = std::exp(-lambda_d * (m[j] - m[i]).squaredNorm());
+      d->x[i * stride + j] = w * (m[j] - m[i]).x();
+      d->y[i * stride + j] = w * (m[j] - m[i]).y();
+    }
+  return d;
+}
+
+// n^2 exponentials (the TacTip's 327 pins: 107k) whenever lambda_d changes, and a fit sets the parameters of every
+// sample's model (one per sample: 1000 on the TacTip's calibration split) at every run: the samples share the
+// last kernel made for a sensor.
+std::shared_ptr<const DilationKernel> dilation_kernel(const std::shared_ptr<const Sensor>& sensor, double lambda_d) {
+  static std::mutex mutex;
+  static std::weak_ptr<const Sensor> last_sensor;
+  static double last_lambda = 0;
+  static std::shared_ptr<const DilationKernel> last;
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (last && last_lambda == lambda_d && last_sensor.lock() == sensor) return last;
+  last = make_dilation_kernel(sensor->p_EM, lambda_d);
+  last_sensor = sensor;
+  last_lambda = lambda_d;
+  return last;
+}
+
+}  // namespace
+
 void hydroshear::HydroShearModel::set_params(const HydroShearParams& params) {
   k = params;
   flat = k.flat_pad_fast && flat_pad_of(*sensor, &pad);
@@ -266,26 +309,15 @@ void hydroshear::HydroShearModel::set_params(const HydroShearParams& params) {
   cull_z = 0;
   box_cull = !flat && !sensor->gel_mesh.empty();
   if (box_cull) {
-    gel_box = sensor->gel_mesh.bounds();
+    gel_box = gel_mesh_bounds;
     const Vec3 grow = Vec3::Constant(kGelBoxMargin + k.g_aug);  // the augmented points are tested too
     gel_box.extend(gel_box.min() - grow);
     gel_box.extend(gel_box.max() + grow);
   }
-  // n^2 exponentials (the TacTip's 327 pins: 107k, a millisecond): a fit sets the parameters of every
-  // sample's model at every evaluation, mostly with lambda_d unchanged.
   if (!dil_x || dil_lambda != k.lambda_d) {
-    const auto& m = sensor->p_EM;
-    const int n = static_cast<int>(m.size());
-    const int stride = kernels::dilation_stride(n);
-    std::vector<double> dil_x_new(static_cast<std::size_t>(n) * stride, 0.0), dil_y_new(dil_x_new.size(), 0.0);
-    for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) {
-        const double w = std::exp(-k.lambda_d * (m[j] - m[i]).squaredNorm());
-        dil_x_new[i * stride + j] = w * (m[j] - m[i]).x();
-        dil_y_new[i * stride + j] = w * (m[j] - m[i]).y();
-      }
-    dil_x = std::make_shared<const std::vector<double>>(std::move(dil_x_new));
-    dil_y = std::make_shared<const std::vector<double>>(std::move(dil_y_new));
+    const std::shared_ptr<const DilationKernel> d = dilation_kernel(sensor, k.lambda_d);
+    dil_x = std::shared_ptr<const std::vector<double>>(d, &d->x);
+    dil_y = std::shared_ptr<const std::vector<double>>(d, &d->y);
     dil_lambda = k.lambda_d;
   }
   if (grid.is_grid) {

@@ -1,5 +1,6 @@
 // HydroShear's phases 1 and 2 (core/models/hydroshear_step.hpp): the candidate points and the tracker step.
 #include <algorithm>
+#include <span>
 #include <vector>
 
 #include "core/models/hydroshear_kernels.hpp"
@@ -33,7 +34,11 @@ struct PoseArrays {
 void phi_columns(const HydroShearModel& m, const double* x, const double* y, const double* z, const Vec3& shift, int n,
                  double* phi) {
   if (m.flat) return kernels::flat_pad_phi(m.pad, shift.data(), x, y, z, n, phi);
-  for (int i = 0; i < n; ++i) phi[i] = m.sensor->gel_sdf->value(Vec3(x[i], y[i], z[i]) + shift);
+  // One batch call (an analytic gel vectorises it: the TacTip's dome), through a buffer per thread.
+  thread_local std::vector<Vec3> points;
+  points.resize(n);
+  for (int i = 0; i < n; ++i) points[i] = Vec3(x[i], y[i], z[i]) + shift;
+  m.sensor->gel_sdf->values(points, std::span<double>(phi, n));
 }
 
 // Normal of the n/t split for the points at `pos`, pointing out of the gel: +z_E (code) or minus the

@@ -78,12 +78,13 @@ struct HydroShearModel {
   // Any other gel: its mesh's box grown by a margin; a cluster wholly outside it is not in the gel (the
   // TacTip's dome under an 80 mm flat surface: three quarters of the surface's points).
   Eigen::AlignedBox3d gel_box;
+  Eigen::AlignedBox3d gel_mesh_bounds;  // the gel mesh's own box (set_params grows it into gel_box)
   bool box_cull = false;
   GaussianAxis gauss_x, gauss_y;    // shear Gaussians along the grid axes (grid.is_grid)
   GaussianAxis gauss_x2, gauss_y2;  // the layer kernel's near-field term (k.beta_s > 0)
   GaussianAxis gauss_x3, gauss_y3;  // the far-field term (k.beta_s3 > 0)
   // Dilation kernel, k-major: dil_x[k * stride + j] = exp(-lambda_d |m_j - m_k|^2) (m_j - m_k).x (and .y),
-  // rows padded with zeros to kernels::dilation_stride(nm); shared by copies (rebuilt when lambda_d changes).
+  // rows padded with zeros to kernels::dilation_stride(nm); shared by the models of one sensor and lambda_d.
   std::shared_ptr<const std::vector<double>> dil_x, dil_y;
   double dil_lambda = 0;  // the lambda_d they were made with
 
