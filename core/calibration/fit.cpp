@@ -271,14 +271,8 @@ class StageCost final : public ceres::CostFunction {
     };
     const bool columns = jacobians && jacobians[0];
     if (columns && reuse_jacobian(x, residuals, jacobians[0])) return true;
-    const bool probe = columns && !J_.empty() && !at_last_point(x);
     if (!central_run(x, residuals)) return cancelled();
     if (!columns) return true;
-    if (probe && sufficient_decrease(x, residuals)) {  // accepted as it is: its gradient is never used
-      std::copy(J_.begin(), J_.end(), jacobians[0]);
-      return true;
-    }
-    if (probe) return directional_jacobian(x, residuals, jacobians[0]) || cancelled();
     std::vector<double> xs(x, x + P), rs(n);
     for (const int k : map_->column_order()) {
       const double h = map_->log[k] ? kDiffStepLog
@@ -293,67 +287,23 @@ class StageCost final : public ceres::CostFunction {
       for (int i = 0; i < n; ++i) jacobians[0][i * P + k] = dx != 0 ? (rs[i] - residuals[i]) / dx : 0.0;
       xs[k] = x[k];
     }
-    J_x_.assign(x, x + P);
-    J_r_.assign(residuals, residuals + n);
-    J_.assign(jacobians[0], jacobians[0] + static_cast<std::ptrdiff_t>(n) * P);
-    gradient_.assign(P, 0.0);  // J^T r: the gradient of 1/2 |r|^2 at the iterate
-    for (int i = 0; i < n; ++i)
-      for (int k = 0; k < P; ++k) gradient_[k] += J_[static_cast<std::ptrdiff_t>(i) * P + k] * residuals[i];
+    last_J_.assign(jacobians[0], jacobians[0] + static_cast<std::ptrdiff_t>(n) * P);
     return true;
   }
 
  private:
-  // Ceres asks for the same point more than once, and for Jacobians at points it may only test. With bounds it
-  // projects each step by an Armijo line search whose (cubic) interpolation wants the gradient at every probe;
-  // then it evaluates the candidate's cost at the last probe, and once the step is accepted the Jacobian there
-  // again. A probe whose cost already shows the Armijo decrease f(x_k + d) <= f(x_k) + c g_k . d is accepted as it
-  // is and its gradient is never used: it gets the iterate's Jacobian, one model run instead of P + 1. A probe that
-  // fails it gets its own Jacobian, which the interpolation needs: handing it J(x_k) there (or interpolating from
-  // costs alone) stalls the twin's joint stage at 5.26 px instead of 2.14. The iteration's Jacobian, asked at the
-  // accepted point after its cost, is computed; it is kept with its point and residuals and reused when asked
-  // again. docs/performance.md, "Fits: a probe that passes costs one run".
+  // Ceres asks for the same point more than once. With bounds it projects each step by a line search whose
+  // (cubic) interpolation wants the gradient at every probe, i.e. this whole finite-difference Jacobian; then
+  // it evaluates the candidate's cost at the last probe, and once the step is accepted the Jacobian there again.
+  // The last point's residuals and Jacobian are kept and reused: the same numbers, P + 2 fewer model runs.
   bool at_last_point(const double* x) const {
     const int P = map_->size();
     return static_cast<int>(last_x_.size()) == P && std::equal(x, x + P, last_x_.begin());
   }
   bool reuse_jacobian(const double* x, double* residuals, double* jacobian) const {
-    const int P = map_->size();
-    if (static_cast<int>(J_x_.size()) != P || !std::equal(x, x + P, J_x_.begin())) return false;
-    std::copy(J_r_.begin(), J_r_.end(), residuals);
-    std::copy(J_.begin(), J_.end(), jacobian);
-    return true;
-  }
-  // Whether the probe x passes the line search's Armijo test from the iterate where J_ was computed (Ceres's
-  // default sufficient decrease, 1e-4 of the decrease the gradient predicts; d as projected onto the bounds).
-  bool sufficient_decrease(const double* x, const double* r) const {
-    constexpr double kArmijo = 1e-4;  // ceres::Solver::Options::line_search_sufficient_function_decrease
-    const int P = map_->size();
-    double slope = 0, cost = 0, cost_k = 0;
-    for (int k = 0; k < P; ++k) slope += gradient_[k] * (x[k] - J_x_[k]);
-    for (int i = 0; i < num_residuals(); ++i) cost += 0.5 * r[i] * r[i], cost_k += 0.5 * J_r_[i] * J_r_[i];
-    return slope < 0 && cost <= cost_k + kArmijo * slope;
-  }
-  // A failed probe's Jacobian for the interpolation, which reads only its slope along the step d = x - x_k: J(x_k)
-  // corrected along d to the secant over the last tenth of the step, J = J_k + (s - J_k u) u^T (u = d / |d|,
-  // s = (r(x) - r(x - d / 10)) / (|d| / 10)): one model run (x - d / 10 lies between two points inside the bounds).
-  bool directional_jacobian(const double* x, const double* r, double* jacobian) const {
-    constexpr double kSecantFraction = 0.1;
-    const int P = map_->size(), n = num_residuals();
-    std::vector<double> u(P), xs(P), rs(n);
-    double norm = 0;
-    for (int k = 0; k < P; ++k) u[k] = x[k] - J_x_[k], norm += u[k] * u[k];
-    norm = std::sqrt(norm);
-    for (int k = 0; k < P; ++k) u[k] /= norm, xs[k] = x[k] - kSecantFraction * norm * u[k];
-    if (!ev_->residuals(xs.data(), rs.data(), nullptr, nullptr, StageEvaluator::Run::Full)) return false;
-    const double h = kSecantFraction * norm;
-    for (int i = 0; i < n; ++i) {
-      const double* Jk = J_.data() + static_cast<std::ptrdiff_t>(i) * P;
-      double Ju = 0;
-      for (int k = 0; k < P; ++k) Ju += Jk[k] * u[k];
-      const double miss = (r[i] - rs[i]) / h - Ju;
-      double* J = jacobian + static_cast<std::ptrdiff_t>(i) * P;
-      for (int k = 0; k < P; ++k) J[k] = Jk[k] + miss * u[k];
-    }
+    if (!at_last_point(x) || last_J_.empty()) return false;
+    std::copy(last_r_.begin(), last_r_.end(), residuals);
+    std::copy(last_J_.begin(), last_J_.end(), jacobian);
     return true;
   }
   // The residuals at x, from a Central run (its state before the scored frames is what the columns of a
@@ -364,6 +314,7 @@ class StageCost final : public ceres::CostFunction {
       return true;
     }
     last_x_.clear();
+    last_J_.clear();
     if (!ev_->residuals(x, residuals, nullptr, nullptr, StageEvaluator::Run::Central)) return false;
     last_x_.assign(x, x + map_->size());
     last_r_.assign(residuals, residuals + num_residuals());
@@ -372,9 +323,8 @@ class StageCost final : public ceres::CostFunction {
 
   StageEvaluator* ev_;
   const ParamMap* map_;
-  // The last Central run's point and residuals; the last computed Jacobian, its point and residuals.
-  mutable std::vector<double> last_x_, last_r_;
-  mutable std::vector<double> J_x_, J_r_, J_, gradient_;
+  // The last Central run's point and residuals, and the Jacobian there once computed.
+  mutable std::vector<double> last_x_, last_r_, last_J_;
 };
 
 class ProgressCallback final : public ceres::IterationCallback {
