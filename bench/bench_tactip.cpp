@@ -1,12 +1,12 @@
 // The real TacTip path (the goals: each model fitted on the whole calibration split within 5 min on 2
 // cores): one sample's steps (the press, the slide, the one scored frame), a whole-split evaluation, and the
 // fit of every model as `params --rebuild --set tactip_shear` runs it (its stages, then the joint refinement,
-// at most 10 iterations per stage), the fit of the loop's answer, and the whole loop without its model-form round.
+// at most 10 iterations per stage), the fit of the loop's answer, and the whole loop with its model-form round.
 // Needs the data root ($SHEARBENCH_DATA or ../shared/data); the import
 // (about 45 s) is kept in $TMPDIR/shearbench_bench_tactip and reused.
 // Run: ./build/shearbench_bench --benchmark_filter=Tactip
 //      ./build/shearbench_bench --benchmark_filter='Tactip(Fit|Evaluate)' --benchmark_min_time=1x   (minutes)
-//      ./build/shearbench_bench --benchmark_filter=TactipLoop   (over an hour: the model-form round)
+//      ./build/shearbench_bench --benchmark_filter=TactipLoop   (48 min in session 29)
 
 #include <benchmark/benchmark.h>
 
@@ -115,10 +115,11 @@ BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))
     ->UseRealTime()
     ->Iterations(1);
 BENCHMARK_CAPTURE(BM_TactipFit, tacsl, std::string("tacsl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
-// The model the loop answers with on this set (docs/residuals/real_tactip_loop), from its defaults: the pose
-// effect's columns rerun HydroShear, the field effects' replay its remembered field (BaseFieldMemo).
-BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_tool_frame_dome_sway_skin_indentation,
-                  std::string("hydroshear+tool_frame+dome_sway+skin_indentation"))
+// The model the loop answers with on this set (docs/residuals/real_tactip_full_hydroshear, session 29), from its
+// defaults: the pose effects' columns rerun the contact form, the field effects' replay its remembered field
+// (BaseFieldMemo).
+BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_contact_tool_frame_dome_sway_skin_indentation,
+                  std::string("hydroshear-contact+tool_frame+dome_sway+skin_indentation"))
     ->Unit(benchmark::kSecond)
     ->UseRealTime()
     ->Iterations(1);
