@@ -166,14 +166,14 @@ HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shar
     throw std::invalid_argument("hydroshear: indenter samples need one normal per point");
   HydroShearModel& m = *model_;
   m.grid = detect_marker_grid(sensor->p_EM);
+  m.marker_z_max = -kInf;
   for (const Vec3& p : sensor->p_EM) {
     m.marker_x.push_back(p.x());
     m.marker_y.push_back(p.y());
     m.marker_z.push_back(p.z());
+    m.marker_z_max = std::max(m.marker_z_max, p.z());
   }
   if (!sensor->gel_mesh.empty()) m.gel_mesh_bounds = sensor->gel_mesh.bounds();
-  m.marker_z_max = -kInf;
-  for (const Vec3& p : sensor->p_EM) m.marker_z_max = std::max(m.marker_z_max, p.z());
   m.table = hydroshear::make_point_table(*indenter);
   m.sensor = std::move(sensor);
   m.indenter = std::move(indenter);

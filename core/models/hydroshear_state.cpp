@@ -30,12 +30,11 @@ struct PoseArrays {
   }
 };
 
-// phi[i] = m.phi_E(p_i + shift) for columns of points.
+// phi[i] = m.phi_E(p_i + shift) for columns of points; `points` is scratch for a general gel's one batch call (an
+// analytic gel vectorises it: the TacTip's dome).
 void phi_columns(const HydroShearModel& m, const double* x, const double* y, const double* z, const Vec3& shift, int n,
-                 double* phi) {
+                 double* phi, std::vector<Vec3>& points) {
   if (m.flat) return kernels::flat_pad_phi(m.pad, shift.data(), x, y, z, n, phi);
-  // One batch call (an analytic gel vectorises it: the TacTip's dome), through a buffer per thread.
-  thread_local std::vector<Vec3> points;
   points.resize(n);
   for (int i = 0; i < n; ++i) points[i] = Vec3(x[i], y[i], z[i]) + shift;
   m.sensor->gel_sdf->values(points, std::span<double>(phi, n));
@@ -139,10 +138,10 @@ const Candidates& gather_candidates(const HydroShearModel& m, const Pose& X_EI, 
                               &sc.vz[off]);
     off += e - b;
   }
-  phi_columns(m, sc.vx.data(), sc.vy.data(), sc.vz.data(), Vec3::Zero(), visited, sc.vs.data());
+  phi_columns(m, sc.vx.data(), sc.vy.data(), sc.vz.data(), Vec3::Zero(), visited, sc.vs.data(), sc.points);
   if (aug) {
     sc.vs_aug.resize(visited);
-    phi_columns(m, sc.vx.data(), sc.vy.data(), sc.vz.data(), shift, visited, sc.vs_aug.data());
+    phi_columns(m, sc.vx.data(), sc.vy.data(), sc.vz.data(), shift, visited, sc.vs_aug.data(), sc.points);
   }
   // Branch-free compaction of the indices alone (whether a point is in the gel is not predictable):
   // every point is written at entry n and n advances only for a kept one, so one spare entry.

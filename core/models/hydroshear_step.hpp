@@ -100,6 +100,7 @@ struct HydroShearModel {
 struct Candidates {
   std::vector<std::pair<int, int>> ranges;
   std::vector<double> vx, vy, vz, vs, vs_aug;
+  std::vector<Vec3> points;  // the visited points as vectors for a general gel's batch distance (phi_columns)
   std::vector<int> cpos, ci;
 };
 const Candidates& gather_candidates(const HydroShearModel& m, const Pose& X_EI, Candidates& out);
