@@ -2,7 +2,6 @@
 #include "core/calibration/fit.hpp"
 #include "core/base/reproducible.hpp"
 
-#include <ceres/ceres.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 
 #include "core/base/elapsed.hpp"
 #include "core/base/strings.hpp"
+#include "core/calibration/bounded_lm.hpp"
 #include "core/data/tsd.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
@@ -215,7 +215,7 @@ class StageEvaluator {
     if (sse_out) *sse_out = sse;
     return true;
   }
-  // 1/2 sum r^2 (the Ceres cost), or +inf when cancelled.
+  // 1/2 sum r^2 (the least-squares cost), or +inf when cancelled.
   double cost(const double* x, double* scale_out = nullptr, double* sse_out = nullptr) {
     std::vector<double> r(2 * static_cast<std::size_t>(n_));
     if (!residuals(x, r.data(), scale_out, sse_out)) return std::numeric_limits<double>::infinity();
@@ -250,30 +250,31 @@ class StageEvaluator {
 
 // One-sided differences from the central run, toward the inside of the bounds: one model run per column. Central
 // differences cost two; the Jacobian is what a stage pays for (hydroshear-contact's joint stage: 13 columns, one
-// Jacobian per iteration), and the step h stays as coarse, so it still steps over the models' small non-smooth
+// Jacobian per accepted step), and the step h stays as coarse, so it still steps over the models' small non-smooth
 // features. docs/performance.md, "Fits: one run per Jacobian column".
-class StageCost final : public ceres::CostFunction {
+class StageCost {
  public:
-  StageCost(StageEvaluator* ev, const ParamMap* map) : ev_(ev), map_(map) {
-    set_num_residuals(2 * ev->marker_frames());
-    mutable_parameter_block_sizes()->push_back(map->size());
+  StageCost(StageEvaluator* ev, const ParamMap* map) : ev_(ev), map_(map) {}
+  int num_residuals() const { return 2 * ev_->marker_frames(); }
+
+  // The residuals at x from a Central run: its state before the scored frames is what the columns of a
+  // field-only parameter start from. False when cancelled.
+  bool residuals(const std::vector<double>& x, std::vector<double>* r) {
+    last_x_.clear();
+    if (!ev_->residuals(x.data(), r->data(), nullptr, nullptr, StageEvaluator::Run::Central)) return false;
+    last_x_ = x;
+    return true;
   }
-  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override {
+  // J(x) row-major, from the residuals r of the Central run at x (rerun if the last run was elsewhere).
+  bool jacobian(const std::vector<double>& x, const std::vector<double>& r, std::vector<double>* J) {
+    if (x != last_x_) {
+      std::vector<double> again(r.size());
+      if (!residuals(x, &again)) return false;
+    }
     const int P = map_->size();
-    const double* x = parameters[0];
     const int n = num_residuals();
-    // On cancel, report a zero evaluation instead of a failure (which Ceres logs as an error): the
-    // iteration callback then aborts, and run_fit_stages discards the stage.
-    const auto cancelled = [&] {
-      std::fill(residuals, residuals + n, 0.0);
-      if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + static_cast<std::ptrdiff_t>(n) * P, 0.0);
-      return true;
-    };
-    const bool columns = jacobians && jacobians[0];
-    if (columns && reuse_jacobian(x, residuals, jacobians[0])) return true;
-    if (!central_run(x, residuals)) return cancelled();
-    if (!columns) return true;
-    std::vector<double> xs(x, x + P), rs(n);
+    J->assign(static_cast<std::size_t>(n) * P, 0.0);
+    std::vector<double> xs = x, rs(static_cast<std::size_t>(n));
     for (const int k : map_->column_order()) {
       const double h = map_->log[k] ? kDiffStepLog
                                     : kDiffStepLinear * std::max(std::abs(x[k]), 0.01 * (map_->hi[k] - map_->lo[k]));
@@ -283,63 +284,40 @@ class StageCost final : public ceres::CostFunction {
       const auto run = map_->field_only[k] && !map_->after_base[k] ? StageEvaluator::Run::FromScored
                                                                    : StageEvaluator::Run::Full;
       const double dx = xs[k] - x[k];
-      if (dx != 0 && !ev_->residuals(xs.data(), rs.data(), nullptr, nullptr, run)) return cancelled();
-      for (int i = 0; i < n; ++i) jacobians[0][i * P + k] = dx != 0 ? (rs[i] - residuals[i]) / dx : 0.0;
+      if (dx != 0 && !ev_->residuals(xs.data(), rs.data(), nullptr, nullptr, run)) return false;
+      if (dx != 0)
+        for (int i = 0; i < n; ++i) (*J)[static_cast<std::size_t>(i) * P + k] = (rs[i] - r[i]) / dx;
       xs[k] = x[k];
     }
-    last_J_.assign(jacobians[0], jacobians[0] + static_cast<std::ptrdiff_t>(n) * P);
     return true;
   }
 
  private:
-  // Ceres asks for the same point more than once. With bounds it projects each step by a line search whose
-  // (cubic) interpolation wants the gradient at every probe, i.e. this whole finite-difference Jacobian; then
-  // it evaluates the candidate's cost at the last probe, and once the step is accepted the Jacobian there again.
-  // The last point's residuals and Jacobian are kept and reused: the same numbers, P + 2 fewer model runs.
-  bool at_last_point(const double* x) const {
-    const int P = map_->size();
-    return static_cast<int>(last_x_.size()) == P && std::equal(x, x + P, last_x_.begin());
-  }
-  bool reuse_jacobian(const double* x, double* residuals, double* jacobian) const {
-    if (!at_last_point(x) || last_J_.empty()) return false;
-    std::copy(last_r_.begin(), last_r_.end(), residuals);
-    std::copy(last_J_.begin(), last_J_.end(), jacobian);
-    return true;
-  }
-  // The residuals at x, from a Central run (its state before the scored frames is what the columns of a
-  // field-only parameter start from), or the last point's.
-  bool central_run(const double* x, double* residuals) const {
-    if (at_last_point(x)) {
-      std::copy(last_r_.begin(), last_r_.end(), residuals);
-      return true;
-    }
-    last_x_.clear();
-    last_J_.clear();
-    if (!ev_->residuals(x, residuals, nullptr, nullptr, StageEvaluator::Run::Central)) return false;
-    last_x_.assign(x, x + map_->size());
-    last_r_.assign(residuals, residuals + num_residuals());
-    return true;
-  }
-
   StageEvaluator* ev_;
   const ParamMap* map_;
-  // The last Central run's point and residuals, and the Jacobian there once computed.
-  mutable std::vector<double> last_x_, last_r_, last_J_;
+  std::vector<double> last_x_;  // the last Central run's point
 };
 
-class ProgressCallback final : public ceres::IterationCallback {
- public:
-  ProgressCallback(const std::string& stage, const FitOptions& o) : stage_(stage), o_(o) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (o_.progress) o_.progress({stage_, s.iteration, s.cost});
-    if (o_.cancel && o_.cancel->load()) return ceres::SOLVER_ABORT;
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  std::string stage_;
-  const FitOptions& o_;
-};
+// The stage's least-squares problem for the minimiser, with progress and cancel.
+BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, std::vector<double> x, const std::string& stage,
+                               const FitOptions& o) {
+  BoundedLmProblem pr;
+  pr.lo = map.lo;
+  pr.hi = map.hi;
+  pr.num_residuals = cost->num_residuals();
+  pr.residuals = [cost](const std::vector<double>& at, std::vector<double>* r) { return cost->residuals(at, r); };
+  pr.jacobian = [cost](const std::vector<double>& at, const std::vector<double>& r, std::vector<double>* J) {
+    return cost->jacobian(at, r, J);
+  };
+  BoundedLmOptions lo;
+  lo.max_iterations = o.max_iterations;
+  lo.function_tolerance = kFunctionTolerance;
+  lo.on_iteration = [&](int iteration, double c) {
+    if (o.progress) o.progress({stage, iteration, c});
+    return !(o.cancel && o.cancel->load());
+  };
+  return minimize_bounded_lm(pr, std::move(x), lo);
+}
 
 // Data-independent scan points: two decades either side of the spec default (linear specs with a zero
 // default: evenly over the range), clamped to the bounds.
@@ -654,35 +632,19 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
     rep.rmse_before_px = std::sqrt(sse / rep.residuals);
     if (o.coarse_scan) x = coarse_scan(ev, result.params, map, x);
 
-    ceres::Problem problem;
-    problem.AddResidualBlock(new StageCost(&ev, &map), nullptr, x.data());
-    for (int k = 0; k < map.size(); ++k) {
-      problem.SetParameterLowerBound(x.data(), k, map.lo[k]);
-      problem.SetParameterUpperBound(x.data(), k, map.hi[k]);
-    }
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = o.max_iterations;
-    so.function_tolerance = kFunctionTolerance;
-    so.parameter_tolerance = 1e-10;
-    so.gradient_tolerance = 1e-14;
-    so.num_threads = 1;  // the samples already run in parallel
-    so.logging_type = ceres::SILENT;
-    ProgressCallback cb(stage.name, o);
-    so.callbacks.push_back(&cb);
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-
-    if (ev.cancelled()) {  // discard the partial stage: keep the last good parameters
+    StageCost stage_cost(&ev, &map);
+    const BoundedLmResult lm = minimize_stage(&stage_cost, map, x, stage.name, o);
+    if (ev.cancelled() || lm.termination == LmTermination::Aborted) {  // discard the partial stage
       result.cancelled = true;
       break;
     }
+    x = lm.x;
     map.apply(x.data(), &result.params);
     rep.loss_after = ev.cost(x.data(), &rep.scale, &sse);
     rep.rmse_after_px = std::sqrt(sse / rep.residuals);
-    rep.iterations = static_cast<int>(summary.iterations.size()) - 1;
+    rep.iterations = lm.iterations;
     rep.evaluations = ev.evaluations();
-    rep.termination = ceres::TerminationTypeToString(summary.termination_type);
+    rep.termination = to_string(lm.termination);
     rep.time_s = seconds_since(t0);
     result.stages.push_back(rep);
     result.time_s = seconds_since(t_fit);

@@ -1,5 +1,5 @@
 #pragma once
-// Staged least-squares calibration of a shear model against measured marker displacements (Ceres).
+// Staged least-squares calibration of a shear model against measured marker displacements (bounded_lm.hpp).
 //
 // A fit minimises, over the parameters of one stage at a time,
 //   L(theta) = 1/2 sum_{(k,j) in A} rho(|s * pred_kj(theta) - meas_kj|^2)      (pred, meas in px)
@@ -73,7 +73,7 @@ std::string to_string(RobustLoss loss);
 struct FitProgress {
   std::string stage;
   int iteration = 0;
-  double loss = 0;  // Ceres cost 1/2 sum rho
+  double loss = 0;  // least-squares cost 1/2 sum rho
 };
 
 struct StageReport;
@@ -106,7 +106,7 @@ struct StageReport {
   std::vector<std::string> motions;  // motions actually used
   int samples = 0;
   int residuals = 0;                             // scored marker-frames
-  double loss_before = 0, loss_after = 0;        // Ceres cost at the stage's start and end
+  double loss_before = 0, loss_after = 0;        // least-squares cost at the stage's start and end
   double rmse_before_px = 0, rmse_after_px = 0;  // sqrt(mean |s pred - meas|^2) over the scored set
   double scale = 1;                              // the rescale factor s (rescale stages)
   int iterations = 0;
@@ -133,7 +133,7 @@ void require_calibration_split(const std::vector<FitSample>& samples);
 using FitModelFactory = std::function<std::unique_ptr<ShearModel>(std::shared_ptr<const Indenter>)>;
 
 // The engine: runs `stages` in order from `start` (options.stages / joint are ignored here). Usable with
-// any ShearModel, which is how the Ceres part is tested on its own.
+// any ShearModel, which is how the minimiser is tested on its own.
 CalibrationResult run_fit_stages(const std::string& model_id, const FitModelFactory& make,
                                  const std::vector<FitStage>& stages, const std::vector<FitSample>& samples,
                                  const ParamSet& start, const FitOptions& options);

@@ -1,0 +1,63 @@
+// Levenberg-Marquardt for a least-squares problem with box bounds whose Jacobian is dear: every residual
+// evaluation is a run of a shear model over a split's sample paths, every Jacobian one run per column.
+//
+// Why not Ceres here: with bounds, Ceres's trust-region minimiser projects each step by an Armijo line search
+// that asks the gradient (a whole finite-difference Jacobian) at every probe and tests the Armijo condition along
+// the unprojected step (its own comment calls the projection "incorrect and not terribly effective", ceres-solver
+// issue 187); on the TacTip that was two Jacobians per iteration. Here a trial step costs one evaluation and an
+// accepted step one Jacobian. docs/performance.md, "Fits: a projected Levenberg-Marquardt".
+//
+// The step (Moré's trust-region Levenberg-Marquardt, MINPACK's lmder, with an active set for the box):
+// variables at a bound whose gradient points out of the box are held; the others take
+//   (J^T J + mu D^2) delta = -J^T r,   D = the columns' norms (the largest seen, at least 1e-3),
+// with mu = 0 (Gauss-Newton) when |D delta| fits the trust radius, else the mu whose step has the radius's
+// length; x + delta is projected onto the box and judged by the ratio of the actual to the predicted decrease
+// of the projected step. A failed step shrinks the radius to a fraction (0.1-0.5, interpolated) of the step's
+// length, so a far Gauss-Newton step is cut back in one or two trials, not many.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace sb {
+
+struct BoundedLmProblem {
+  std::vector<double> lo, hi;  // the box, per variable (lo <= hi)
+  int num_residuals = 0;
+  // r(x) into *r (num_residuals); false aborts the minimisation (a cancel).
+  std::function<bool(const std::vector<double>& x, std::vector<double>* r)> residuals;
+  // J(x) row-major (num_residuals x variables) into *J, called only right after residuals(x) at the same x, with
+  // its r; false aborts.
+  std::function<bool(const std::vector<double>& x, const std::vector<double>& r, std::vector<double>* J)> jacobian;
+};
+
+struct BoundedLmOptions {
+  // Accepted steps, i.e. Jacobians (a failed trial costs one evaluation and does not count: with bounds, Ceres's
+  // line search cut a too-long step back within one iteration).
+  int max_iterations = 50;
+  double function_tolerance = 1e-6;    // stop when a step changes the cost by less than this fraction
+  double parameter_tolerance = 1e-10;  // ... or moves x by less than this relative to |x|
+  double gradient_tolerance = 1e-14;   // ... or the projected gradient's max norm is below this
+  double initial_radius = 1e4;         // Ceres's initial trust-region radius
+  // After the start and after every iteration: (iteration, cost); false aborts.
+  std::function<bool(int, double)> on_iteration;
+};
+
+enum class LmTermination { Convergence, NoConvergence, Aborted };
+// Ceres's words ("CONVERGENCE", "NO_CONVERGENCE", "USER_FAILURE"), which fit reports have always carried.
+std::string to_string(LmTermination t);
+
+struct BoundedLmResult {
+  std::vector<double> x;  // the best point accepted (inside the box)
+  double cost = 0;        // 1/2 |r(x)|^2
+  int iterations = 0;     // trial steps, accepted or not: one evaluation each
+  int accepted = 0;       // steps taken: one Jacobian each (after the start's)
+  LmTermination termination = LmTermination::NoConvergence;
+};
+
+// Starts from x0 projected onto the box.
+BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& problem, std::vector<double> x0,
+                                    const BoundedLmOptions& options);
+
+}  // namespace sb
