@@ -127,7 +127,8 @@ void add_flags(CLI::App& sub, FitArgs& a) {
   sub.add_option("--robust", a.robust, "robust loss: none | huber | cauchy")
       ->check(CLI::IsMember({"none", "huber", "cauchy"}));
   sub.add_option("--robust-scale", a.robust_scale_px, "where the robust loss bends (px)");
-  sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
+  sub.add_option("--max-iterations", a.max_iterations,
+                 "Levenberg-Marquardt steps taken per stage (a failed trial step does not count)");
   sub.add_option("--start", a.start, "start parameters (JSON keyed by model id, or flat for one model)");
   sub.add_option("--out", a.out, "parameter file to write (atomically, when the fit is done)")->required();
   sub.add_option("--checkpoint", a.checkpoint, "also write the completed stages here after every stage");

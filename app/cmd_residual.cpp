@@ -139,7 +139,8 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
          "--validation", a.validation_ids,
          "with --calibration: only these sample ids validate, the rest are left out (a fixed subset of a large set)")
       ->delimiter(',');
-  sub.add_option("--max-iterations", a.max_iterations, "Levenberg-Marquardt iterations per stage");
+  sub.add_option("--max-iterations", a.max_iterations,
+                 "Levenberg-Marquardt steps taken per stage (a failed trial step does not count)");
   sub.add_option("--resamples", a.resamples, "bootstrap resamples");
   sub.add_option("--max-effects", a.max_effects, "greedy rounds: at most this many effects are selected")
       ->check(CLI::Range(1, 10));

@@ -118,6 +118,37 @@ TEST_CASE("bounded LM: Rosenbrock's valley with its minimum outside the box", "[
   CHECK(free.x[1] == Approx(1).margin(kSolutionTol));
 }
 
+TEST_CASE("bounded LM: a variable's step is capped where the problem says so", "[bounded_lm]") {
+  // r(x) = x - 10 from x = 0 with steps capped at 1: Gauss-Newton's step (10) is cut to the cap, and the model
+  // is exact, so the step is accepted (cost 50 -> 40.5, predicted 9.5, ratio 1); a wider region gives the same
+  // capped step, so nothing more is tried. One accepted step ends at exactly 1; uncapped it would end at 10.
+  BoundedLmProblem pr;
+  pr.lo = {-100};
+  pr.hi = {100};
+  pr.max_step = {1};
+  pr.num_residuals = 1;
+  int evaluations = 0;
+  pr.residuals = [&](const std::vector<double>& x, std::vector<double>* r) {
+    ++evaluations;
+    *r = {x[0] - 10};
+    return true;
+  };
+  pr.jacobian = [](const std::vector<double>&, const std::vector<double>&, std::vector<double>* J) {
+    *J = {1};
+    return true;
+  };
+  BoundedLmOptions o = tight();
+  o.max_iterations = 1;
+  auto res = sb::minimize_bounded_lm(pr, {0}, o);
+  CHECK(res.x[0] == 1);
+  CHECK(res.cost == 40.5);
+  CHECK(evaluations == 2);
+  o.max_iterations = 100;
+  res = sb::minimize_bounded_lm(pr, {0}, o);
+  CHECK(res.x[0] == Approx(10).margin(kSolutionTol));
+  CHECK(res.accepted >= 10);  // ten steps of at most 1
+}
+
 TEST_CASE("bounded LM: the iteration cap and a cancel", "[bounded_lm]") {
   Counted c;
   coupled(&c, 0.5);

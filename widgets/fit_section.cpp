@@ -110,13 +110,13 @@ void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const Fit
   if (ImGui::Button("Discard##fit")) result_handled_ = true;
 }
 
-// The fit's loss per iteration with its axes: cost (Ceres, log of the largest and smallest) against iteration.
+// The fit's loss per iteration with its axes: cost (least squares, log of the largest and smallest) against iteration.
 void FitSection::draw_loss_plot(const std::vector<float>& losses) {
   const auto [lo, hi] = std::minmax_element(losses.begin(), losses.end());
   const std::string top = format_number(*hi, "%.3g"), bottom = format_number(*lo, "%.3g");
   const float axis_w = std::max(ImGui::CalcTextSize(top.c_str()).x, ImGui::CalcTextSize(bottom.c_str()).x) + 6;
   const float h = 60.0f;
-  ImGui::TextDisabled("Ceres cost per iteration (all stages)");
+  ImGui::TextDisabled("least-squares cost per iteration (all stages)");
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_TextDisabled);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <stdexcept>
 
@@ -21,6 +23,11 @@ constexpr double kShrinkMax = 0.5, kShrinkMin = 0.1;
 constexpr double kMinDiagonal = 1e-6;  // Ceres's min_lm_diagonal: a column that does nothing still gets a scale
 constexpr double kMinRadius = 1e-30;
 constexpr int kMuSearchSteps = 200;
+// After a step the model predicted well to the region's edge: up to this many trials from the same model in a
+// region this many times wider.
+constexpr int kMaxExpansions = 3;
+constexpr double kExpansion = 4;
+constexpr double kMinWidening = 1.5;  // a wider region's step shorter than this (x the last) is not tried
 // Each failure shrinks the region at least twofold: this many in a row means the model sees nothing to take.
 constexpr int kMaxFailuresInARow = 30;
 
@@ -74,34 +81,70 @@ double scaled_norm(const Eigen::VectorXd& d, const Eigen::VectorXd& D) {
   return (D.array() * d.array()).matrix().norm();
 }
 
-// The step over the free variables solving (A + mu D^2) d = -g, zero for the held ones.
-Eigen::VectorXd lm_step(const LocalModel& lm, const Eigen::VectorXd& D, const std::vector<int>& free, double mu) {
-  const auto F = static_cast<Eigen::Index>(free.size());
-  Eigen::MatrixXd M(F, F);
-  Eigen::VectorXd b(F);
-  for (Eigen::Index a = 0; a < F; ++a) {
-    for (Eigen::Index c = 0; c < F; ++c) M(a, c) = lm.A(free[a], free[c]);
-    M(a, a) += mu * D[free[a]] * D[free[a]];
-    b[a] = -lm.g[free[a]];
+// Where the step is taken from: the point, the box, and the local model with its column scales.
+struct StepContext {
+  const std::vector<double>& x;
+  const BoundedLmProblem& pr;
+  const LocalModel& lm;
+  const Eigen::VectorXd& D;
+  std::vector<int> free;  // free_variables(x)
+  // This step's box: the bounds, narrowed to x -+ max_step where the problem caps a variable's step.
+  std::vector<double> lo, hi;
+
+  StepContext(const std::vector<double>& x_, const BoundedLmProblem& pr_, const LocalModel& lm_,
+              const Eigen::VectorXd& D_)
+      : x(x_), pr(pr_), lm(lm_), D(D_), free(free_variables(x_, pr_, lm_.g)), lo(pr_.lo), hi(pr_.hi) {
+    for (std::size_t k = 0; k < pr.max_step.size() && k < x.size(); ++k) {
+      lo[k] = std::max(lo[k], x[k] - pr.max_step[k]);
+      hi[k] = std::min(hi[k], x[k] + pr.max_step[k]);
+    }
   }
-  const Eigen::VectorXd d_free = M.ldlt().solve(b);
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(lm.g.size());
-  for (Eigen::Index a = 0; a < F; ++a) d[free[a]] = d_free[a];
+};
+
+// The step minimising the regularised model 1/2 d.(A + mu D^2) d + g.d inside the step's box: solved over the free
+// variables; a variable the solution takes past its bound is put on the bound and the rest solved again with it
+// there (at most P times). Without the re-solve, clamping alone can leave a step the model calls an ascent.
+Eigen::VectorXd lm_step(const StepContext& c, double mu) {
+  const Eigen::Index P = c.lm.g.size();
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(P);
+  std::vector<int> free = c.free;
+  for (Eigen::Index pass = 0; pass <= P && !free.empty(); ++pass) {
+    const auto F = static_cast<Eigen::Index>(free.size());
+    Eigen::MatrixXd M(F, F);
+    Eigen::VectorXd b(F);
+    for (Eigen::Index a = 0; a < F; ++a) {
+      for (Eigen::Index k = 0; k < F; ++k) M(a, k) = c.lm.A(free[a], free[k]);
+      M(a, a) += mu * c.D[free[a]] * c.D[free[a]];
+      b[a] = -c.lm.g[free[a]];
+    }
+    for (const int k : free) d[k] = 0;  // re-solved below, against the variables already on their bounds
+    const Eigen::VectorXd A_d = c.lm.A * d;
+    for (Eigen::Index a = 0; a < F; ++a) b[a] -= A_d[free[a]];
+    const Eigen::VectorXd d_free = M.ldlt().solve(b);
+    std::vector<int> still_free;
+    for (Eigen::Index a = 0; a < F; ++a) {
+      const int k = free[a];
+      const double to = c.x[k] + d_free[a];
+      d[k] = std::clamp(to, c.lo[k], c.hi[k]) - c.x[k];
+      if (to >= c.lo[k] && to <= c.hi[k]) still_free.push_back(k);
+    }
+    if (still_free.size() == free.size()) break;
+    free = std::move(still_free);
+  }
   return d;
 }
 
 // The Levenberg-Marquardt step inside the trust region |D d| <= radius: Gauss-Newton's (a vanishing mu) when
 // it fits, else the mu whose step's length is the radius within the band (bisection in log mu: |D d(mu)| falls
 // with mu, and P is small).
-Eigen::VectorXd trust_region_step(const LocalModel& lm, const Eigen::VectorXd& D, const std::vector<int>& free,
-                                  double radius) {
+Eigen::VectorXd trust_region_step(const StepContext& c, double radius) {
   double mu_lo = 1e-14, mu_hi = 1e40;
-  Eigen::VectorXd d = lm_step(lm, D, free, mu_lo);
-  if (scaled_norm(d, D) <= (1 + kRadiusBand) * radius) return d;
+  Eigen::VectorXd d = lm_step(c, mu_lo);
+  if (scaled_norm(d, c.D) <= (1 + kRadiusBand) * radius) return d;
   for (int i = 0; i < kMuSearchSteps; ++i) {
     const double mu = std::sqrt(mu_lo * mu_hi);
-    d = lm_step(lm, D, free, mu);
-    const double n = scaled_norm(d, D);
+    d = lm_step(c, mu);
+    const double n = scaled_norm(d, c.D);
     if (n > (1 + kRadiusBand) * radius) {
       mu_lo = mu;
     } else if (n < (1 - kRadiusBand) * radius) {
@@ -146,12 +189,51 @@ std::string to_string(LmTermination t) {
   return "?";
 }
 
+namespace {
+
+// One trial: the step inside `radius` from the context's point, projected, its cost and its decrease.
+struct Trial {
+  std::vector<double> x;
+  std::vector<double> r;
+  Eigen::VectorXd step;
+  double cost = 0, predicted = 0, scaled_length = 0;
+};
+
+enum class TrialRun { Evaluated, TooShort, Aborted };
+
+// Evaluates the step unless its scaled length is at most min_length (a wider region that changes nothing).
+TrialRun try_step(const StepContext& c, double radius, Trial* t, double min_length = -1) {
+  const Eigen::Index P = c.lm.g.size();
+  t->x = project(c.x, trust_region_step(c, radius), c.pr);
+  t->step.resize(P);
+  for (Eigen::Index k = 0; k < P; ++k) t->step[k] = t->x[k] - c.x[k];
+  t->predicted = c.lm.predicted_decrease(t->step);
+  t->scaled_length = scaled_norm(t->step, c.D);
+  if (t->scaled_length <= min_length) return TrialRun::TooShort;
+  t->r.resize(static_cast<std::size_t>(c.pr.num_residuals));
+  if (!c.pr.residuals(t->x, &t->r)) return TrialRun::Aborted;
+  t->cost = half_squared_norm(t->r);
+  return TrialRun::Evaluated;
+}
+
+void trace(const BoundedLmResult& res, const Trial& t, double radius, const char* what) {
+  static const bool on = std::getenv("SB_LM_TRACE") != nullptr;
+  if (on) {
+    std::fprintf(stderr, "LM %3d cost %.8g trial %.8g predicted %.4g |Ds| %.3g radius %.3g %s x", res.iterations,
+                 res.cost, t.cost, t.predicted, t.scaled_length, radius, what);
+    for (double v : t.x) std::fprintf(stderr, " %.4g", v);
+    std::fprintf(stderr, "\n");
+  }
+}
+
+}  // namespace
+
 BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, std::vector<double> x0, const BoundedLmOptions& o) {
   check(pr, x0);
   const int P = static_cast<int>(x0.size());
   BoundedLmResult res;
   res.x = project(x0, Eigen::VectorXd::Zero(P), pr);
-  std::vector<double> r(static_cast<std::size_t>(pr.num_residuals)), r_try(r.size()), J;
+  std::vector<double> r(static_cast<std::size_t>(pr.num_residuals)), J;
   const auto finish = [&](LmTermination t) {
     res.termination = t;
     return res;
@@ -167,41 +249,53 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, std::vector<doub
     if (!lm) {  // at the start and after an accepted step; a rejected one keeps x and its model
       if (!pr.jacobian(res.x, r, &J)) return finish(LmTermination::Aborted);
       lm = std::make_unique<LocalModel>(J, r, P);
-      D = D.cwiseMax(lm->A.diagonal().cwiseMax(kMinDiagonal).cwiseSqrt());
+      D = lm->A.diagonal().cwiseMax(kMinDiagonal).cwiseSqrt();
       if (radius == 0) {
         const double xn = scaled_norm(Eigen::Map<const Eigen::VectorXd>(res.x.data(), P), D);
         radius = xn > 0 ? kRadiusFactor * xn : kRadiusFactor;
       }
       if (projected_gradient_norm(res.x, pr, lm->g) <= o.gradient_tolerance) return finish(LmTermination::Convergence);
     }
-    const std::vector<double> x_try =
-        project(res.x, trust_region_step(*lm, D, free_variables(res.x, pr, lm->g), radius), pr);
-    Eigen::VectorXd step(P);
-    for (int k = 0; k < P; ++k) step[k] = x_try[k] - res.x[k];
-    const double x_norm = Eigen::Map<const Eigen::VectorXd>(res.x.data(), P).norm();
-    if (step.norm() <= o.parameter_tolerance * (x_norm + o.parameter_tolerance))
-      return finish(LmTermination::Convergence);
+    const StepContext c(res.x, pr, *lm, D);
+    Trial t;
+    if (try_step(c, radius, &t) == TrialRun::Aborted) return finish(LmTermination::Aborted);
     ++res.iterations;
-    if (!pr.residuals(x_try, &r_try)) return finish(LmTermination::Aborted);
-    const double cost_try = half_squared_norm(r_try);
-    const double actual = res.cost - cost_try;
-    const double predicted = lm->predicted_decrease(step);
-    const double rho = predicted > 0 ? actual / predicted : -1;
-    const double step_norm = scaled_norm(step, D);
+    const double x_norm = Eigen::Map<const Eigen::VectorXd>(res.x.data(), P).norm();
+    if (t.step.norm() <= o.parameter_tolerance * (x_norm + o.parameter_tolerance))
+      return finish(LmTermination::Convergence);
+    const double actual = res.cost - t.cost;
+    const double rho = t.predicted > 0 ? actual / t.predicted : -1;
     const bool accepted = rho > kMinRatio;
-    if (rho < 0.25) {
-      radius = shrink_factor(lm->g.dot(step), actual) * std::min(radius, step_norm / kShrinkMin);
-    } else if (rho > 0.75) {
-      radius = std::max(radius, 2 * step_norm);
-    }
     // Converged: an accepted step changed the cost by less than the tolerance (Ceres's rule), or the model
     // predicts no more than that inside the region.
     const bool converged = std::abs(actual) <= o.function_tolerance * res.cost &&
-                           (accepted || predicted <= o.function_tolerance * res.cost);
+                           (accepted || (t.predicted >= 0 && t.predicted <= o.function_tolerance * res.cost));
+    if (rho < 0.25) {
+      radius = shrink_factor(lm->g.dot(t.step), actual) * std::min(radius, t.scaled_length);
+    } else if (rho > 0.75) {
+      radius = std::max(radius, 2 * t.scaled_length);
+    }
+    trace(res, t, radius, accepted ? "accepted" : "rejected");
+    if (accepted && rho > 0.75 && t.scaled_length >= (1 - kRadiusBand) * radius / 2) {
+      // The model was right to the region's edge: a trial costs one evaluation against a Jacobian's P, so wider
+      // regions are tried from the same model while they lower the cost (MINPACK would grow it 2x a Jacobian).
+      for (int e = 0; e < kMaxExpansions; ++e) {
+        Trial wider;
+        const TrialRun run = try_step(c, kExpansion * radius, &wider, kMinWidening * t.scaled_length);
+        if (run == TrialRun::Aborted) return finish(LmTermination::Aborted);
+        if (run == TrialRun::TooShort) break;
+        ++res.iterations;
+        const bool better = wider.cost < t.cost;
+        trace(res, wider, kExpansion * radius, better ? "wider: taken" : "wider: kept the last");
+        if (!better) break;
+        t = std::move(wider);
+        radius *= kExpansion;
+      }
+    }
     if (accepted) {
-      res.x = x_try;
-      res.cost = cost_try;
-      r.swap(r_try);
+      res.x = t.x;
+      res.cost = t.cost;
+      r.swap(t.r);
       lm.reset();
       ++res.accepted;
       failures_in_a_row = 0;

@@ -7,13 +7,18 @@
 // issue 187); on the TacTip that was two Jacobians per iteration. Here a trial step costs one evaluation and an
 // accepted step one Jacobian. docs/performance.md, "Fits: a projected Levenberg-Marquardt".
 //
-// The step (Moré's trust-region Levenberg-Marquardt, MINPACK's lmder, with an active set for the box):
+// The step (Moré's trust-region Levenberg-Marquardt as MINPACK's lmder takes it, with an active set for the box):
 // variables at a bound whose gradient points out of the box are held; the others take
-//   (J^T J + mu D^2) delta = -J^T r,   D = the columns' norms (the largest seen, at least 1e-3),
+//   (J^T J + mu D^2) delta = -J^T r,   D = the columns' norms at x (at least 1e-3),
 // with mu = 0 (Gauss-Newton) when |D delta| fits the trust radius, else the mu whose step has the radius's
-// length; x + delta is projected onto the box and judged by the ratio of the actual to the predicted decrease
-// of the projected step. A failed step shrinks the radius to a fraction (0.1-0.5, interpolated) of the step's
-// length, so a far Gauss-Newton step is cut back in one or two trials, not many.
+// length. A variable the solution takes past its bound (or past its step cap, `max_step`) is put there and the
+// others solved again, so the step stays a descent of the model; it is judged by the ratio of the actual to the
+// predicted decrease. A failed step shrinks the radius below the step's length (x 0.1-0.5, interpolated); a
+// step the model predicted well to the region's edge is followed by up to three trials in 4x wider regions
+// from the same Jacobian, the best kept: a trial costs one evaluation, a Jacobian P.
+//
+// With SB_LM_TRACE set in the environment every trial is printed to stderr (cost, predicted decrease, step length,
+// region, verdict, the point): how a fit's steps went, e.g. why a stage stopped where it did.
 #pragma once
 
 #include <functional>
@@ -24,11 +29,15 @@ namespace sb {
 
 struct BoundedLmProblem {
   std::vector<double> lo, hi;  // the box, per variable (lo <= hi)
+  // The most a variable may move in one step (empty: no cap). Where a column is weak the scaled trust region
+  // lets a variable jump across its range in one step (HydroShear's kappa_s to its bound 1e9 and mu to 0 on a twin
+  // slice, a valley it never left); a cap keeps a step inside what the Jacobian there describes.
+  std::vector<double> max_step;
   int num_residuals = 0;
   // r(x) into *r (num_residuals); false aborts the minimisation (a cancel).
   std::function<bool(const std::vector<double>& x, std::vector<double>* r)> residuals;
-  // J(x) row-major (num_residuals x variables) into *J, called only right after residuals(x) at the same x, with
-  // its r; false aborts.
+  // J(x) row-major (num_residuals x variables) into *J, given r = r(x); false aborts. Usually called right after
+  // residuals(x); after a wider trial that was not taken, the last evaluation was elsewhere.
   std::function<bool(const std::vector<double>& x, const std::vector<double>& r, std::vector<double>* J)> jacobian;
 };
 

@@ -30,6 +30,9 @@ namespace {
 // (stick/slip switches of single points, FOTS's integer-pixel truncation) instead of reading zero.
 constexpr double kDiffStepLog = 1e-3;
 constexpr double kDiffStepLinear = 1e-3;  // relative to max(|x|, 1 % of the range)
+// The most a parameter moves in one step: a decade (log-scale parameters) or a quarter of its range.
+const double kMaxStepLog = std::log(10.0);
+constexpr double kMaxStepLinear = 0.25;
 // Coarse scan: default * 10^(k * step) for k = -n..n, i.e. two decades either side of the default.
 constexpr double kScanDecades = 2.0;
 constexpr int kScanPoints1d = 9;
@@ -305,6 +308,8 @@ BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, std::vector
   pr.lo = map.lo;
   pr.hi = map.hi;
   pr.num_residuals = cost->num_residuals();
+  for (int k = 0; k < map.size(); ++k)
+    pr.max_step.push_back(map.log[k] ? kMaxStepLog : kMaxStepLinear * (map.hi[k] - map.lo[k]));
   pr.residuals = [cost](const std::vector<double>& at, std::vector<double>* r) { return cost->residuals(at, r); };
   pr.jacobian = [cost](const std::vector<double>& at, const std::vector<double>& r, std::vector<double>* J) {
     return cost->jacobian(at, r, J);
