@@ -228,7 +228,8 @@ void trace(const BoundedLmResult& res, const Trial& t, double radius, const char
 
 }  // namespace
 
-BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, std::vector<double> x0, const BoundedLmOptions& o) {
+BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vector<double>& x0,
+                                    const BoundedLmOptions& o) {
   check(pr, x0);
   const int P = static_cast<int>(x0.size());
   BoundedLmResult res;

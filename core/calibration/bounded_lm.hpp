@@ -66,7 +66,7 @@ struct BoundedLmResult {
 };
 
 // Starts from x0 projected onto the box.
-BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& problem, std::vector<double> x0,
+BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& problem, const std::vector<double>& x0,
                                     const BoundedLmOptions& options);
 
 }  // namespace sb

@@ -302,8 +302,8 @@ class StageCost {
 };
 
 // The stage's least-squares problem for the minimiser, with progress and cancel.
-BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, std::vector<double> x, const std::string& stage,
-                               const FitOptions& o) {
+BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, const std::vector<double>& x,
+                               const std::string& stage, const FitOptions& o) {
   BoundedLmProblem pr;
   pr.lo = map.lo;
   pr.hi = map.hi;
@@ -321,7 +321,7 @@ BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, std::vector
     if (o.progress) o.progress({stage, iteration, c});
     return !(o.cancel && o.cancel->load());
   };
-  return minimize_bounded_lm(pr, std::move(x), lo);
+  return minimize_bounded_lm(pr, x, lo);
 }
 
 // Data-independent scan points: two decades either side of the spec default (linear specs with a zero
