@@ -226,6 +226,25 @@ void trace(const BoundedLmResult& res, const Trial& t, double radius, const char
   }
 }
 
+// After a step the model predicted well to the region's edge: a trial costs one evaluation against a Jacobian's P,
+// so wider regions are tried from the same model while they lower the cost (MINPACK would grow the region 2x per
+// Jacobian). *t and *radius become the best trial's. False when aborted.
+bool widen(const StepContext& c, double* radius, Trial* t, BoundedLmResult* res) {
+  for (int e = 0; e < kMaxExpansions; ++e) {
+    Trial wider;
+    const TrialRun run = try_step(c, kExpansion * *radius, &wider, kMinWidening * t->scaled_length);
+    if (run == TrialRun::Aborted) return false;
+    if (run == TrialRun::TooShort) break;
+    ++res->iterations;
+    const bool better = wider.cost < t->cost;
+    trace(*res, wider, kExpansion * *radius, better ? "wider: taken" : "wider: kept the last");
+    if (!better) break;
+    *t = std::move(wider);
+    *radius *= kExpansion;
+  }
+  return true;
+}
+
 }  // namespace
 
 BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vector<double>& x0,
@@ -242,7 +261,8 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
   if (!pr.residuals(res.x, &r)) return finish(LmTermination::Aborted);
   res.cost = half_squared_norm(r);
   if (o.on_iteration && !o.on_iteration(0, res.cost)) return finish(LmTermination::Aborted);
-  Eigen::VectorXd D = Eigen::VectorXd::Zero(P);  // column scales, never decreasing (MINPACK's mode 1)
+  Eigen::VectorXd D = Eigen::VectorXd::Zero(P);  // the columns' norms at x (Ceres's; MINPACK's never-decreasing
+                                                 // ones re-tried one Gauss-Newton step: docs/performance.md)
   double radius = 0;
   std::unique_ptr<LocalModel> lm;
   int failures_in_a_row = 0;
@@ -277,22 +297,8 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
       radius = std::max(radius, 2 * t.scaled_length);
     }
     trace(res, t, radius, accepted ? "accepted" : "rejected");
-    if (accepted && rho > 0.75 && t.scaled_length >= (1 - kRadiusBand) * radius / 2) {
-      // The model was right to the region's edge: a trial costs one evaluation against a Jacobian's P, so wider
-      // regions are tried from the same model while they lower the cost (MINPACK would grow it 2x a Jacobian).
-      for (int e = 0; e < kMaxExpansions; ++e) {
-        Trial wider;
-        const TrialRun run = try_step(c, kExpansion * radius, &wider, kMinWidening * t.scaled_length);
-        if (run == TrialRun::Aborted) return finish(LmTermination::Aborted);
-        if (run == TrialRun::TooShort) break;
-        ++res.iterations;
-        const bool better = wider.cost < t.cost;
-        trace(res, wider, kExpansion * radius, better ? "wider: taken" : "wider: kept the last");
-        if (!better) break;
-        t = std::move(wider);
-        radius *= kExpansion;
-      }
-    }
+    if (accepted && rho > 0.75 && t.scaled_length >= (1 - kRadiusBand) * radius / 2 && !widen(c, &radius, &t, &res))
+      return finish(LmTermination::Aborted);
     if (accepted) {
       res.x = t.x;
       res.cost = t.cost;
