@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <iterator>
 
 #include "core/workbench/double_click.hpp"
 #include "core/workbench/held_modifiers.hpp"
@@ -113,8 +114,14 @@ bool take_enter_press() {
 // those ImGui sees held at NewFrame: "PgUp, Ctrl+S" in one poll is a nudge and a save.
 std::vector<Action> pressed_actions() {
   std::vector<Action> actions;
+  // Every bound press is taken; the others (Enter) stay for the dialog or text field drawn after this call.
   std::vector<KeyPress> presses;
-  presses.swap(key_presses());
+  auto& recorded = key_presses();
+  const auto bound = [](const KeyPress& p) {
+    return std::any_of(key_table().begin(), key_table().end(), [&](const KeyBinding& k) { return k.key == p.key; });
+  };
+  std::copy_if(recorded.begin(), recorded.end(), std::back_inserter(presses), bound);
+  recorded.erase(std::remove_if(recorded.begin(), recorded.end(), bound), recorded.end());
   // While a text field has the keyboard, plain keys are typing; Ctrl chords (Ctrl+S) still act: a save must
   // not depend on where the focus is.
   const bool typing = ImGui::GetIO().WantTextInput;

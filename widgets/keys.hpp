@@ -44,8 +44,9 @@ struct KeyBinding {
 
 const std::vector<KeyBinding>& key_table();
 // The actions whose keys were pressed since the last call (while a text field has the keyboard only the
-// Ctrl chords). The presses come from record_key_event, which the window's GLFW key callback calls;
-// clear_key_presses drops the ones nobody asked for (GlWindow::begin_frame, before polling).
+// Ctrl chords), taking those presses; presses of unbound keys (Enter) stay for take_enter_press. The presses come from
+// record_key_event, which the window's GLFW key callback calls; clear_key_presses drops the ones nobody asked for
+// (GlWindow::begin_frame, before polling).
 std::vector<Action> pressed_actions();
 // Every key event of the window (GLFW key, action, mods), in order: modifier keys update what is held,
 // presses and repeats are recorded with the modifiers held then.

@@ -126,8 +126,8 @@ bool pose_panel(Pose& X) {
 // then the data root) or chosen from the list; Enter in the field opens too.
 void open_row(ReplayUi& ui, ReplayRequest& req) {
   ImGui::SetNextItemWidth(-90);
-  if (input_text_with_hint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_input,
-                           ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll))
+  if (entered(input_text_with_hint("##dataset", "dataset, scene or session (data:twin/...)", ui.dataset_input,
+                                   ImGuiInputTextFlags_EnterReturnsTrue | ImGuiInputTextFlags_AutoSelectAll)))
     req.open_dataset = true;
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip(

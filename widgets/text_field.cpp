@@ -1,5 +1,9 @@
 #include "widgets/text_field.hpp"
 
+#include <imgui_internal.h>  // ClearActiveID: ends a field's editing as Enter does
+
+#include "widgets/keys.hpp"
+
 namespace sb::ui {
 
 namespace {
@@ -22,6 +26,16 @@ bool input_text(const char* label, std::string& text, ImGuiInputTextFlags flags)
 bool input_text_with_hint(const char* label, const char* hint, std::string& text, ImGuiInputTextFlags flags) {
   return ImGui::InputTextWithHint(label, hint, text.data(), text.capacity() + 1,
                                   flags | ImGuiInputTextFlags_CallbackResize, resize_string, &text);
+}
+
+bool entered(bool field_returned) {
+  if (field_returned) {
+    take_enter_press();  // ImGui saw it: nothing else acts on the same press
+    return true;
+  }
+  if (!ImGui::IsItemActive() || !take_enter_press()) return false;
+  ImGui::ClearActiveID();
+  return true;
 }
 
 void next_item_leaves_label_room() { ImGui::SetNextItemWidth(-110); }
