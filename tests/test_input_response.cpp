@@ -40,7 +40,7 @@ std::vector<Vec2> law(const PoseInputs& x, int markers, double scale = 1.0) {
 // Inputs spread over a grid of depths, tilts, travels and twists (deterministic).
 std::vector<PoseInputs> input_grid() {
   std::vector<PoseInputs> out;
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < 900; ++i) {  // >= 10 frames per term of a cubic of six inputs (84)
     PoseInputs x;
     x.depth_m = 0.0005 + 0.0005 * (i % 7);
     x.tilt = Vec2(0.1 * std::sin(i * 0.37), 0.1 * std::cos(i * 0.53));
@@ -82,13 +82,49 @@ TEST_CASE("ResponseSurface reproduces a cubic law of the inputs away from the fi
   fields[5][1] = Vec2::Constant(std::nan(""));  // a lost marker in one frame is left out of its fit
   const auto s = ResponseSurface::fit(grid, fields, 3);
   CHECK(s.terms() == 84);  // C(6 + 3, 3) monomials of six varying inputs
+  CHECK(s.degree() == 3);
   PoseInputs x;
   x.depth_m = 0.0021, x.tilt = Vec2(0.03, -0.02), x.travel_m = Vec2(-0.001, 0.0013), x.twist_rad = 0.02;
   const auto want = law(x, 3), got = s.predict(x);
   for (int m = 0; m < 3; ++m) CHECK((got[m] - want[m]).norm() < kSolveTol);
+  // 100 frames: a cubic's 84 terms and a quadratic's 28 want 840 and 280 frames; a linear function's 7 want 70.
+  const std::vector<PoseInputs> few(grid.begin(), grid.begin() + 100);
+  const std::vector<std::vector<Vec2>> few_fields(fields.begin(), fields.begin() + 100);
+  const auto linear = ResponseSurface::fit(few, few_fields, 3);
+  CHECK(linear.degree() == 1);
+  CHECK(linear.terms() == 7);
   CHECK_THROWS_AS(ResponseSurface::fit(grid, fields, 4), std::invalid_argument);
   fields.pop_back();
   CHECK_THROWS_AS(ResponseSurface::fit(grid, fields, 3), std::invalid_argument);
+}
+
+TEST_CASE("analyse_input_response scores the inputs alone only inside the calibration range", "[input_response]") {
+  // The grid spans depth 0.5..3.5 mm (0.0005 + 0.0005 * (i % 7)); a frame pressed 10 mm deep lies outside that
+  // range, one of the grid's own frames inside. The model is off by 1 px in u on every marker of both frames.
+  // Scored: the frame inside alone (2 markers), where the surface is exact (0 px) and the model 1 px off;
+  // the deep frame is counted and left out.
+  const auto grid = input_grid();
+  PoseInputs deep = grid[3];
+  deep.depth_m = 0.010;
+  std::vector<ScoredInputFrame> cal, val;
+  for (const auto& x : grid) cal.push_back({x, law(x, 2), law(x, 2)});
+  const auto off_by_one = [](std::vector<Vec2> f) {
+    for (auto& d : f) d.x() += 1.0;
+    return f;
+  };
+  val.push_back({grid[10], law(grid[10], 2), off_by_one(law(grid[10], 2))});
+  val.push_back({deep, law(deep, 2), off_by_one(law(deep, 2))});
+  std::vector<std::vector<Vec2>> fields;
+  for (const auto& f : cal) fields.push_back(f.measured_px);
+  const auto s = ResponseSurface::fit(grid, fields, 3);
+  CHECK(s.within_range(grid[10]));
+  CHECK_FALSE(s.within_range(deep));
+  const auto a = analyse_input_response(cal, val);
+  CHECK(a.validation_frames == 2);
+  CHECK(a.validation_frames_outside == 1);
+  CHECK(a.validation_marker_frames == 2);
+  CHECK(a.inputs_only_rmse_px < kSolveTol);
+  CHECK(a.model_rmse_px == Approx(1.0).epsilon(1e-12));
 }
 
 TEST_CASE("analyse_input_response: a model at half the law has gain 2 and no shape error", "[input_response]") {
@@ -96,8 +132,11 @@ TEST_CASE("analyse_input_response: a model at half the law has gain 2 and no sha
   // alone predict validation exactly, the model misses by half the measured RMS.
   const auto grid = input_grid();
   std::vector<ScoredInputFrame> cal, val;
-  for (std::size_t i = 0; i < grid.size(); ++i)
-    (i % 4 == 0 ? val : cal).push_back({grid[i], law(grid[i], 4), law(grid[i], 4, 0.5)});
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const ScoredInputFrame f{grid[i], law(grid[i], 4), law(grid[i], 4, 0.5)};
+    cal.push_back(f);  // every frame: validation inside the calibration range, where the surface is exact
+    if (i % 4 == 0) val.push_back(f);
+  }
   const auto a = analyse_input_response(cal, val);
   REQUIRE(a.responses.size() == 7);  // the reference and one row per input
   for (const auto& r : a.responses) {

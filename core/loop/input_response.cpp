@@ -4,7 +4,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -45,6 +45,20 @@ PoseInputs with_input(PoseInputs x, int i, double value) {
   }
   return x;
 }
+
+// Singular value, relative to the largest, below which a direction of a response surface's terms counts as not
+// determined by the frames (features scaled by their spread: O(1) for what the frames determine).
+constexpr double kRankTolerance = 1e-4;
+
+// Below these spreads over the fitted frames an input counts as held (its terms left out): 1 um of depth or
+// travel, 1e-4 of tilt (sin) or twist (rad), under what a pose log resolves; scaled by a spread that small,
+// rounding noise would become a feature of size one.
+constexpr std::array<double, kPoseInputCount> kInputResolution = {1e-6, 1e-4, 1e-4, 1e-6, 1e-6, 1e-4};
+
+// Frames a response surface needs per term: with fewer, its degree is lowered (to 1 at least). The twins'
+// few calibration samples (137 frames) gave a cubic of four inputs 35 terms, ~4 frames each: it followed the
+// frames, and on validation frames inside their range it scored 1.80 px where a linear function scores 1.72.
+constexpr double kFramesPerTerm = 10.0;
 
 // Every exponent tuple of the inputs that vary with total degree 1..degree, and the constant.
 std::vector<std::array<int, kPoseInputCount>> monomials(const std::array<bool, kPoseInputCount>& varies, int degree) {
@@ -149,10 +163,16 @@ ResponseSurface ResponseSurface::fit(const std::vector<PoseInputs>& inputs,
     for (const auto& x : inputs) sum += as_array(x)[i], sq += as_array(x)[i] * as_array(x)[i];
     const double n = double(inputs.size()), mean = sum / n, var = std::max(0.0, sq / n - mean * mean);
     s.centre_[i] = mean;
-    s.spread_[i] = std::sqrt(var) > 1e-12 ? std::sqrt(var) : 1.0;
-    varies[i] = std::sqrt(var) > 1e-12;
+    const auto [lo, hi] = std::minmax_element(
+        inputs.begin(), inputs.end(), [i](const auto& a, const auto& b) { return as_array(a)[i] < as_array(b)[i]; });
+    s.lo_[i] = as_array(*lo)[i], s.hi_[i] = as_array(*hi)[i];
+    varies[i] = std::sqrt(var) > kInputResolution[i];
+    s.spread_[i] = varies[i] ? std::sqrt(var) : 1.0;
   }
-  s.exponents_ = monomials(varies, degree);
+  int used = degree;
+  while (used > 1 && double(inputs.size()) < kFramesPerTerm * double(monomials(varies, used).size())) --used;
+  s.degree_ = used;
+  s.exponents_ = monomials(varies, used);
   const std::size_t markers = fields.front().size(), terms = s.exponents_.size();
   Eigen::MatrixXd all(inputs.size(), terms);
   for (std::size_t f = 0; f < inputs.size(); ++f) {
@@ -172,7 +192,12 @@ ResponseSurface ResponseSurface::fit(const std::vector<PoseInputs>& inputs,
       A.row(r) = all.row(rows[r]);
       b.row(r) = fields[static_cast<std::size_t>(rows[r])][m].transpose();
     }
-    const Eigen::MatrixXd c = A.colPivHouseholderQr().solve(b);
+    // The minimum-norm least-squares solution, directions the frames hardly determine left out: a pivoted QR's
+    // basic solution gave terms the frames hardly tell apart (the twins' slide travel and twist) huge
+    // coefficients that cancel on the frames and nowhere else (validation predicted to 1e11 px).
+    Eigen::BDCSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    svd.setThreshold(kRankTolerance);
+    const Eigen::MatrixXd c = svd.solve(b);
     s.coef_u_[m].assign(c.col(0).data(), c.col(0).data() + terms);
     s.coef_v_[m].assign(c.col(1).data(), c.col(1).data() + terms);
   });
@@ -187,6 +212,13 @@ std::vector<double> ResponseSurface::features(const PoseInputs& x) const {
     for (int i = 0; i < kPoseInputCount; ++i)
       for (int p = 0; p < exponents_[t][i]; ++p) out[t] *= z[i];
   return out;
+}
+
+bool ResponseSurface::within_range(const PoseInputs& x) const {
+  const auto v = as_array(x);
+  for (int i = 0; i < kPoseInputCount; ++i)
+    if (v[i] < lo_[i] || v[i] > hi_[i]) return false;
+  return true;
 }
 
 std::vector<Vec2> ResponseSurface::predict(const PoseInputs& x) const {
@@ -212,6 +244,7 @@ InputResponseAnalysis analyse_input_response(const std::vector<ScoredInputFrame>
   const ResponseSurface S_model = ResponseSurface::fit(x, model, degree);
 
   InputResponseAnalysis a;
+  a.degree = S_meas.degree();
   std::array<double, kPoseInputCount> ref{}, step{};
   for (int i = 0; i < kPoseInputCount; ++i) {
     std::vector<double> v;
@@ -228,7 +261,7 @@ InputResponseAnalysis analyse_input_response(const std::vector<ScoredInputFrame>
   const auto m0 = S_meas.predict(a.reference), p0 = S_model.predict(a.reference);
   a.responses.push_back(response_row("at the reference", m0, p0));
   for (int i = 0; i < kPoseInputCount; ++i) {
-    if (step[i] <= 1e-12) continue;
+    if (step[i] <= kInputResolution[i]) continue;
     const PoseInputs xi = with_input(a.reference, i, ref[i] + step[i]);
     a.responses.push_back(
         response_row(step_label(i, step[i]), minus(S_meas.predict(xi), m0), minus(S_model.predict(xi), p0)));
@@ -236,6 +269,11 @@ InputResponseAnalysis analyse_input_response(const std::vector<ScoredInputFrame>
 
   double sse_inputs = 0, sse_model = 0;
   for (const auto& f : validation) {
+    ++a.validation_frames;
+    if (!S_meas.within_range(f.inputs)) {  // a polynomial says nothing there: not scored
+      ++a.validation_frames_outside;
+      continue;
+    }
     const auto pred = S_meas.predict(f.inputs);
     for (std::size_t m = 0; m < f.measured_px.size(); ++m) {
       if (!f.measured_px[m].allFinite() || !pred[m].allFinite() || !f.model_px[m].allFinite()) continue;
@@ -285,8 +323,11 @@ std::string input_response_markdown(const InputResponseAnalysis& a, const std::s
   std::ostringstream md;
   const auto f = [](double v, const char* fmt = "%.2f") { return format_number(v, fmt); };
   const auto vec = [&](const Vec2& v) { return "(" + f(v.x()) + ", " + f(v.y()) + ")"; };
-  md << "Each field regressed per marker on a cubic of the frame's inputs (depth, tilt, travel since first "
-        "contact, twist; from the poses), fitted on calibration. Reference: depth "
+  static const char* const kDegreeNames[] = {"", "linear function", "quadratic", "cubic"};
+  md << "Each field regressed per marker on a " << kDegreeNames[std::clamp(a.degree, 0, 3)]
+     << " of the frame's inputs (depth, tilt, travel since first contact, twist; from the poses), fitted on "
+        "calibration"
+     << (a.degree < 3 ? " (lower than cubic: fewer than ten calibration frames per term)" : "") << ". Reference: depth "
      << f(a.reference.depth_m * 1e3) << " mm, the other inputs " << vec(a.reference.tilt) << ", "
      << vec(a.reference.travel_m * 1e3) << " mm, " << f(a.reference.twist_rad * 180.0 / std::numbers::pi)
      << " deg; each row changes one input by its standard deviation.\n\n"
@@ -296,7 +337,11 @@ std::string input_response_markdown(const InputResponseAnalysis& a, const std::s
     md << "| " << r.input << " | " << f(r.measured_rms_px) << " | " << f(r.model_rms_px) << " | " << f(r.gain) << " | "
        << f(r.after_gain_rms_px) << " | " << vec(r.measured_mean_px) << " | " << vec(r.model_mean_px) << " |\n";
   md << "\nThe inputs alone (the measured surface, fitted on calibration) predict validation to "
-     << f(a.inputs_only_rmse_px, "%.3f") << " px; " << model_id << " on the same " << a.validation_marker_frames
+     << f(a.inputs_only_rmse_px, "%.3f") << " px";
+  if (a.validation_frames_outside > 0)
+    md << " on its " << a.validation_frames - a.validation_frames_outside << " of " << a.validation_frames
+       << " frames whose inputs lie inside the calibration frames' range (a polynomial says nothing outside it)";
+  md << "; " << model_id << " on the same " << a.validation_marker_frames
      << " marker-frames: " << f(a.model_rmse_px, "%.3f") << " px.\n";
   return md.str();
 }

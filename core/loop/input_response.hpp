@@ -32,7 +32,9 @@ const std::array<const char*, kPoseInputCount>& pose_input_names();
 std::vector<PoseInputs> pose_inputs(const Sdf& gel_sdf_E, const Indenter& indenter, const std::vector<Pose>& X_EI);
 
 // A per-marker polynomial of the inputs (every monomial up to `degree` of the six inputs, each scaled by its
-// spread over the fitted frames), fitted by least squares on the frames where the marker is finite.
+// spread over the fitted frames), fitted by least squares on the frames where the marker is finite. The
+// degree is lowered (to 1 at least) until the frames number at least ten per term; an input that spans less
+// than its resolution (1 um, 1e-4 rad) counts as held and has no term.
 class ResponseSurface {
  public:
   // fields[f][m]: frame f, marker m (NaN where not measured). Throws std::invalid_argument when the counts
@@ -42,11 +44,17 @@ class ResponseSurface {
                              int degree);
   std::vector<Vec2> predict(const PoseInputs& x) const;
   int terms() const { return static_cast<int>(exponents_.size()); }
+  int degree() const { return degree_; }  // as asked, or lower when the frames are too few for its terms
+  // Whether every input of x lies inside the range it spanned in the fitted frames. Outside, a polynomial
+  // grows without bound: analyse_input_response scores the inputs-only reference inside only.
+  bool within_range(const PoseInputs& x) const;
 
  private:
   std::vector<double> features(const PoseInputs& x) const;
   std::vector<std::array<int, kPoseInputCount>> exponents_;
+  int degree_ = 0;
   std::array<double, kPoseInputCount> centre_{}, spread_{};
+  std::array<double, kPoseInputCount> lo_{}, hi_{};   // each input's range over the fitted frames
   std::vector<std::vector<double>> coef_u_, coef_v_;  // [marker][term]; empty for a marker without enough data
 };
 
@@ -63,9 +71,13 @@ struct InputResponse {
 struct InputResponseAnalysis {
   PoseInputs reference;
   std::vector<InputResponse> responses;  // first the field at the reference itself (from no input), then one per input
-  double inputs_only_rmse_px = 0;        // the measured surface (calibration) scored on validation
+  int degree = 0;                        // the surfaces' polynomial degree (ResponseSurface::degree)
+  double inputs_only_rmse_px = 0;        // the measured surface (calibration) scored on the validation frames
+                                         // inside the calibration range (within_range)
   double model_rmse_px = 0;              // the model on the same validation marker-frames
   long validation_marker_frames = 0;
+  long validation_frames = 0;
+  long validation_frames_outside = 0;  // of those, frames with an input outside its calibration range: not scored
 };
 
 // One scored frame: its inputs, the measured and the model's field.

@@ -75,9 +75,12 @@ nlohmann::ordered_json response_json(const std::optional<InputResponseAnalysis>&
                     {"measured_mean_px", {x.measured_mean_px.x(), x.measured_mean_px.y()}},
                     {"model_mean_px", {x.model_mean_px.x(), x.model_mean_px.y()}}});
   j["responses"] = rows;
+  j["surface_degree"] = a->degree;
   j["inputs_only_rmse_px"] = a->inputs_only_rmse_px;
   j["model_rmse_px"] = a->model_rmse_px;
   j["validation_marker_frames"] = a->validation_marker_frames;
+  j["validation_frames"] = a->validation_frames;
+  j["validation_frames_outside_calibration_range"] = a->validation_frames_outside;
   return j;
 }
 
