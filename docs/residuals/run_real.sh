@@ -2,7 +2,7 @@
 # The residual analyses of the real recordings in ../shared/data/raw (docs/residuals/README.md):
 #  - the FOTS press/shear pair (sphere pose estimated from the image at import): the residual loop with
 #    the press calibrating and the shear validating, for each model;
-#  - the TacTip set (known press, tilt, shear and twist), whole: each model's loop (about 27 min);
+#  - the TacTip set (known press, tilt, shear and twist), whole: each model's loop (about 30 min);
 #  - the gsrobotics and incipient-slip recordings (pose unknown): the release phase, where every model
 #    predicts zero (shearbench release).
 #   usage: docs/residuals/run_real.sh [build/shearbench]      (data root: $SHEARBENCH_DATA or ../shared/data)
@@ -22,7 +22,7 @@ for model in fots-reimpl hydroshear tacsl; do
 done
 # The real TacTip set, whole (1000 calibration + 999 validation samples), each model's loop with its
 # model-form round (HydroShear's four variants), every catalogued effect a candidate, three rounds:
-# HydroShear 11.4 min, TacSL 4.3, FOTS (re-impl.) 11.3 on two cores (session 30). SHEARBENCH_SKIP_TACTIP=1
+# HydroShear 12.5 min, TacSL 4.4, FOTS (re-impl.) 12.5 on two cores (session 31; the script 31 min). SHEARBENCH_SKIP_TACTIP=1
 # skips them.
 if [[ "${SHEARBENCH_SKIP_TACTIP:-0}" != 1 ]]; then
   "$exe" import --source tactip_shear --in "$data/raw/tactip_shear" --out "$imp/tactip" >/dev/null
