@@ -169,6 +169,7 @@ ResponseSurface ResponseSurface::fit(const std::vector<PoseInputs>& inputs,
     varies[i] = std::sqrt(var) > kInputResolution[i];
     s.spread_[i] = varies[i] ? std::sqrt(var) : 1.0;
   }
+  s.varies_ = varies;
   int used = degree;
   while (used > 1 && double(inputs.size()) < kFramesPerTerm * double(monomials(varies, used).size())) --used;
   s.degree_ = used;
@@ -244,25 +245,25 @@ InputResponseAnalysis analyse_input_response(const std::vector<ScoredInputFrame>
   const ResponseSurface S_model = ResponseSurface::fit(x, model, degree);
 
   InputResponseAnalysis a;
+  a.degree_asked = degree;
   a.degree = S_meas.degree();
-  std::array<double, kPoseInputCount> ref{}, step{};
+  std::array<double, kPoseInputCount> step{};
   for (int i = 0; i < kPoseInputCount; ++i) {
-    std::vector<double> v;
-    v.reserve(x.size());
-    for (const auto& xi : x) v.push_back(as_array(xi)[i]);
-    const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
-    double sum = 0, sq = 0;
-    for (double u : v) sum += u, sq += u * u;
-    const double mean = sum / double(v.size());
-    step[i] = std::sqrt(std::max(0.0, sq / double(v.size()) - mean * mean));
-    ref[i] = i > 0 && *lo <= 0.0 && *hi >= 0.0 ? 0.0 : median(v);
-    a.reference = with_input(a.reference, i, ref[i]);
+    step[i] = S_meas.spread(i);
+    double ref = 0.0;
+    if (i == 0 || S_meas.lo(i) > 0.0 || S_meas.hi(i) < 0.0) {
+      std::vector<double> v;
+      v.reserve(x.size());
+      for (const auto& xi : x) v.push_back(as_array(xi)[i]);
+      ref = median(v);
+    }
+    a.reference = with_input(a.reference, i, ref);
   }
   const auto m0 = S_meas.predict(a.reference), p0 = S_model.predict(a.reference);
   a.responses.push_back(response_row("at the reference", m0, p0));
   for (int i = 0; i < kPoseInputCount; ++i) {
-    if (step[i] <= kInputResolution[i]) continue;
-    const PoseInputs xi = with_input(a.reference, i, ref[i] + step[i]);
+    if (step[i] == 0.0) continue;  // held in every calibration frame
+    const PoseInputs xi = with_input(a.reference, i, as_array(a.reference)[i] + step[i]);
     a.responses.push_back(
         response_row(step_label(i, step[i]), minus(S_meas.predict(xi), m0), minus(S_model.predict(xi), p0)));
   }
@@ -327,9 +328,9 @@ std::string input_response_markdown(const InputResponseAnalysis& a, const std::s
   md << "Each field regressed per marker on a " << kDegreeNames[std::clamp(a.degree, 0, 3)]
      << " of the frame's inputs (depth, tilt, travel since first contact, twist; from the poses), fitted on "
         "calibration"
-     << (a.degree < 3 ? " (lower than cubic: fewer than ten calibration frames per term)" : "") << ". Reference: depth "
-     << f(a.reference.depth_m * 1e3) << " mm, the other inputs " << vec(a.reference.tilt) << ", "
-     << vec(a.reference.travel_m * 1e3) << " mm, " << f(a.reference.twist_rad * 180.0 / std::numbers::pi)
+     << (a.degree < a.degree_asked ? " (lowered: fewer than ten calibration frames per term)" : "")
+     << ". Reference: depth " << f(a.reference.depth_m * 1e3) << " mm, the other inputs " << vec(a.reference.tilt)
+     << ", " << vec(a.reference.travel_m * 1e3) << " mm, " << f(a.reference.twist_rad * 180.0 / std::numbers::pi)
      << " deg; each row changes one input by its standard deviation.\n\n"
      << "| change | measured RMS px | " << model_id << " RMS px | best gain | shape error after gain px | "
      << "mean measured px | mean model px |\n|---|---:|---:|---:|---:|---|---|\n";

@@ -45,6 +45,10 @@ class ResponseSurface {
   std::vector<Vec2> predict(const PoseInputs& x) const;
   int terms() const { return static_cast<int>(exponents_.size()); }
   int degree() const { return degree_; }  // as asked, or lower when the frames are too few for its terms
+  // An input's standard deviation over the fitted frames, 0 for one held (under its resolution: no term); its range.
+  double spread(int i) const { return varies_[i] ? spread_[i] : 0.0; }
+  double lo(int i) const { return lo_[i]; }
+  double hi(int i) const { return hi_[i]; }
   // Whether every input of x lies inside the range it spanned in the fitted frames. Outside, a polynomial
   // grows without bound: analyse_input_response scores the inputs-only reference inside only.
   bool within_range(const PoseInputs& x) const;
@@ -54,7 +58,8 @@ class ResponseSurface {
   std::vector<std::array<int, kPoseInputCount>> exponents_;
   int degree_ = 0;
   std::array<double, kPoseInputCount> centre_{}, spread_{};
-  std::array<double, kPoseInputCount> lo_{}, hi_{};   // each input's range over the fitted frames
+  std::array<double, kPoseInputCount> lo_{}, hi_{};  // each input's range over the fitted frames
+  std::array<bool, kPoseInputCount> varies_{};
   std::vector<std::vector<double>> coef_u_, coef_v_;  // [marker][term]; empty for a marker without enough data
 };
 
@@ -71,7 +76,8 @@ struct InputResponse {
 struct InputResponseAnalysis {
   PoseInputs reference;
   std::vector<InputResponse> responses;  // first the field at the reference itself (from no input), then one per input
-  int degree = 0;                        // the surfaces' polynomial degree (ResponseSurface::degree)
+  int degree_asked = 0;                  // the polynomial degree asked for
+  int degree = 0;                        // the surfaces' own (ResponseSurface::degree: lower with few frames)
   double inputs_only_rmse_px = 0;        // the measured surface (calibration) scored on the validation frames
                                          // inside the calibration range (within_range)
   double model_rmse_px = 0;              // the model on the same validation marker-frames
