@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/models/bench_run.hpp"
+#include "core/api/bench_run.hpp"
 #include "core/models/model.hpp"
 
 namespace {
