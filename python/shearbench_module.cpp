@@ -44,8 +44,8 @@ py::array_t<std::uint8_t> contact_array(bool wanted, const shearbench::SensorMod
                 : py::array_t<std::uint8_t>(std::vector<py::ssize_t>{0});
 }
 
-py::object step_result(OutArray field, py::array_t<std::uint8_t> contact, bool wanted) {
-  if (!wanted) return std::move(field);
+py::object step_result(const OutArray& field, const py::array_t<std::uint8_t>& contact, bool wanted) {
+  if (!wanted) return field;
   return py::make_tuple(field, contact);
 }
 

@@ -241,7 +241,7 @@ TEST_CASE("api: a scene gives the sensor, the indenter and its params table", "[
 }
 
 TEST_CASE("api: the bench workload's poses and field are the API's", "[api]") {
-  const int envs = 3, steps = 6;
+  const int envs = 3, steps = 12;  // the press completes at k = 10
   const std::vector<double> v = shearbench::bench_poses(envs, steps);
   REQUIRE(v.size() == static_cast<std::size_t>(steps * envs * 2 * 7));
   sb::BenchWorkloadSpec spec;
