@@ -15,6 +15,10 @@
 #include "core/effects/model_spec.hpp"
 #include "core/models/bench_workload.hpp"
 
+// This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several
+// test files as one.
+namespace test_api_sensor_model {
+
 namespace {
 
 using shearbench::Config;
@@ -230,6 +234,14 @@ TEST_CASE("api: names, parameter sets, the loop's answer", "[api]") {
   CHECK_THROWS_WITH(shearbench::loop_answer("no_such_run"), Catch::Contains("no residual run 'no_such_run'"));
 }
 
+TEST_CASE("api: a sensor block as a scene's", "[api]") {
+  Config c = sphere_config("tacsl");
+  c.sensor = R"({"gel": "flat", "markers": "11x9"})";  // 11 x 9 markers
+  CHECK(SensorModel::create(c).markers() == 99);
+  c.sensor = R"({"gel": "flat", "nope": 1})";
+  CHECK_THROWS_WITH(SensorModel::create(c), Catch::Contains("sensor") && Catch::Contains("nope"));
+}
+
 TEST_CASE("api: a scene gives the sensor, the indenter and its params table", "[api]") {
   Config c;
   c.model = "hydroshear";
@@ -275,3 +287,5 @@ TEST_CASE("api: the bench workload's poses and field are the API's", "[api]") {
   CHECK(peak > 0.1);
   CHECK_THROWS_AS(shearbench::bench_poses(1, 51), shearbench::Error);
 }
+
+}  // namespace test_api_sensor_model

@@ -85,6 +85,13 @@ std::string home_dir() {
 void set_home_flag(const std::string& dir) { home_flag() = dir; }
 void set_home_anchor(const std::string& path) { home_anchor() = path; }
 
+std::string library_home_anchor(const std::string& library_path) {
+  const fs::path lib = library_path, dir = lib.parent_path();
+  if (dir.filename() != "lib" && dir.parent_path().filename() == "lib")
+    return (dir.parent_path() / lib.filename()).string();
+  return library_path;
+}
+
 bool is_source_checkout(const std::string& home) {
   std::error_code ec;
   return !home.empty() && fs::is_regular_file(fs::path(home) / "CMakeLists.txt", ec) &&
