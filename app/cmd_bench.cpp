@@ -1,5 +1,6 @@
 // `shearbench bench --model M --envs N --steps S [--repeat R] [--profile] [--json OUT]`: the benchmark
-// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/models/bench_run).
+// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/api/bench_run,
+// which steps the public API's SensorModel).
 // Prints a table (median / min / max ms per batched step over k = 3..S-1, sensor-steps per second) and,
 // with --profile, the CPU time per phase from a separate, instrumented run.
 #include <tbb/global_control.h>

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <shearbench/sensor_model.hpp>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "core/api/bench_run.hpp"
@@ -135,6 +136,30 @@ TEST_CASE("api: envs are independent; reset(env) restarts one env only", "[api]"
   two.step(X2, 0.02, f2);
   fresh.step(X2, 0.02, ff);
   for (int i = 0; i < 252; ++i) REQUIRE(f2[i] == ff[i]);
+}
+
+TEST_CASE("api: two instances stepped on two threads at once give what each gives alone", "[api]") {
+  // The threading contract: instances share nothing mutable. Each thread builds and steps its own model (the
+  // construction reads the parameter set's file too); the fields must equal a sequential run's bit for bit.
+  const auto path = press_slide_twist(12);
+  const auto run = [&](const std::string& model) {
+    SensorModel m = SensorModel::create(sphere_config(model, 4));
+    std::vector<double> X(4 * 7), field(4 * 63 * 2), all;
+    for (const auto& pose : path) {
+      for (int e = 0; e < 4; ++e) std::copy(pose.begin(), pose.end(), X.begin() + 7 * e);
+      m.step(X, 0.02, field);
+      all.insert(all.end(), field.begin(), field.end());
+    }
+    return all;
+  };
+  const std::vector<double> a_alone = run("hydroshear"), b_alone = run("hydroshear-contact+tool_frame");
+  std::vector<double> a, b;
+  std::thread ta([&] { a = run("hydroshear"); });
+  std::thread tb([&] { b = run("hydroshear-contact+tool_frame"); });
+  ta.join();
+  tb.join();
+  CHECK(a == a_alone);
+  CHECK(b == b_alone);
 }
 
 TEST_CASE("api: step_world is step at X_EI = X_WE^-1 X_WI", "[api]") {

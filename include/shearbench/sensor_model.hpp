@@ -17,7 +17,8 @@
 // honours a tbb::global_control or task_arena of the caller).
 //
 // Errors: every function throws shearbench::Error (a std::runtime_error) with the message the shearbench CLI
-// prints for the same input, e.g. "model: unknown model form 'x' (...)" or "X_EI[env 3]: not finite".
+// prints for the same input (the CLI names its flag, --model, where this names the field, model), e.g.
+// "model: unknown model id 'x' (known: hydroshear, ...)" or "X_EI[env 3]: a pose value is not finite".
 #include <cstdint>
 #include <memory>
 #include <span>
