@@ -133,3 +133,13 @@ def test_bench_field_equals_shearbench_bench(tmp_path):
         field = model.step(X, shearbench.bench_dt)
     assert np.abs(field).max() > 0.1
     np.testing.assert_array_equal(field.ravel(), np.array(want["field_px"]))
+
+
+def test_many_envs_example_runs():
+    """examples/python/many_envs.py, small: the NumPy loop of many envs keeps working."""
+    import sys
+    run = subprocess.run([sys.executable, str(SRC / "examples" / "python" / "many_envs.py"), "--envs", "32",
+                          "--steps", "30"], check=True, capture_output=True, text=True)
+    assert "32 envs x 63 markers" in run.stdout
+    last = [line for line in run.stdout.splitlines() if line.startswith("step")][-1]
+    assert float(last.split("mean |disp|")[1].split()[0]) > 0.1  # the drags shear the field
