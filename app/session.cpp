@@ -53,7 +53,7 @@ namespace {
 // Each model starts from the session's parameter set, then the scene's table for it.
 std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
                                                      const NamedParamSet& param_set,
-                                                     std::shared_ptr<const Indenter> indenter) {
+                                                     const std::shared_ptr<const Indenter>& indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
   std::string beside = o.open.beside_hydroshear;

@@ -67,7 +67,7 @@ std::string home_dir() {
   const char* env = std::getenv("SHEARBENCH_HOME");
   const std::string env_value = env ? env : "";
   const std::string exe = home_anchor().empty() ? executable_path() : home_anchor();
-  const std::string home = find_home(exe, home_flag(), env_value);
+  std::string home = find_home(exe, home_flag(), env_value);
   const std::string how = "set SHEARBENCH_HOME or pass --home to the folder holding scenes/ and assets/params";
   if (home.empty()) {
     const fs::path dir = fs::path(exe).parent_path();

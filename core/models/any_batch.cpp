@@ -36,8 +36,9 @@ bool has_batch(const std::string& model_id) {
   return std::find(ids.begin(), ids.end(), model_id) != ids.end();
 }
 
-std::unique_ptr<AnyBatch> make_batch(const std::string& model, std::shared_ptr<const Sensor> sensor,
-                                     std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params) {
+std::unique_ptr<AnyBatch> make_batch(const std::string& model, const std::shared_ptr<const Sensor>& sensor,
+                                     const std::shared_ptr<const Indenter>& indenter, int slots,
+                                     const ParamSet& params) {
   if (!has_batch(model)) throw std::invalid_argument("unknown model '" + model + "' (" + model_ids_text(", ") + ")");
   if (model.rfind("hydroshear", 0) == 0)
     return std::make_unique<BatchOf<HydroShearBatch>>(HydroShearBatch(sensor, indenter, slots, params));

@@ -34,7 +34,8 @@ class AnyBatch {
 // Whether `model_id` (a model_ids() entry) has a batched kernel: every model form does.
 bool has_batch(const std::string& model_id);
 // The batch of `slots` sensors of model `model_id` at `params`. Throws std::invalid_argument for an unknown id.
-std::unique_ptr<AnyBatch> make_batch(const std::string& model_id, std::shared_ptr<const Sensor> sensor,
-                                     std::shared_ptr<const Indenter> indenter, int slots, const ParamSet& params);
+std::unique_ptr<AnyBatch> make_batch(const std::string& model_id, const std::shared_ptr<const Sensor>& sensor,
+                                     const std::shared_ptr<const Indenter>& indenter, int slots,
+                                     const ParamSet& params);
 
 }  // namespace sb
