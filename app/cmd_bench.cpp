@@ -1,5 +1,6 @@
 // `shearbench bench --model M --envs N --steps S [--repeat R] [--profile] [--json OUT]`: the benchmark
-// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/models/bench_run).
+// workload of BENCH_WORKLOAD.md (peg grasp, 2 pads per env), timed per batched step (core/api/bench_run,
+// which steps the public API's SensorModel).
 // Prints a table (median / min / max ms per batched step over k = 3..S-1, sensor-steps per second) and,
 // with --profile, the CPU time per phase from a separate, instrumented run.
 #include <tbb/global_control.h>
@@ -12,9 +13,12 @@
 #include <sstream>
 
 #include "app/command.hpp"
+#include "core/api/bench_run.hpp"
+#include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
+#include "core/calibration/param_sets.hpp"
 #include "core/data/tsd.hpp"
-#include "core/models/bench_run.hpp"
+#include "core/models/bench_workload.hpp"
 #include "core/models/model.hpp"
 
 namespace sb::app {
@@ -27,6 +31,7 @@ struct BenchArgs {
   int repeat = 1;
   bool profile = false;
   std::string json_out;
+  std::string field_out;  // the last step's field of the one case run (--field-out)
 };
 
 // The 1-, 5- and 15-minute load averages, to record how busy the machine was.
@@ -43,6 +48,18 @@ struct Measured {
   std::optional<BenchResult> profile;
 };
 
+// The field of the last step, for a consumer of the API to compare its own with (shearbench::bench_poses).
+void write_field(const BenchWorkload& w, const BenchArgs& a) {
+  const nlohmann::json doc = {{"workload", "BENCH_WORKLOAD.md"},
+                              {"model", w.model()},
+                              {"param_set", kPublishedParamSet},
+                              {"envs", w.envs()},
+                              {"steps", a.steps},
+                              {"shape", {w.envs() * kBenchSensors, -1, 2}},
+                              {"field_px", w.last_field()}};
+  write_file_atomic(a.field_out, doc.dump() + "\n");
+}
+
 Measured measure(const std::string& model, int envs, const BenchArgs& a) {
   BenchWorkload w(model, envs, a.steps);
   Measured m;
@@ -51,6 +68,7 @@ Measured measure(const std::string& model, int envs, const BenchArgs& a) {
     m.run_medians.push_back(res.median_ms);
     if (r == 0 || res.median_ms < m.best.median_ms) m.best = std::move(res);
   }
+  if (!a.field_out.empty()) write_field(w, a);
   if (a.profile) m.profile = w.run(true);
   return m;
 }
@@ -103,6 +121,8 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   }
   const std::vector<int> envs = a.envs.empty() ? std::vector<int>{256, 512, 1024} : a.envs;
   if (a.repeat < 1) throw std::invalid_argument("bench: --repeat must be >= 1");
+  if (!a.field_out.empty() && (models.size() != 1 || envs.size() != 1))
+    throw InputError("--field-out", "needs one --model and one --envs (the field of one case)");
   const auto load_before = load_average();
   std::printf(
       "BENCH_WORKLOAD: peg grasp, 2 pads per env, steps 0..%d, timed k = %d..%d (median/min/max of %d), "
@@ -159,6 +179,9 @@ void add_flags(CLI::App& sub, BenchArgs& a) {
       ->capture_default_str();
   sub.add_flag("--profile", a.profile, "add an instrumented run: CPU time per phase");
   sub.add_option("--json", a.json_out, "write the results as JSON (atomically)");
+  sub.add_option("--field-out", a.field_out,
+                 "write the last step's field as JSON, field_px [slot][marker][2] (slot = env * 2 + pad), to compare "
+                 "a consumer of the library with (one --model and one --envs)");
 }
 
 const Subcommand<BenchArgs> kBenchCommand{

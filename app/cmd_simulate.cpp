@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "app/command.hpp"
+#include "core/api/sensor_model_impl.hpp"
 #include "core/base/data_root.hpp"
 #include "core/base/reproducible.hpp"
 #include "core/calibration/evaluate.hpp"
@@ -13,7 +14,6 @@
 #include "core/calibration/prediction_export.hpp"
 #include "core/data/json_read.hpp"
 #include "core/data/scene.hpp"
-#include "core/effects/model_spec.hpp"
 #include "core/geometry/mesh.hpp"
 #include "core/models/model.hpp"
 
@@ -47,12 +47,14 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
     params.update_from_json(it->second, a.scene + ": /params/" + a.model);
   if (!a.params.empty())
     params.update_from_json(params_for_model(jsonin::load_file(a.params), a.model, true, a.params), a.params);
-  auto model = make_spec_model(a.model, scene.sensor, indenter);
-  model->set_params(params);
+  // Through the public API (one env), as a consumer of libshearbench steps it; the Pose-typed step keeps the
+  // scene's sampled poses exactly.
+  shearbench::SensorModel api = shearbench::SensorModel::Impl::make(a.model, scene.sensor, indenter, params, 1);
+  shearbench::SensorModel::Impl& model = api.impl();
 
   const auto start = std::chrono::steady_clock::now();
   PredictionExport e;
-  FieldOutput out;
+  std::vector<Vec2> out(scene.sensor->p_EM.size());
   const double sub_dt = scene.dt_s / scene.substeps;
   for (std::size_t k = 0; k < scene.X_EI.size(); ++k) {
     // Sub-steps interpolate the pose between samples (frame 0 starts at rest, no sub-steps).
@@ -62,14 +64,14 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
       const Quat qa(A.linear()), qb(B.linear());
       for (int s = 1; s < scene.substeps; ++s) {
         const double alpha = static_cast<double>(s) / scene.substeps;
-        model->step(make_pose((1 - alpha) * A.translation() + alpha * B.translation(), qa.slerp(alpha, qb)), sub_dt,
-                    &out);
+        const Pose X = make_pose((1 - alpha) * A.translation() + alpha * B.translation(), qa.slerp(alpha, qb));
+        model.step_poses({&X, 1}, sub_dt, out);
       }
     }
-    model->step(scene.X_EI[k], scene.substeps > 1 && k > 0 ? sub_dt : scene.dt_s, &out);
+    model.step_poses({&scene.X_EI[k], 1}, scene.substeps > 1 && k > 0 ? sub_dt : scene.dt_s, out);
     e.t_s.push_back(scene.t_s.empty() ? static_cast<double>(k) * scene.dt_s : scene.t_s[k]);
     e.X_EI.push_back(scene.X_EI[k]);
-    e.disp_px.push_back(out.disp_px);
+    e.disp_px.push_back(out);
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

@@ -53,7 +53,7 @@ namespace {
 // Each model starts from the session's parameter set, then the scene's table for it.
 std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
                                                      const NamedParamSet& param_set,
-                                                     std::shared_ptr<const Indenter> indenter) {
+                                                     const std::shared_ptr<const Indenter>& indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
   std::string beside = o.open.beside_hydroshear;
@@ -83,6 +83,25 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
   return models;
 }
 
+// A multi-sensor log (dataset.json "shearbench": {"sensors": [sample ids]}, e.g. examples/mujoco_grasp's two pads,
+// every sample at the same frames): the replayed sample's panel and each other sensor's are named by sample id.
+void load_beside(const Dataset& ds, const std::string& replayed, Warnings* warnings, ui::MeasuredData* measured) {
+  const auto sb_it = ds.extra.find("shearbench");
+  if (sb_it == ds.extra.end() || !sb_it->is_object() || !sb_it->contains("sensors")) return;
+  const nlohmann::json& sensors = (*sb_it)["sensors"];
+  if (!sensors.is_array()) throw InputError(ds.json_path(), "/shearbench/sensors: expected an array of sample ids");
+  bool listed = false;
+  for (const auto& id : sensors) listed = listed || (id.is_string() && id.get<std::string>() == replayed);
+  if (!listed) return;
+  measured->label = replayed + " (logged)";
+  for (const auto& id : sensors) {
+    if (!id.is_string()) throw InputError(ds.json_path(), "/shearbench/sensors: expected sample ids (strings)");
+    if (id.get<std::string>() == replayed) continue;
+    SampleData other = read_sample(ds, id.get<std::string>(), warnings);
+    measured->beside.push_back({id.get<std::string>() + " (logged)", std::move(other.markers_px)});
+  }
+}
+
 // The measured side of a dataset replay: marker field and frames of each step, the sample list.
 void load_measured(Session& s, const std::string& data_root) {
   Warnings warnings;
@@ -93,6 +112,7 @@ void load_measured(Session& s, const std::string& data_root) {
   s.measured.disp_px = std::move(data.markers_px);
   s.measured.frame_paths = std::move(data.frame_paths);
   s.measured.label = ds.kind == "real" ? "Measured" : "Measured (twin)";
+  load_beside(ds, info.id, &warnings, &s.measured);
   // "data:twin/..." when under the data root, relative when under the working folder: not this machine's paths.
   s.replay.dataset_dir = display_path(s.scene.dataset_dir, data_root);
   s.replay.samples.clear();

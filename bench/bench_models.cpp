@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/models/bench_run.hpp"
+#include "core/api/bench_run.hpp"
 #include "core/models/model.hpp"
 
 namespace {
@@ -58,7 +58,8 @@ BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots, std::string("fots"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, fots_reimpl, std::string("fots-reimpl"));
 BENCHMARK_CAPTURE(BM_Models_SingleSphere, tacsl, std::string("tacsl"));
 
-// BENCH_WORKLOAD.md through the same code as `shearbench bench` (core/models/bench_run): each iteration resets
+// BENCH_WORKLOAD.md through the same code as `shearbench bench` (core/api/bench_run: the public API's
+// SensorModel::step, the C++ side of bench/bench_python.py's ratio): each iteration resets
 // the batch and runs steps k = 0..22; the manual time is the median batched step over k = 3..22
 // (counters: that run's min and max, and sensor-steps per second). BM_Workload/<model>/<envs>.
 void BM_Workload(benchmark::State& state, const std::string& model, int envs) {

@@ -5,6 +5,25 @@ include(GNUInstallDirs)
 set(SHEARBENCH_SHARE_DIR ${CMAKE_INSTALL_DATADIR}/shearbench)
 
 install(TARGETS shearbench RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+
+# The library and its CMake package: find_package(shearbench CONFIG) -> shearbench::shearbench (docs/library.md).
+if(TARGET shearbench_library)
+  include(CMakePackageConfigHelpers)
+  set(SHEARBENCH_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/shearbench)
+  install(TARGETS shearbench_library EXPORT shearbenchTargets
+          LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR} NAMELINK_COMPONENT Unspecified)
+  install(DIRECTORY include/shearbench DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  install(EXPORT shearbenchTargets NAMESPACE shearbench:: DESTINATION ${SHEARBENCH_CMAKE_DIR})
+  configure_package_config_file(cmake/shearbenchConfig.cmake.in ${CMAKE_BINARY_DIR}/shearbenchConfig.cmake
+                                INSTALL_DESTINATION ${SHEARBENCH_CMAKE_DIR})
+  write_basic_package_version_file(${CMAKE_BINARY_DIR}/shearbenchConfigVersion.cmake COMPATIBILITY SameMinorVersion)
+  install(FILES ${CMAKE_BINARY_DIR}/shearbenchConfig.cmake ${CMAKE_BINARY_DIR}/shearbenchConfigVersion.cmake
+          DESTINATION ${SHEARBENCH_CMAKE_DIR})
+endif()
+# The Python module, for Debian's python3 (python/CMakeLists.txt sets SHEARBENCH_PYTHON_DIR).
+if(TARGET shearbench_python)
+  install(TARGETS shearbench_python LIBRARY DESTINATION ${SHEARBENCH_PYTHON_DIR})
+endif()
 install(DIRECTORY scenes/ DESTINATION ${SHEARBENCH_SHARE_DIR}/scenes FILES_MATCHING PATTERN "*.json")
 # The parameter sets and the procedural indenter meshes `shearbench assets` writes.
 install(DIRECTORY assets/ DESTINATION ${SHEARBENCH_SHARE_DIR}/assets
@@ -38,7 +57,8 @@ set(CPACK_DEBIAN_PACKAGE_SECTION science)
 # Besides those: what the binary opens at run time without linking it (the GUI's font, Mesa's GL drivers
 # for llvmpipe); Xvfb only to render without a display.
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
-set(CPACK_DEBIAN_PACKAGE_DEPENDS "fonts-dejavu-core, libgl1-mesa-dri")
+# python3-numpy: the Python module's arrays (it links no libpython; python3 itself is what imports it).
+set(CPACK_DEBIAN_PACKAGE_DEPENDS "fonts-dejavu-core, libgl1-mesa-dri, python3-numpy")
 set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "xvfb, xauth")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 include(CPack)

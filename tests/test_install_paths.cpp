@@ -77,6 +77,26 @@ TEST_CASE("--home, then SHEARBENCH_HOME, override where the executable is", "[in
   fs::remove_all(root);
 }
 
+TEST_CASE("a shared library finds its home from where it is, not from the program that loaded it", "[install_paths]") {
+  if (const char* env = std::getenv("SHEARBENCH_HOME"); env && *env) {
+    WARN("SHEARBENCH_HOME is set: it overrides the library's lookup");
+    return;
+  }
+  const fs::path prefix = sbtest::temp_path("sb_test_install_library");
+  fs::remove_all(prefix);
+  fs::create_directories(prefix / "share" / "shearbench" / "assets" / "params");
+  // <prefix>/lib/libshearbench.so.0 is its own anchor; under lib/<multiarch>/ the anchor is one level up.
+  const std::string plain = (prefix / "lib" / "libshearbench.so.0").string();
+  CHECK(sb::library_home_anchor(plain) == plain);
+  CHECK(sb::library_home_anchor((prefix / "lib" / "x86_64-linux-gnu" / "libshearbench.so.0").string()) == plain);
+  CHECK(sb::library_home_anchor("/build/libshearbench.so") == "/build/libshearbench.so");
+  sb::set_home_anchor(plain);
+  CHECK(sb::home_dir() == (prefix / "share" / "shearbench").string());
+  sb::set_home_anchor("");  // back to the test binary's own home
+  CHECK(sb::home_dir() != (prefix / "share" / "shearbench").string());
+  fs::remove_all(prefix);
+}
+
 TEST_CASE("home_dir rejects an override without assets/params, naming both ways to set it", "[install_paths]") {
   const fs::path empty = sbtest::temp_path("sb_test_install_empty_home");
   fs::create_directories(empty);

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/models/bench_run.hpp"
+#include "core/api/bench_run.hpp"
 #include "core/models/bench_workload.hpp"
 #include "core/models/fots.hpp"
 #include "core/models/hydroshear.hpp"

@@ -13,6 +13,13 @@ struct MeasuredData {
   std::vector<std::string> frame_paths;    // per frame PNG; empty when the dataset has no frames
   std::vector<Pose> poses;                 // the sample's pose path X_EI (for RMSE over time)
   std::string label = "Measured";
+  // The other sensors of a multi-sensor log (dataset.json "shearbench": {"sensors": [sample ids]}, e.g. the
+  // two pads of a grasp), recorded at the same frames: each drawn in a panel of its own beside this one.
+  struct Beside {
+    std::string label;
+    std::vector<std::vector<Vec2>> disp_px;  // per frame, per marker
+  };
+  std::vector<Beside> beside;
 };
 
 }  // namespace sb::ui

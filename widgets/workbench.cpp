@@ -184,6 +184,7 @@ std::vector<std::string> Workbench::panel_names() const {
   std::vector<std::string> names;
   for (const auto& m : snap_.models) names.push_back(display_name(m.id));
   names.push_back(measured_.label);
+  for (const auto& b : measured_.beside) names.push_back(b.label);
   return names;
 }
 
@@ -240,7 +241,8 @@ FieldGrid Workbench::field_grid(float width, float height) const {
   const auto* sensor = state_->sensor().get();
   const float aspect = float(sensor->camera.height_px) / float(sensor->camera.width_px);
   const float line = ImGui::GetTextLineHeightWithSpacing();
-  const int cells = static_cast<int>(snap_.models.size()) + 2;  // the 3D view, the models, Measured
+  // The 3D view, the models, Measured and the other sensors of a multi-sensor log.
+  const int cells = static_cast<int>(snap_.models.size() + measured_.beside.size()) + 2;
   FieldGrid g;
   g.cols = cells <= 4 ? 2 : 3;
   g.rows = (cells + g.cols - 1) / g.cols;
@@ -284,6 +286,15 @@ FieldPanelInput Workbench::panel_input(int i, const std::vector<Vec2>* measured,
     in.note = snap_.step < 0 ? "before the first step" : "";
     return in;
   }
+  if (const int b = i - static_cast<int>(snap_.models.size()) - 1; b >= 0) {  // another sensor of the log
+    const auto& other = measured_.beside[b];
+    in.title = other.label;
+    const int k = snap_.step;
+    in.disp_px = k >= 0 && k < snap_.measured_steps && k < static_cast<int>(other.disp_px.size()) ? &other.disp_px[k]
+                                                                                                  : nullptr;
+    in.note = "no measurement at this step";
+    return in;
+  }
   in.title = measured_.label;
   in.disp_px = measured;
   in.note = measured_.disp_px.empty()            ? "no measurement (scene)"
@@ -305,7 +316,8 @@ void Workbench::draw_fields(float width, float height) {
     background = textures_->frame_for(measured_.frame_paths[snap_.step]);
   if (background == nullptr) background = textures_->neutral_for(iw, ih);
 
-  const int n = static_cast<int>(snap_.models.size()) + 1;
+  const int models = static_cast<int>(snap_.models.size());
+  const int n = models + 1 + static_cast<int>(measured_.beside.size());
   const auto names = panel_names();
   const int enlarged = static_cast<int>(std::find(names.begin(), names.end(), enlarged_) - names.begin());
   if (enlarged == n) enlarged_.clear();
@@ -324,7 +336,7 @@ void Workbench::draw_fields(float width, float height) {
   for (int i = 0; i < n; ++i) {
     FieldPanelInput in = panel_input(i, measured, residuals[i]);
     in.background = background;
-    if (i < n - 1 || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
+    if (i != models || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
     if (one && i != enlarged) continue;
     const int cell = i + 1;  // the grid's cell: the 3D view is cell 0
     const int row = cell / grid.cols, col = cell % grid.cols;
@@ -339,7 +351,7 @@ void Workbench::draw_fields(float width, float height) {
     const FieldPanelResult r = draw_field_panel(in, display_.scale(), pw, options_.interactive);
     if (r.toggle_enlarge) enlarged_ = one ? std::string() : names[i];
     // The model panel last clicked (or enlarged) is the one the 3D view colours its markers by.
-    if ((r.clicked || r.toggle_enlarge) && i < n - 1) display_.set_marker_model(i);
+    if ((r.clicked || r.toggle_enlarge) && i < models) display_.set_marker_model(i);
     if (r.hovered_marker >= 0 || (forced_hover_ >= 0 && first_shown && forced_hover_ < int(in.rest_px->size()))) {
       hovered = r.hovered_marker >= 0 ? r.hovered_marker : forced_hover_;
       const float zoom = pw / float(iw);

@@ -17,6 +17,11 @@ std::string& home_flag() {
   return flag;
 }
 
+std::string& home_anchor() {
+  static std::string anchor;
+  return anchor;
+}
+
 bool holds_marker(const fs::path& dir) {
   std::error_code ec;
   return !dir.empty() && fs::is_directory(dir / kHomeMarker, ec);
@@ -61,8 +66,8 @@ std::string executable_path() {
 std::string home_dir() {
   const char* env = std::getenv("SHEARBENCH_HOME");
   const std::string env_value = env ? env : "";
-  const std::string exe = executable_path();
-  const std::string home = find_home(exe, home_flag(), env_value);
+  const std::string exe = home_anchor().empty() ? executable_path() : home_anchor();
+  std::string home = find_home(exe, home_flag(), env_value);
   const std::string how = "set SHEARBENCH_HOME or pass --home to the folder holding scenes/ and assets/params";
   if (home.empty()) {
     const fs::path dir = fs::path(exe).parent_path();
@@ -78,6 +83,14 @@ std::string home_dir() {
 }
 
 void set_home_flag(const std::string& dir) { home_flag() = dir; }
+void set_home_anchor(const std::string& path) { home_anchor() = path; }
+
+std::string library_home_anchor(const std::string& library_path) {
+  const fs::path lib = library_path, dir = lib.parent_path();
+  if (dir.filename() != "lib" && dir.parent_path().filename() == "lib")
+    return (dir.parent_path() / lib.filename()).string();
+  return library_path;
+}
 
 bool is_source_checkout(const std::string& home) {
   std::error_code ec;

@@ -25,6 +25,14 @@ std::string find_home(const std::string& exe_path, const std::string& flag, cons
 // assets/params.
 std::string home_dir();
 
+// A shared library's own path (libshearbench.so): home_dir() then looks from there instead of from the
+// executable that loaded it (python3). Set once, when the library is loaded (lib/library_home.cpp).
+void set_home_anchor(const std::string& path);
+// The anchor for a library at `library_path`: the path itself, or under a multiarch folder
+// (<prefix>/lib/x86_64-linux-gnu/libshearbench.so) the same name one level up (<prefix>/lib/...), so that
+// find_home's <dir>/../share/shearbench is the prefix's.
+std::string library_home_anchor(const std::string& library_path);
+
 // The --home flag (empty: not given); set once while parsing the command line.
 void set_home_flag(const std::string& dir);
 // The path of the running executable ("" when /proc/self/exe cannot be read).

@@ -118,10 +118,8 @@ IndenterSpec parse_indenter_spec(const nlohmann::json& j, const std::string& whe
   return s;
 }
 
-namespace {
-
-std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::string& where,
-                                           const std::string& data_root, const std::string& base_dir) {
+std::shared_ptr<const Sensor> parse_scene_sensor(const nlohmann::json& j, const std::string& where,
+                                                 const std::string& data_root, const std::string& base_dir) {
   const std::string ptr = "/sensor";
   jsonin::reject_unknown_keys(j, {"gel", "markers", "camera", "markers_depth_m"}, where, ptr);
   Camera camera;
@@ -185,6 +183,8 @@ std::shared_ptr<const Sensor> parse_sensor(const nlohmann::json& j, const std::s
   }
   return std::make_shared<const Sensor>(make_sensor(camera, gel, markers));
 }
+
+namespace {
 
 std::vector<Keyframe> parse_keyframes(const nlohmann::json& ks, const std::string& where, const std::string& ptr) {
   if (!ks.is_array() || ks.empty()) jsonin::fail(where, ptr, "expected a non-empty array of keyframes");
@@ -292,7 +292,7 @@ Scene parse_scene(const nlohmann::json& j, const std::string& where, const std::
     scene.X_EI = sample_trajectory(scene.keyframes, scene.dt_s);
     scene.t_s = trajectory_times(scene.keyframes, scene.dt_s);
     if (auto* s = jsonin::find(j, "sensor"))
-      scene.sensor = parse_sensor(*s, where, data_root, base_dir);
+      scene.sensor = parse_scene_sensor(*s, where, data_root, base_dir);
     else
       scene.sensor = std::make_shared<const Sensor>(make_default_sensor());
   } else {

@@ -67,6 +67,9 @@ std::vector<double> trajectory_times(const std::vector<Keyframe>& keyframes, dou
 // Parses an indenter description (see IndenterSpec); `pointer` locates it in `where` for errors.
 IndenterSpec parse_indenter_spec(const nlohmann::json& j, const std::string& where, const std::string& pointer,
                                  const std::string& data_root, const std::string& base_dir);
+// Parses a scene's "sensor" block (the schema above); errors name `where` and the pointer /sensor/...
+std::shared_ptr<const Sensor> parse_scene_sensor(const nlohmann::json& j, const std::string& where,
+                                                 const std::string& data_root, const std::string& base_dir);
 Pose rpy_pose(const Vec3& xyz_m, const Vec3& rpy_deg);
 
 }  // namespace sb

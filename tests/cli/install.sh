@@ -14,4 +14,4 @@ if grep -qF "$src" "$work/prefix/bin/shearbench"; then
   exit 1
 fi
 echo "ok: installed $(find "$work/prefix" -type f | wc -l) files; the executable names no path under $src"
-bash "$(dirname "$0")/installed.sh" "$work/prefix" "$work/run" "${SHEARBENCH_DATA:-}"
+bash "$(dirname "$0")/installed.sh" "$work/prefix" "$work/run" "${SHEARBENCH_DATA:-}" "$src/examples/consumer"

@@ -4,10 +4,14 @@
 # PREFIX/share/shearbench (never the checkout it was built from), read data only through the root it is
 # given, and say how to fix what is missing. Used by the cli_install test and by .ci/package (which also
 # hides the checkout while this runs).
-# Usage: installed.sh PREFIX WORK_DIR [DATA_ROOT]   (DATA_ROOT given: also `--data DATA_ROOT evaluate`)
+# The library from the same prefix: its CMake package builds CONSUMER_SRC (examples/consumer, copied out of
+# the checkout), and Debian's python3 imports the module from PREFIX/lib/python3/dist-packages and computes
+# the benchmark workload's field equal to `shearbench bench --field-out`'s.
+# Usage: installed.sh PREFIX WORK_DIR [DATA_ROOT [CONSUMER_SRC]]   (DATA_ROOT given and not empty: also
+# `--data DATA_ROOT evaluate`)
 # The render runs under xvfb-run.
 set -euo pipefail
-prefix=$(realpath "$1"); work=$2; data=${3:-}
+prefix=$(realpath "$1"); work=$2; data=${3:-}; consumer=${4:-}
 exe=$prefix/bin/shearbench
 share=$prefix/share/shearbench
 unset SHEARBENCH_HOME SHEARBENCH_DATA
@@ -44,6 +48,43 @@ echo "ok: params lists $(grep -c '^parameter set' params.txt) sets from $share/a
 "$exe" -q simulate --scene "$share/scenes/shear_sphere.json" --model hydroshear --out sim >sim.log
 [[ -s sim/dataset.json && -s sim/shear_sphere/markers.csv ]] || fail "simulate wrote no sim/dataset.json, sim/shear_sphere/markers.csv"
 echo "ok: simulate --scene $share/scenes/shear_sphere.json ($(wc -l <sim/shear_sphere/markers.csv) lines of markers.csv)"
+
+# The library, its header and its CMake package.
+lib=$(ls "$prefix"/lib*/libshearbench.so.0 2>/dev/null | head -1 || true)
+[[ -n $lib ]] || fail "not installed: $prefix/lib/libshearbench.so.0"
+[[ -e $prefix/include/shearbench/sensor_model.hpp ]] || fail "not installed: $prefix/include/shearbench/sensor_model.hpp"
+ls "$prefix"/lib*/cmake/shearbench/shearbenchConfig.cmake >/dev/null || fail "not installed: the CMake package"
+if [[ -n $consumer ]]; then
+  cmake -S "$consumer" -B consumer -G Ninja -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=$prefix" >consumer.log 2>&1 ||
+    fail "configuring $consumer against $prefix: $(tail -n 5 consumer.log)"
+  cmake --build consumer >>consumer.log 2>&1 || fail "building the consumer: $(tail -n 5 consumer.log)"
+  ./consumer/consumer >consumer.txt || fail "the consumer: $(cat consumer.txt)"
+  echo "ok: examples/consumer built with find_package(shearbench CONFIG) from $prefix: $(cat consumer.txt)"
+fi
+
+# The Python module, for Debian's python3: the benchmark workload's field equals `shearbench bench`'s.
+pydir=$prefix/lib/python3/dist-packages
+if compgen -G "$pydir/shearbench*.so" >/dev/null; then
+  "$exe" bench --model hydroshear --envs 8 --field-out bench_field.json >/dev/null
+  PYTHONPATH=$pydir /usr/bin/python3 - "$pydir" bench_field.json >python.txt <<'PY' || fail "python3: $(cat python.txt)"
+import json, sys
+import numpy as np
+import shearbench
+pydir, field_json = sys.argv[1:]
+assert shearbench.__file__.startswith(pydir), f"imported {shearbench.__file__}, not the installed module"
+want = json.load(open(field_json))
+model = shearbench.SensorModel(want["model"], param_set="published", indenter="bench_peg", envs=2 * want["envs"])
+for X in shearbench.bench_poses(want["envs"], want["steps"]):
+    field = model.step(X, shearbench.bench_dt)
+diff = np.abs(field.ravel() - np.array(want["field_px"])).max()
+assert np.abs(field).max() > 0.1 and diff == 0, f"the module's field differs from shearbench bench's by {diff} px"
+print(f"shearbench {shearbench.__version__} from {shearbench.__file__}: the bench field of {want['envs']} envs x 2 pads "
+      f"equals shearbench bench's (max |disp| {np.abs(field).max():.3f} px)")
+PY
+  echo "ok: python3 -c 'import shearbench': $(cat python.txt)"
+else
+  fail "not installed: $pydir/shearbench*.so (the Python module)"
+fi
 
 # No --scene: the installed default scene.
 "${xvfb[@]}" "$exe" render --size 800x500 --no-timings --out default.png >render.log 2>&1 ||

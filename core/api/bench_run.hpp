@@ -1,9 +1,10 @@
 #pragma once
 // The timing loop of the benchmark workload (../shared/docs/BENCH_WORKLOAD.md), shared by
-// `shearbench bench` (app/cmd_bench.cpp) and the Google Benchmark cases (bench/bench_models.cpp).
+// `shearbench bench` (app/cmd_bench.cpp) and the Google Benchmark cases (bench/bench_models.cpp), stepping the
+// public API's SensorModel (include/shearbench/sensor_model.hpp) with the poses shearbench::bench_poses gives.
 //
-// Timed quantity: one batched step for all E envs and both sensors (2E slots): the transforms, both
-// SDF lookups, the state step, the shear sum and the dilation. The poses of every step are generated
+// Timed quantity: one batched step for all E envs and both sensors (2E slots): the API's pose conversion, the
+// transforms, both SDF lookups, the state step, the shear sum and the dilation. The poses of every step are generated
 // before any timing; the step runs without diagnostics into a preallocated output. Steps k = 0..2 are
 // warm-up; the statistics are over k = 3..S-1 with the state carried from k = 0 (S = 23 is the
 // workload's definition, k = 3..22; a larger S, up to the trajectory's 50 steps, adds the later hold
@@ -48,6 +49,8 @@ class BenchWorkload {
   // Resets the batch and runs every step; profile = true adds the phase timers (which cost a little).
   BenchResult run(bool profile = false);
   const std::string& model() const { return model_; }
+  // The field of the last step run, [slot][marker][2] in pixels (slot = env * 2 + pad); zeros before a run.
+  const std::vector<double>& last_field() const;
   int envs() const { return envs_; }
 
  private:
