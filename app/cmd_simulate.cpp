@@ -1,9 +1,12 @@
-// `shearbench simulate --scene S.json --model M [--params P.json] --out DIR`: runs one shear model over a
+// `shearbench simulate --scene S.json --model M [--params P.json] --out DIR [--force]`: runs one shear model over a
 // scene's indenter poses and writes the predicted marker field as a tsd/1 dataset (one sample, the
 // scene's poses, the indenter mesh under meshes/, provenance naming model, parameters and scene).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <string>
+
+#include <unistd.h>
 
 #include "app/command.hpp"
 #include "core/api/sensor_model_impl.hpp"
@@ -28,10 +31,43 @@ struct SimulateArgs {
   std::string params;
   std::string param_set;  // empty: the default for the scene's sensor
   std::string out;
+  bool force = false;
 };
+
+// Refuses --out when it is a file, or a folder that holds anything, unless --force: a simulation never
+// writes over a user's earlier dataset by accident. Called before any work.
+void check_out_folder(const SimulateArgs& a) {
+  std::error_code ec;
+  if (!fs::exists(a.out, ec)) return;
+  if (!fs::is_directory(a.out, ec)) throw InputError(a.out, "--out names a file, not a folder");
+  if (a.force || fs::is_empty(a.out, ec)) return;
+  throw InputError(a.out, "--out already holds files; simulate does not write over them (--force replaces the folder)");
+}
+
+// The dataset written to --out. Over a folder that holds files (--force), it is written whole into a hidden
+// sibling first, and only then takes the folder's place: a failed or killed run leaves the old dataset.
+void write_out_folder(const std::string& out, const PredictionExport& e) {
+  std::error_code ec;
+  if (!fs::exists(out, ec) || fs::is_empty(out, ec)) {
+    write_prediction_dataset(out, e);
+    return;
+  }
+  const fs::path target = fs::absolute(out).lexically_normal();
+  const fs::path name = target.has_filename() ? target.filename() : target.parent_path().filename();
+  const fs::path folder = target.has_filename() ? target : target.parent_path();
+  const std::string suffix = ".tmp." + std::to_string(::getpid());
+  const fs::path fresh = folder.parent_path() / ("." + name.string() + suffix);
+  const fs::path old = folder.parent_path() / ("." + name.string() + ".old" + suffix);
+  fs::remove_all(fresh, ec);
+  write_prediction_dataset(fresh.string(), e);
+  fs::rename(folder, old);
+  fs::rename(fresh, folder);
+  fs::remove_all(old, ec);
+}
 
 int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   require_model(a.model);
+  check_out_folder(a);
   const std::string root = resolve_data_root(g.data_root_flag);
   const Scene scene = load_scene(a.scene, root);
   Warnings warnings;
@@ -87,7 +123,7 @@ int run_simulate(const SimulateArgs& a, const GlobalOptions& g) {
   e.sensor = scene.sensor;
   e.indenter = indenter;
   e.dt_s = scene.dt_s;
-  write_prediction_dataset(a.out, e);
+  write_out_folder(a.out, e);
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("%s on %s: %zu frames in %.3g ms (%.3g ms/frame) -> %s\n", a.model.c_str(), scene.name.c_str(),
@@ -104,7 +140,8 @@ void add_flags(CLI::App& sub, SimulateArgs& a) {
       ->required();
   add_param_set_flag(sub, a.param_set);
   add_params_flag(sub, a.params);
-  sub.add_option("--out", a.out, "output dataset folder")->required();
+  sub.add_option("--out", a.out, "output dataset folder (new or empty)")->required();
+  sub.add_flag("--force", a.force, "replace --out when it already holds files (written beside it, then swapped in)");
 }
 
 const Subcommand<SimulateArgs> kSimulateCommand{

@@ -7,10 +7,25 @@
 #include "app/build_info.hpp"
 #include "app/command.hpp"
 #include "app/interrupt.hpp"
+#include "core/base/closest_name.hpp"
 #include "core/base/error.hpp"
 #include "core/base/install_paths.hpp"
 #include "core/base/progress.hpp"
 #include "core/base/reproducible.hpp"
+
+namespace {
+
+// The word left over where a command was expected (`shearbench evalute ...`): the first argument CLI11 could
+// not place when no command was recognised; "" when a command was, or the leftover is a flag.
+std::string misspelt_command(const CLI::App& cli) {
+  for (const CLI::App* sub : cli.get_subcommands([](const CLI::App*) { return true; }))
+    if (sub->parsed()) return "";
+  const std::vector<std::string> extra = cli.remaining();
+  if (extra.empty() || extra.front().empty() || extra.front().front() == '-') return "";
+  return extra.front();
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace sb::app;
@@ -47,6 +62,15 @@ int main(int argc, char** argv) {
 
   try {
     cli.parse(argc, argv);
+  } catch (const CLI::ExtrasError& e) {
+    if (const std::string typed = misspelt_command(cli); !typed.empty()) {
+      std::vector<std::string> names;
+      for (const auto& c : registry) names.push_back(c.name);
+      std::cerr << "shearbench: error: unknown command '" << typed << "'" << sb::did_you_mean(typed, names)
+                << "; `shearbench --help` lists the commands\n";
+      return 2;
+    }
+    return cli.exit(e) == 0 ? 0 : 2;
   } catch (const CLI::ParseError& e) {
     // A bad flag is bad input: exit 2 like every other (CLI11's own codes, 100-120, were undocumented); --help
     // and --version stay 0.

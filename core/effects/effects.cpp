@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/base/closest_name.hpp"
+#include "core/base/strings.hpp"
 #include "core/effects/effect_catalogue.hpp"
 
 namespace sb {
@@ -363,9 +365,10 @@ bool any_acts_on_pose(const std::vector<std::string>& effect_ids) {
 std::unique_ptr<Effect> make_effect(const std::string& id) {
   for (const auto& r : registry())
     if (r.id == id) return r.make();
-  std::string known;
-  for (const auto& r : registry()) known += (known.empty() ? "" : ", ") + r.id;
-  throw std::invalid_argument("unknown effect '" + id + "' (known: " + known + ")");
+  std::vector<std::string> known;
+  for (const auto& r : registry()) known.push_back(r.id);
+  throw std::invalid_argument("unknown effect '" + id + "'" + did_you_mean(id, known) +
+                              " (known: " + join(known, ", ") + ")");
 }
 
 std::unique_ptr<EffectModel> wrap_with_effects(std::unique_ptr<ShearModel> base, const std::vector<std::string>& ids,

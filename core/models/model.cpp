@@ -2,6 +2,8 @@
 // batch of one of the batched kernels (hydroshear.hpp, fots.hpp, tacsl.hpp).
 #include "core/models/model.hpp"
 
+#include "core/base/closest_name.hpp"
+
 #include <stdexcept>
 
 #include "core/models/fots.hpp"
@@ -73,7 +75,8 @@ ParamSet default_params(const std::string& id) {
   if (id == "fots-reimpl") return ParamSet(fots_reimpl_param_specs());
   if (id == "tacsl") return ParamSet(tacsl_param_specs(false));
   if (id == "tacsl-normalized") return ParamSet(tacsl_param_specs(true));
-  throw std::invalid_argument("unknown model id '" + id + "' (known: " + model_ids_text(", ") + ")");
+  throw std::invalid_argument("unknown model id '" + id + "'" + did_you_mean(id, model_ids()) +
+                              " (known: " + model_ids_text(", ") + ")");
 }
 
 std::unique_ptr<ShearModel> make_model(const std::string& id, std::shared_ptr<const Sensor> sensor,
