@@ -96,7 +96,7 @@ TEST_CASE("TacTip pose path: above, pressed at (pose + shear), slid to the pose"
   const double d = 0.003, sx = 0.002, sy = -0.001;
   SECTION("no tilt, no twist: the surface sits at -(shear) then slides to the apex") {
     // X_WS = (s, d) pressed, (0, 0, d) final; X_EI = X_WS^-1 -> p_EI = -(sx, sy, d), then (0, 0, -d).
-    const auto path = tactip_pose_path(d, 0, 0, sx, sy, 0, 4);
+    const auto path = tactip_pose_path(d, 0, 0, sx, sy, 0, 4, 0.005);
     REQUIRE(path.size() == 6);  // above, pressed, 4 slide steps
     CHECK((path[0].translation() - Vec3(-sx, -sy, 0.005)).norm() < kTol);
     CHECK((path[1].translation() - Vec3(-sx, -sy, -d)).norm() < kTol);
@@ -106,7 +106,7 @@ TEST_CASE("TacTip pose path: above, pressed at (pose + shear), slid to the pose"
   SECTION("tilted and twisted: the apex penetrates the face by the depth in every pressed frame") {
     // The face is z_I = 0 with the body at z_I > 0, so the apex (origin of E) is at depth
     // -(p_EI . R_EI z) inside it; the robot keeps the tip at depth d whatever the tilt and twist.
-    const auto path = tactip_pose_path(d, 0.3, -0.2, sx, sy, 0.07, 5);
+    const auto path = tactip_pose_path(d, 0.3, -0.2, sx, sy, 0.07, 5, 0.005);
     for (std::size_t k = 1; k < path.size(); ++k)
       CHECK(-path[k].translation().dot(path[k].linear() * Vec3::UnitZ()) == Approx(d).margin(kTol));
     CHECK(-path[0].translation().dot(path[0].linear() * Vec3::UnitZ()) == Approx(-0.005).margin(kTol));
