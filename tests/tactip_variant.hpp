@@ -101,14 +101,17 @@ inline void write_tactip_variant(const std::filesystem::path& src, const std::fi
       r[cz] = std::to_string(std::stod(r[cz]) + v.press_offset_mm);
     }
     if (!v.drop_reference) cv::imwrite((dst / split / "images" / "image_0.png").string(), variant_image(ref, v));
-    // Presses short of the touch: the reference's image at a depth below the offset, with a slide and a tilt.
+    // Presses short of the touch: the reference's image at a depth below the offset, with a slide (within 4 mm,
+    // inside the source's 5 mm disk) and a tilt.
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     for (int k = 0; k < v.out_of_contact; ++k) {
       std::vector<std::string> r(header.size(), "0");
       r[ci] = "image_" + std::to_string(max_number + 1 + k) + ".png";
+      const double phi = M_PI * u(rng), slide = 2.0 + 2.0 * u(rng);
       for (std::size_t c = 0; c < header.size(); ++c) {
         if (header[c] == "object_label") r[c] = "surface";
-        if (header[c] == "shear_x" || header[c] == "shear_y") r[c] = std::to_string(4.0 * u(rng));
+        if (header[c] == "shear_x") r[c] = std::to_string(slide * std::cos(phi));
+        if (header[c] == "shear_y") r[c] = std::to_string(slide * std::sin(phi));
         if (header[c] == "pose_Rx" || header[c] == "pose_Ry") r[c] = std::to_string(15.0 * u(rng));
       }
       r[cz] = std::to_string(v.press_offset_mm * (0.3 + 0.6 * (k + 0.5) / v.out_of_contact));

@@ -973,7 +973,15 @@ std::vector<ShearResponse> shear_responses(const TactipSplit& sp, const std::vec
 void identify_rotation(const std::vector<ShearResponse>& responses, TactipSensor* s, ImageFromTool* fit,
                        const std::string& where, ImportReport& report) {
   if (s->image_from_tool_deg.source == SensorValueSource::kGiven) return;
-  *fit = identify_image_from_tool(responses, where);
+  try {
+    *fit = identify_image_from_tool(responses, where);
+  } catch (const InputError& e) {
+    // Too few slides to tell (a small import): said so, and the tool axes taken as the image's.
+    s->image_from_tool_deg = {0.0, kNaN, SensorValueSource::kDefault,
+                              std::string("the data cannot tell it: ") + e.what() + "; 0 deg taken"};
+    report.lines.push_back("WARNING: image-from-tool rotation: " + s->image_from_tool_deg.how);
+    return;
+  }
   s->image_from_tool_deg = {
       fit->angle_rad / kDeg, fit->sigma_rad / kDeg, SensorValueSource::kIdentified,
       "fitted to " + std::to_string(fit->samples) + " shallow presses' slide: the most displaced pins move " +
