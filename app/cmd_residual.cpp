@@ -70,8 +70,9 @@ const nlohmann::json* tactip_description(const Dataset& ds) {
 std::string sensor_markdown(const Dataset& ds) {
   const nlohmann::json* d = tactip_description(ds);
   if (!d) return "";
-  std::string md = "## The sensor\n\nThe import's sensor description (sensor.tactip.description of the dataset; "
-                   "docs/sensors.md): identified from the data, defaulted where the data cannot tell, or given.\n\n";
+  std::string md =
+      "## The sensor\n\nThe import's sensor description (sensor.tactip.description of the dataset; "
+      "docs/sensors.md): identified from the data, defaulted where the data cannot tell, or given.\n\n";
   for (const auto& line : tactip_sensor_lines(*d)) md += "- " + line + "\n";
   return md + "\n";
 }

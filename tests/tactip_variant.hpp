@@ -16,17 +16,17 @@
 namespace sbtest {
 
 struct TactipVariant {
-  int samples = 150;                // rows kept per split (the first ones)
-  double rotate_deg = 0;            // the images turned about their centre (OpenCV's sense: counter-clockwise on
-                                    // screen, so the image-from-tool angle drops by it)
-  double scale = 1;                 // the images magnified about their centre
-  int width_px = 0, height_px = 0;  // the crop (0: the source's)
+  int samples = 150;                      // rows kept per split (the first ones)
+  double rotate_deg = 0;                  // the images turned about their centre (OpenCV's sense: counter-clockwise on
+                                          // screen, so the image-from-tool angle drops by it)
+  double scale = 1;                       // the images magnified about their centre
+  int width_px = 0, height_px = 0;        // the crop (0: the source's)
   double shift_u_px = 0, shift_v_px = 0;  // the crop's centre moved by this (the content moves by minus it)
   bool drop_reference = false;            // no images/image_0.png
   double press_offset_mm = 0;             // added to every pose_z (the tool's zero above the touch)
   int out_of_contact = 0;  // copies of the reference added as presses short of the touch (depth < offset)
   bool sort_by_depth = false;
-  bool crlf_bom = false;  // targets.csv with CRLF line ends and a UTF-8 byte-order mark
+  bool crlf_bom = false;         // targets.csv with CRLF line ends and a UTF-8 byte-order mark
   bool reorder_columns = false;  // the columns reversed and one more appended
 };
 
@@ -77,7 +77,8 @@ inline void write_tactip_variant(const std::filesystem::path& src, const std::fi
   for (const char* split : {"calibration", "validation"}) {
     fs::create_directories(dst / split / "images");
     for (const auto& e : fs::directory_iterator(src / split))
-      if (e.is_regular_file() && e.path().extension() == ".json") fs::copy_file(e.path(), dst / split / e.path().filename());
+      if (e.is_regular_file() && e.path().extension() == ".json")
+        fs::copy_file(e.path(), dst / split / e.path().filename());
     std::ifstream in(src / split / "targets.csv");
     std::string line;
     std::getline(in, line);

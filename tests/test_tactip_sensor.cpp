@@ -88,9 +88,7 @@ TEST_CASE("a --sensor file: values given over the defaults, bad ones named by fi
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string f = (dir / "sensor.json").string();
-  {
-    std::ofstream(f) << R"({"dome_radius_mm": 22.5, "pin_depth_mm": {"value": 2.5, "source": "datasheet"}})";
-  }
+  { std::ofstream(f) << R"({"dome_radius_mm": 22.5, "pin_depth_mm": {"value": 2.5, "source": "datasheet"}})"; }
   TactipSensor s = tactip_standard_defaults();
   read_tactip_sensor_file(f, &s);
   CHECK(s.dome_radius_mm.value == 22.5);
@@ -102,14 +100,10 @@ TEST_CASE("a --sensor file: values given over the defaults, bad ones named by fi
   apply_tactip_sensor_json(nlohmann::json::parse(to_json(s).dump()), "d.json", &back);
   CHECK(back.dome_radius_mm.value == 22.5);
   CHECK(back.k1.source == SensorValueSource::kGiven);
-  {
-    std::ofstream(f) << R"({"dome_radius": 20})";
-  }
-  CHECK_THROWS_WITH(read_tactip_sensor_file(f, &s), Catch::Contains("sensor.json") && Catch::Contains("/dome_radius") &&
-                                                       Catch::Contains("unknown"));
-  {
-    std::ofstream(f) << R"({"focal_px": -3})";
-  }
+  { std::ofstream(f) << R"({"dome_radius": 20})"; }
+  CHECK_THROWS_WITH(read_tactip_sensor_file(f, &s),
+                    Catch::Contains("sensor.json") && Catch::Contains("/dome_radius") && Catch::Contains("unknown"));
+  { std::ofstream(f) << R"({"focal_px": -3})"; }
   CHECK_THROWS_WITH(read_tactip_sensor_file(f, &s), Catch::Contains("/focal_px"));
   fs::remove_all(dir);
 }
@@ -172,7 +166,7 @@ TEST_CASE("targets.csv as users save it: CRLF, a BOM, reordered and extra column
         out << "\r\n";
       }
       std::ofstream(dir / split / "env_params.json") << R"({"robot": "cr", "work_frame": [[20, -475, 100]]})"
-                                                        << "]]}";
+                                                     << "]]}";
     }
   });
   // Too few samples for the rotation fit: it is given, as a user would from an earlier import.

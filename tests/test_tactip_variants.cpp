@@ -29,7 +29,8 @@ constexpr double kScoreTolerance = 0.05;  // the fit's validation RMSE within 5 
 std::string data_root_for_tests() {
   const char* env = std::getenv("SHEARBENCH_DATA");
   const std::string root = env && *env ? std::string(env) : resolve_data_root();
-  if (!fs::exists(fs::path(root) / "raw" / "tactip_shear")) FAIL("test data missing: " << root << " (set SHEARBENCH_DATA)");
+  if (!fs::exists(fs::path(root) / "raw" / "tactip_shear"))
+    FAIL("test data missing: " << root << " (set SHEARBENCH_DATA)");
   return root;
 }
 
@@ -49,7 +50,8 @@ std::string source_of(const VariantResult& r, const char* key) {
 // The variant written, imported and HydroShear fitted on its calibration split from the shipped TacTip set's
 // values (stages and joint refinement, 5 iterations each), scored on its validation split.
 // sensor_json: a --sensor file's text (empty: none).
-VariantResult run_variant(const std::string& name, const sbtest::TactipVariant& v, const std::string& sensor_json = "") {
+VariantResult run_variant(const std::string& name, const sbtest::TactipVariant& v,
+                          const std::string& sensor_json = "") {
   const std::string root = data_root_for_tests();
   const fs::path dir = sbtest::temp_path("sb_test_tactip_variant_" + name);
   sbtest::write_tactip_variant(fs::path(root) / "raw" / "tactip_shear", dir / "raw", v);
@@ -102,8 +104,8 @@ TEST_CASE("TacTip variant: images turned by an angle the import is not told", "[
   const VariantResult& o = original();
   CHECK(std::remainder(value_of(r, "image_from_tool_deg") - (value_of(o, "image_from_tool_deg") - 30.0), 360.0) ==
         Approx(0).margin(1.5));
-  const cv::Point2d c = sbtest::variant_px({value_of(o, "principal_u_px"), value_of(o, "principal_v_px")},
-                                           cv::Size(420, 420), v);
+  const cv::Point2d c =
+      sbtest::variant_px({value_of(o, "principal_u_px"), value_of(o, "principal_v_px")}, cv::Size(420, 420), v);
   CHECK(value_of(r, "principal_u_px") == Approx(c.x).margin(1.0));
   CHECK(value_of(r, "principal_v_px") == Approx(c.y).margin(1.0));
   CHECK(value_of(r, "focal_px") == Approx(value_of(o, "focal_px")).epsilon(0.01));
@@ -127,8 +129,8 @@ TEST_CASE("TacTip variant: another crop and scale (445 x 440 px of a magnified i
   CHECK(value_of(r, "focal_px") == Approx(1.08 * value_of(o, "focal_px")).epsilon(0.01));
   CHECK(value_of(r, "distance_mm") == Approx(value_of(o, "distance_mm")).margin(0.5));
   CHECK(value_of(r, "image_from_tool_deg") == Approx(value_of(o, "image_from_tool_deg")).margin(1.5));
-  const cv::Point2d c = sbtest::variant_px({value_of(o, "principal_u_px"), value_of(o, "principal_v_px")},
-                                           cv::Size(420, 420), v);
+  const cv::Point2d c =
+      sbtest::variant_px({value_of(o, "principal_u_px"), value_of(o, "principal_v_px")}, cv::Size(420, 420), v);
   CHECK(value_of(r, "principal_u_px") == Approx(c.x).margin(1.0));
   CHECK(value_of(r, "principal_v_px") == Approx(c.y).margin(1.0));
   check_score(r, v.scale);

@@ -722,8 +722,8 @@ ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& 
   const auto [lo, hi] = std::minmax_element(depth.begin(), depth.end());
   const double range = *hi - *lo;
   auto grid = [](double v) { return std::max(0.05, std::round(v / 0.05) * 0.05); };
-  const double first =
-      std::isfinite(options.prior_first_depth_mm) ? options.prior_first_depth_mm : grid(*lo + range / 4.0);
+  const double first = std::isfinite(options.prior_first_depth_mm) ? options.prior_first_depth_mm
+                                                                   : grid(*lo + range / 4.0);
   const double step = std::isfinite(options.prior_step_mm) ? options.prior_step_mm : grid(range / 16.0);
   ContinuationOptions c;
   for (double d = first; d < *hi - 1e-9; d += step) c.limits.push_back(d);
@@ -906,13 +906,12 @@ std::string geometry_fit_line(const TactipGeometryFit& g, const TactipSensor& s)
   return "geometry fit on the reference's pin rings: " + std::to_string(g.pins_used) + " pins in " +
          std::to_string(g.rings.ring_radius_px.size() - 1) + " rings, principal point (" +
          format_number(c.principal_px.x(), "%.2f") + ", " + format_number(c.principal_px.y(), "%.2f") + ") +- " +
-         format_number(g.sigma_principal_px.x(), "%.2f") + " px, focal " +
-         pm(c.focal_px, g.sigma_focal_px, "%.1f") + " px (" + to_string(s.focal_px.source) + "), distance " +
+         format_number(g.sigma_principal_px.x(), "%.2f") + " px, focal " + pm(c.focal_px, g.sigma_focal_px, "%.1f") +
+         " px (" + to_string(s.focal_px.source) + "), distance " +
          pm(c.distance_m * 1e3, g.sigma_distance_m * 1e3, "%.2f") + " mm, ring pitch " +
-         pm(g.ring_pitch_rad / kDeg, g.sigma_pitch_rad / kDeg, "%.3f") + " deg (" +
-         to_string(s.ring_pitch_deg.source) + "; outer ring at " +
-         format_number(g.outer_ring_polar_rad() / kDeg, "%.1f") + " deg); k1 " + format_number(c.k1, "%.0f") +
-         ", R " + format_number(s.dome_radius_mm.value, "%.4g") + " mm, pin depth " +
+         pm(g.ring_pitch_rad / kDeg, g.sigma_pitch_rad / kDeg, "%.3f") + " deg (" + to_string(s.ring_pitch_deg.source) +
+         "; outer ring at " + format_number(g.outer_ring_polar_rad() / kDeg, "%.1f") + " deg); k1 " +
+         format_number(c.k1, "%.0f") + ", R " + format_number(s.dome_radius_mm.value, "%.4g") + " mm, pin depth " +
          format_number(s.pin_depth_mm.value, "%.4g") + " mm (" + to_string(s.dome_radius_mm.source) +
          "); residual RMS " + format_number(g.rms_px, "%.3f") + " px, max " + format_number(g.max_px, "%.2f") + " px";
 }
@@ -1000,13 +999,11 @@ void identify_rotation(const std::vector<ShearResponse>& responses, TactipSensor
 }
 
 // The contact onset from the depth at which the pins begin to follow the slide, unless the sensor gives it.
-void identify_onset(std::vector<ShearResponse>& responses, const TactipSplit& sp,
-                    const std::vector<CheckedPins>& pins, double gain_px_per_mm, TactipSensor* s,
-                    ImportReport& report) {
+void identify_onset(std::vector<ShearResponse>& responses, const TactipSplit& sp, const std::vector<CheckedPins>& pins,
+                    double gain_px_per_mm, TactipSensor* s, ImportReport& report) {
   if (s->contact_onset_mm.source == SensorValueSource::kGiven) return;
   for (std::size_t k = 0; k < responses.size(); ++k)
-    responses[k].moving_fraction =
-        fraction_moved(pins[k].disp, 0.5 * gain_px_per_mm * responses[k].shear_mm.norm());
+    responses[k].moving_fraction = fraction_moved(pins[k].disp, 0.5 * gain_px_per_mm * responses[k].shear_mm.norm());
   (void)sp;
   const ContactOnset on = identify_contact_onset(responses);
   s->onset_extrapolated_mm = on.extrapolated_mm;
@@ -1020,9 +1017,10 @@ void identify_onset(std::vector<ShearResponse>& responses, const TactipSplit& sp
                                format_number(on.deepest_out_mm, "%.3f") +
                                " mm) move no pin: the poses' depth is counted from it"};
   } else {
-    s->contact_onset_mm.how = "every press touches (none moves no pin), so the data cannot tell the tool's zero: "
-                              "the collection's zero depth is taken as the touch (" +
-                              what + ")";
+    s->contact_onset_mm.how =
+        "every press touches (none moves no pin), so the data cannot tell the tool's zero: "
+        "the collection's zero depth is taken as the touch (" +
+        what + ")";
   }
   report.lines.push_back("contact onset " + format_number(s->contact_onset_mm.value, "%.3f") + " mm (" +
                          to_string(s->contact_onset_mm.source) + "): " + s->contact_onset_mm.how);
@@ -1113,8 +1111,8 @@ TsdDatasetOut tactip_dataset(const PinReference& ref, const std::vector<char>& k
 // A sample with no pin tracked is left out (counted, with the reason): nothing of it could be scored.
 void add_tactip_split(const TactipSplit& sp, const std::vector<CheckedPins>& pins, const std::vector<char>& keep,
                       const TactipSampleFrame& frame, const cv::Mat& ref_img, const fs::path& in,
-                      const TactipImportOptions& options, bool prior_empty, TsdDatasetOut& ds,
-                      ImportReport& report, std::string* notes) {
+                      const TactipImportOptions& options, bool prior_empty, TsdDatasetOut& ds, ImportReport& report,
+                      std::string* notes) {
   std::vector<double> kept;
   int worst_number = -1, slipped_samples = 0, empty_samples = 0;
   double worst = 2.0;
@@ -1148,22 +1146,21 @@ void add_tactip_split(const TactipSplit& sp, const std::vector<CheckedPins>& pin
   }
   std::sort(kept.begin(), kept.end());
   const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-  report.lines.push_back(
-      sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(pin_count) +
-      " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
-      "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
-      format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " + std::to_string(below) +
-      "; images not clean under the lattice check: " + std::to_string(slipped_samples));
+  report.lines.push_back(sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(pin_count) +
+                         " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" +
+                         std::to_string(worst_number) + "), p5 " + format_number(kept[kept.size() / 20], "%.4f") +
+                         ", median " + format_number(kept[kept.size() / 2], "%.4f") +
+                         "; images under 0.95: " + std::to_string(below) +
+                         "; images not clean under the lattice check: " + std::to_string(slipped_samples));
   if (empty_samples > 0) {
-    report.lines.push_back(
-        "WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " + std::to_string(kept.size()) +
-        " samples have no pin tracked (0 of " + std::to_string(pin_count) +
-        "): left out of the dataset, so of every fit and score" +
-        (prior_empty && options.use_prior
-             ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
-                   " calibration samples (--max-samples " + std::to_string(tactip_prior_min_calibration_samples()) +
-                   " or more, or 0 for all)"
-             : std::string()));
+    report.lines.push_back("WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " +
+                           std::to_string(kept.size()) + " samples have no pin tracked (0 of " +
+                           std::to_string(pin_count) + "): left out of the dataset, so of every fit and score" +
+                           (prior_empty && options.use_prior
+                                ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
+                                      " calibration samples (--max-samples " +
+                                      std::to_string(tactip_prior_min_calibration_samples()) + " or more, or 0 for all)"
+                                : std::string()));
     *notes += " " + sp.name + ": " + std::to_string(empty_samples) + " of " + std::to_string(kept.size()) +
               " images left out, no pin tracked in them.";
   }
@@ -1176,8 +1173,7 @@ std::string tactip_provenance(const fs::path& in, const PinReference& ref, const
   if (fs::exists(in / "SOURCE.md")) source += " (its SOURCE.md says where it comes from)";
   return source +
          ": a flat surface pressed at a tilt, slid and twisted in contact, one thresholded image per sample. Rest = " +
-         rest.why + ", " + std::to_string(ref.rest_px.size()) + " pins, pitch " +
-         format_number(ref.pitch_px, "%.2f") +
+         rest.why + ", " + std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
          " px. Pins tracked by shearbench's pin tracker (blob detection, global "
          "affine then local nearest-neighbour correspondence, lost pins NaN)" +
          std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
@@ -1248,8 +1244,8 @@ ImportReport import_tactip(const fs::path& in, const std::string& out_dir, const
   std::vector<std::vector<CheckedPins>> pins(splits.size());
   for (std::size_t s = 0; s < splits.size(); ++s)
     for (std::size_t k = 0; k < splits[s].targets.size(); ++k)
-      pins[s].push_back(track_checked(ref, splits[s].detections[k],
-                                      prior.predict(tactip_covariates(splits[s].targets[k])), options));
+      pins[s].push_back(
+          track_checked(ref, splits[s].detections[k], prior.predict(tactip_covariates(splits[s].targets[k])), options));
 
   std::vector<ShearResponse> responses = shear_responses(splits.front(), pins.front());
   ImageFromTool rotation;
@@ -1268,6 +1264,16 @@ ImportReport import_tactip(const fs::path& in, const std::string& out_dir, const
   if (std::isfinite(rotation.gain_px_per_mm))
     identify_onset(responses, splits.front(), pins.front(), rotation.gain_px_per_mm, &sensor, report);
 
+  if (rest.number != 0) {
+    // A press as the rest: undeformed only if it is short of the touch; otherwise its own field is in every
+    // displacement (said so: the data hold no better rest).
+    const bool clear = sensor.contact_onset_mm.source != SensorValueSource::kDefault &&
+                       rest.depth_mm < sensor.contact_onset_mm.value;
+    sensor.reference += clear ? "; short of the contact onset, so undeformed"
+                              : "; not known to be short of the touch: if it is pressed, its own field is in every "
+                                "displacement";
+    if (!clear) report.lines.push_back("WARNING: the reference " + rest.why + " may itself be pressed");
+  }
   TactipSampleFrame frame;
   frame.image_from_tool_rad = sensor.image_from_tool_deg.value * kDeg;
   frame.onset_m = sensor.contact_onset_mm.value * 1e-3;

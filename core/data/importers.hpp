@@ -72,9 +72,9 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
 // samples with 0 of 327 pins tracked).
 int tactip_prior_min_calibration_samples();
 
-// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units):
-// depth d, tilt (rx, ry) and twist w in radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
-// above_m: the clearance of the first ("above") frame.
+// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI
+// units): depth d, tilt (rx, ry) and twist w in radians, shear (sx, sy) in metres. See importers.cpp for the frame
+// conventions. above_m: the clearance of the first ("above") frame.
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
                                    int slide_steps, double above_m);
 

@@ -13,12 +13,9 @@ namespace sb {
 
 std::string to_string(SensorValueSource source) {
   switch (source) {
-    case SensorValueSource::kIdentified:
-      return "identified";
-    case SensorValueSource::kGiven:
-      return "given";
-    case SensorValueSource::kDefault:
-      break;
+    case SensorValueSource::kIdentified: return "identified";
+    case SensorValueSource::kGiven: return "given";
+    case SensorValueSource::kDefault: break;
   }
   return "default";
 }

@@ -239,8 +239,8 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
     problem.AddResidualBlock(cost, nullptr, blocks);
     ++fit.pins_used;
   }
-  const bool free[kParams] = {true,          true, true, options.fit_ring_pitch, options.fit_focal, options.fit_distance,
-                              options.fit_k1};
+  const bool free[kParams] = {
+      true, true, true, options.fit_ring_pitch, options.fit_focal, options.fit_distance, options.fit_k1};
   for (int k = 0; k < kParams; ++k)
     if (!free[k]) problem.SetParameterBlockConstant(blocks[k]);
   // The pins stay in front of the camera and the ring pitch positive.
