@@ -970,10 +970,10 @@ std::vector<ShearResponse> shear_responses(const TactipSplit& sp, const std::vec
 
 // The rotation (and handedness) from the calibration split's shallow presses, unless the sensor gives it.
 void identify_rotation(const std::vector<ShearResponse>& responses, TactipSensor* s, ImageFromTool* fit,
-                       const std::string& where, ImportReport& report) {
+                       const std::string& where, ImportReport& report, double min_depth_mm = -kInf) {
   if (s->image_from_tool_deg.source == SensorValueSource::kGiven) return;
   try {
-    *fit = identify_image_from_tool(responses, where);
+    *fit = identify_image_from_tool(responses, where, min_depth_mm);
   } catch (const InputError& e) {
     // Too few slides to tell (a small import): said so, and the tool axes taken as the image's.
     s->image_from_tool_deg = {0.0, kNaN, SensorValueSource::kDefault,
@@ -1263,6 +1263,13 @@ ImportReport import_tactip(const fs::path& in, const std::string& out_dir, const
   }
   if (std::isfinite(rotation.gain_px_per_mm))
     identify_onset(responses, splits.front(), pins.front(), rotation.gain_px_per_mm, &sensor, report);
+  if (sensor.contact_onset_mm.source == SensorValueSource::kIdentified &&
+      sensor.image_from_tool_deg.source == SensorValueSource::kIdentified) {
+    // The presses short of the touch moved nothing: the rotation again from those that touch.
+    report.lines.push_back("the rotation again from the presses past the contact onset:");
+    identify_rotation(responses, &sensor, &rotation, (in / "calibration" / "targets.csv").string(), report,
+                      sensor.contact_onset_mm.value);
+  }
 
   if (rest.number != 0) {
     // A press as the rest: undeformed only if it is short of the touch; otherwise its own field is in every

@@ -198,21 +198,24 @@ ComplexFit fit_complex(const std::vector<Complex>& s, const std::vector<Complex>
 
 }  // namespace
 
-ImageFromTool identify_image_from_tool(const std::vector<ShearResponse>& samples, const std::string& where) {
+ImageFromTool identify_image_from_tool(const std::vector<ShearResponse>& samples, const std::string& where,
+                                       double min_depth_mm) {
   constexpr double kMinSlideFraction = 0.3;
   constexpr int kMinSamples = 8;
   std::vector<double> depths;
   double max_slide = 0;
+  auto usable = [&](const ShearResponse& s) {
+    return s.tracked && s.response_px.allFinite() && s.depth_mm > min_depth_mm;
+  };
   for (const auto& s : samples)
-    if (s.tracked && s.response_px.allFinite()) {
+    if (usable(s)) {
       depths.push_back(s.depth_mm);
       max_slide = std::max(max_slide, s.shear_mm.norm());
     }
   const double shallow = median_of(depths);
   std::vector<Complex> sh, sh_mirrored, m;
   for (const auto& s : samples)
-    if (s.tracked && s.response_px.allFinite() && s.depth_mm <= shallow &&
-        s.shear_mm.norm() >= kMinSlideFraction * max_slide && max_slide > 0) {
+    if (usable(s) && s.depth_mm <= shallow && s.shear_mm.norm() >= kMinSlideFraction * max_slide && max_slide > 0) {
       sh.push_back(as_complex(s.shear_mm));
       sh_mirrored.push_back(std::conj(as_complex(s.shear_mm)));
       m.push_back(as_complex(s.response_px));

@@ -80,8 +80,10 @@ struct ImageFromTool {
   double rms_px = kNaN, mirrored_rms_px = kNaN, response_rms_px = kNaN;  // rotated fit, mirrored fit, no fit
   int samples = 0;
 };
-// Throws InputError(where) for fewer than 8 usable samples.
-ImageFromTool identify_image_from_tool(const std::vector<ShearResponse>& samples, const std::string& where);
+// Only presses deeper than min_depth_mm count (the contact onset, once known: a press short of the touch moves
+// nothing whatever its slide). Throws InputError(where) for fewer than 8 usable samples.
+ImageFromTool identify_image_from_tool(const std::vector<ShearResponse>& samples, const std::string& where,
+                                       double min_depth_mm = -kInf);
 
 // The contact onset: the nominal depth at which the skin first touches. For a flat press on a dome the contact
 // disk's area grows linearly with the indentation (pi (2 R (d - d0))), so the fraction of pins that follow a
