@@ -999,12 +999,11 @@ void identify_rotation(const std::vector<ShearResponse>& responses, TactipSensor
 }
 
 // The contact onset from the depth at which the pins begin to follow the slide, unless the sensor gives it.
-void identify_onset(std::vector<ShearResponse>& responses, const TactipSplit& sp, const std::vector<CheckedPins>& pins,
-                    double gain_px_per_mm, TactipSensor* s, ImportReport& report) {
+void identify_onset(std::vector<ShearResponse>& responses, const std::vector<CheckedPins>& pins, double gain_px_per_mm,
+                    TactipSensor* s, ImportReport& report) {
   if (s->contact_onset_mm.source == SensorValueSource::kGiven) return;
   for (std::size_t k = 0; k < responses.size(); ++k)
     responses[k].moving_fraction = fraction_moved(pins[k].disp, 0.5 * gain_px_per_mm * responses[k].shear_mm.norm());
-  (void)sp;
   const ContactOnset on = identify_contact_onset(responses);
   s->onset_extrapolated_mm = on.extrapolated_mm;
   s->onset_extrapolated_sigma_mm = on.sigma_mm;
@@ -1262,7 +1261,7 @@ ImportReport import_tactip(const fs::path& in, const std::string& out_dir, const
     return report;
   }
   if (std::isfinite(rotation.gain_px_per_mm))
-    identify_onset(responses, splits.front(), pins.front(), rotation.gain_px_per_mm, &sensor, report);
+    identify_onset(responses, pins.front(), rotation.gain_px_per_mm, &sensor, report);
   if (sensor.contact_onset_mm.source == SensorValueSource::kIdentified &&
       sensor.image_from_tool_deg.source == SensorValueSource::kIdentified) {
     // The presses short of the touch moved nothing: the rotation again from those that touch.
