@@ -9,6 +9,7 @@
 
 #include "app/command.hpp"
 #include "core/base/data_root.hpp"
+#include "core/data/tactip_sensor.hpp"
 #include "core/data/tsd.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
@@ -56,6 +57,11 @@ int run_check(const CheckArgs& a, const GlobalOptions& g) {
               ds.gel.size_m.x() * 1e3, ds.gel.size_m.y() * 1e3, ds.gel.thickness_m * 1e3, ds.gel.surface.c_str(),
               ds.markers_rest_px.size());
   std::printf("  rest grid: %s\n", describe(rest_grid_lens(ds.camera, ds.markers_rest_px)).c_str());
+  // A TacTip import's sensor description: each value, its uncertainty and where it came from.
+  if (const auto it = ds.sensor_extra.find("tactip"); it != ds.sensor_extra.end() && it->contains("description")) {
+    std::printf("  sensor description (sensor.tactip.description):\n");
+    for (const auto& line : tactip_sensor_lines(it->at("description"))) std::printf("    %s\n", line.c_str());
+  }
   std::printf("  indenters:");
   for (const auto& [name, ind] : ds.indenters) std::printf(" %s (%s)", name.c_str(), ind.mesh.c_str());
   std::printf("\n  %zu samples:\n", ds.samples.size());

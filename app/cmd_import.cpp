@@ -10,7 +10,7 @@ namespace {
 
 struct ImportArgs {
   bool frames = false;
-  std::string source, in, out, grid = "auto";
+  std::string source, in, out, grid = "auto", sensor;
   double mm_per_px = 0.0634;
   int max_samples = 0;
   bool no_pin_prior = false, no_lattice_check = false;
@@ -46,6 +46,7 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
     t.use_prior = !a.no_pin_prior;
     t.lattice_check = !a.no_lattice_check;
     t.frames = a.frames;
+    t.sensor_file = a.sensor;
     report = import_tactip_shear(a.in, a.out, t);
   } else
     throw InputError("--source",
@@ -69,6 +70,9 @@ void add_flags(CLI::App& sub, ImportArgs& a) {
                "tactip_shear: track every image without the prior predicted from its targets (the old tracker)");
   sub.add_flag("--no-lattice-check", a.no_lattice_check,
                "tactip_shear: keep the pins the lattice-slip check doubts (they are dropped by default)");
+  sub.add_option("--sensor", a.sensor,
+                 "tactip_shear: a sensor description (JSON; docs/sensors.md): its values are taken as given "
+                 "instead of identified or defaulted (e.g. dome_radius_mm, pin_depth_mm, focal_px)");
   sub.add_flag(
       "--frames", a.frames,
       "video sources and tactip_shear: also store the frames as PNG (the workbench shows them behind the panels)");

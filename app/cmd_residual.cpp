@@ -15,6 +15,7 @@
 #include "core/calibration/fit_data.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/data/json_read.hpp"
+#include "core/data/tactip_sensor.hpp"
 #include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
 
@@ -55,6 +56,25 @@ std::vector<FitSample> load_split(Dataset ds, const std::string& root, const std
   if (out.empty())
     throw InputError(ds.json_path(), "no samples in the " + split + " split (--calibration ID,... assigns them)");
   return out;
+}
+
+// A TacTip import's sensor description (sensor.tactip.description), or nullptr.
+const nlohmann::json* tactip_description(const Dataset& ds) {
+  const auto it = ds.sensor_extra.find("tactip");
+  if (it == ds.sensor_extra.end() || !it->contains("description")) return nullptr;
+  return &it->at("description");
+}
+
+// The report's last section: which sensor values the import identified from the data, which it defaulted and
+// which were given, so that an answer on a new sensor says what it rests on.
+std::string sensor_markdown(const Dataset& ds) {
+  const nlohmann::json* d = tactip_description(ds);
+  if (!d) return "";
+  std::string md =
+      "## The sensor\n\nThe import's sensor description (sensor.tactip.description of the dataset; "
+      "docs/sensors.md): identified from the data, defaulted where the data cannot tell, or given.\n\n";
+  for (const auto& line : tactip_sensor_lines(*d)) md += "- " + line + "\n";
+  return md + "\n";
 }
 
 int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
@@ -107,8 +127,10 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   // The loop's answer as a parameter file: `--model <after_model> --params <it>` in evaluate, simulate, fit.
   const std::filesystem::path params_out = report.parent_path() / (stem + "_params.json");
   write_file_atomic(params_out.string(), final_model_params_json(rep).dump(2) + "\n");
-  write_file_atomic(report.string(), residual_to_markdown(rep, plots));
-  write_file_atomic(a.json_out, residual_to_json(rep).dump(2) + "\n");
+  write_file_atomic(report.string(), residual_to_markdown(rep, plots) + sensor_markdown(ds));
+  nlohmann::json rj = residual_to_json(rep);
+  if (const nlohmann::json* d = tactip_description(ds)) rj["sensor_description"] = *d;
+  write_file_atomic(a.json_out, rj.dump(2) + "\n");
   if (!g.quiet) {
     for (const auto& w : warnings.messages) std::fprintf(stderr, "warning: %s\n", w.c_str());
     const MetricsResult b = rep.before.validation.overall.result(), f = rep.after.validation.overall.result();

@@ -136,6 +136,21 @@ TEST_CASE("TacTip geometry fit recovers a known camera and pin pitch", "[sensor]
     CHECK(fit.ring_pitch_rad == Approx(8.0 * kDeg).epsilon(kRel));
     CHECK(fit.camera.distance_m == 0.054);  // fixed
   }
+  SECTION("the skin's ring pitch fixed (the import's way): f and D fitted, started 12 % and 8 mm off") {
+    TactipGeometryFitOptions o = start_from(t);
+    o.fit_ring_pitch = false;
+    o.ring_pitch_rad = 8.0 * kDeg;
+    o.fit_focal = true;
+    o.initial.focal_px = 350.0;
+    o.initial.distance_m = 0.046;
+    const TactipGeometryFit fit = fit_tactip_geometry(pins, o, "synthetic");
+    CHECK(fit.camera.focal_px == Approx(400.0).epsilon(kRel));
+    CHECK(fit.camera.distance_m == Approx(0.054).epsilon(kRel));
+    CHECK(fit.ring_pitch_rad == 8.0 * kDeg);  // fixed
+    CHECK(std::isnan(fit.sigma_pitch_rad));
+    o.ring_pitch_rad = 0;
+    CHECK_THROWS_AS(fit_tactip_geometry(pins, o, "synthetic"), InputError);
+  }
   SECTION("noisy pins: the residual is the noise, the fitted D within 3 sigma") {
     // A deterministic zero-mean perturbation of 0.3 px amplitude per axis: (+-0.3, -+0.3) alternating,
     // so each axis has RMS 0.3 px and the per-pin RMS norm is 0.3 sqrt 2 = 0.424 px.

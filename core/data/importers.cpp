@@ -12,10 +12,13 @@
 #include <opencv2/videoio.hpp>
 #include <sstream>
 
+#include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
 #include "core/base/numbers.hpp"
+#include "core/data/tactip_sensor.hpp"
 #include "core/sensor/camera.hpp"
+#include "core/sensor/sensor.hpp"
 #include "core/sensor/tactip_geometry_fit.hpp"
 #include "core/tracking/lattice_check.hpp"
 #include "core/tracking/pin_field_prior.hpp"
@@ -479,31 +482,14 @@ ImportReport import_feats(const std::string& in_dir, const std::string& out_dir)
 }  // namespace sb
 
 // ---------------------------------------------------------------------------------------------------------------
+// ---------------------------------------------------------------------------------------------------------------
 // raw/tactip_shear
 namespace sb {
 namespace {
 
-constexpr double kTactipAboveM = 0.005;  // clearance of the "above" frame: more than a 25 deg tilted dome needs
-// The TacTip (midi/standard) as the public descriptions give it (docs/sensors.md has the sources):
-//  - skin: a hemispherical tip of 40 mm diameter (radius 20 mm; "a 1 mm thick silicone rubber hemisphere",
-//    Lepora group, J. Robot. Biomim. 2017, fig. 2), so the cap's footprint radius is the radius itself;
-//  - pins: on the skin's inner surface; their tips' depth below the contact surface is not stated in the public
-//    sources found: 3 mm (1 mm skin + ~2 mm pin) is an assumption to be fitted;
-//  - camera: tactile_gym's simulated TacTip camera has a 60 deg field of view over the (square) tactile image,
-//    taken as the focal length over this 420 px crop (fixed: the image cannot tell it from the pins' angular
-//    pitch); no distortion (fixed: it trades with the distance at third order). The distance and the principal
-//    point are fitted to the reference image's pin rings at import (fit_tactip_geometry; docs/sensors.md), from
-//    the start where the pin sphere's equator (z_E = -R) is seen at the image's half-width.
-constexpr double kTactipDomeRadiusM = 0.020;
-constexpr double kTactipPinDepthM = 0.003;
-constexpr double kTactipFieldOfViewDeg = 60.0;
 constexpr double kTactipDtS = 0.02;
+constexpr double kDeg = M_PI / 180.0;
 const char* kTactipSurface = "flat_surface";
-// E's x/y are the image's u/v: E = Rz(kTactipImageFromToolDeg) S. Measured on the calibration split (presses
-// <= 2.5 mm, 375 samples with a slide > 1.5 mm): the mean displacement of the 10 % most displaced pins is
-// g Rz(a) (shear_x, shear_y) with g = 1.83 px/mm, a = -162.2 deg (residual 5.1 px rms of 8.3); the mirrored
-// fit explains nothing (8.28 of 8.32 px), so the camera sees the tool axes rotated, not mirrored.
-constexpr double kTactipImageFromToolDeg = -162.2;
 
 // A closed box of size (sx, sy, sz) metres occupying z in [0, sz] (contact face at z = 0), outward normals.
 std::string box_obj(double sx, double sy, double sz) {
@@ -525,16 +511,34 @@ struct TactipTarget {
   double depth_mm = 0, rx_deg = 0, ry_deg = 0, sx_mm = 0, sy_mm = 0, twist_deg = 0;
 };
 
+// One CSV cell as written by spreadsheets and pandas: surrounding blanks and a pair of double quotes dropped.
+std::string csv_cell(std::string c) {
+  const auto blank = [](char ch) { return ch == ' ' || ch == '\t' || ch == '\r'; };
+  while (!c.empty() && blank(c.back())) c.pop_back();
+  std::size_t b = 0;
+  while (b < c.size() && blank(c[b])) ++b;
+  c.erase(0, b);
+  if (c.size() >= 2 && c.front() == '"' && c.back() == '"') c = c.substr(1, c.size() - 2);
+  return c;
+}
+
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::stringstream ss(line);
+  for (std::string c; std::getline(ss, c, ',');) cells.push_back(csv_cell(c));
+  if (!line.empty() && line.back() == ',') cells.emplace_back();
+  return cells;
+}
+
+// targets.csv as users have it: LF or CRLF line ends, a UTF-8 byte-order mark, the columns in any order with
+// others beside them (found by name), the rows in any order.
 std::vector<TactipTarget> read_tactip_targets(const std::string& path) {
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "cannot open");
   std::string line;
   std::getline(in, line);
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) header.push_back(c);
-  }
+  if (line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);
+  const std::vector<std::string> header = csv_cells(line);
   auto col = [&](const std::string& name) {
     const auto it = std::find(header.begin(), header.end(), name);
     if (it == header.end()) throw InputError(path, 1, 1, "column '" + name + "' missing");
@@ -547,10 +551,8 @@ std::vector<TactipTarget> read_tactip_targets(const std::string& path) {
   while (std::getline(in, line)) {
     ++lineno;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (line.empty()) continue;
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) cells.push_back(c);
+    if (csv_cell(line).empty()) continue;
+    const std::vector<std::string> cells = csv_cells(line);
     if (cells.size() != header.size())
       throw InputError(path, lineno, 1,
                        "expected " + std::to_string(header.size()) + " columns, got " + std::to_string(cells.size()));
@@ -577,24 +579,29 @@ std::vector<TactipTarget> read_tactip_targets(const std::string& path) {
   return out;
 }
 
-// Motion label: the larger of shear (|s| / 5 mm) and twist (|w| / 5 deg), both normalised by their range;
-// a sample with both under a quarter of their range is a press (+ tilt): "dilation".
+// Motion label: the larger of shear (|s| / 5 mm) and twist (|w| / 5 deg), both normalised by the collection's
+// usual range; a sample with both under a quarter of it is a press (+ tilt): "dilation". A label for the
+// per-motion scores, not a measurement.
 std::string tactip_motion(const TactipTarget& t) {
   const double s = std::hypot(t.sx_mm, t.sy_mm) / 5.0, w = std::abs(t.twist_deg) / 5.0;
   if (std::max(s, w) < 0.25) return "dilation";
   return s >= w ? "shear" : "twist";
 }
 
-cv::Mat read_grey(const std::string& path) {
+// A grey image, mirrored left-right when the sensor says its camera sees the tool axes mirrored (so that E,
+// whose x/y are the image's u/v, stays right-handed).
+cv::Mat read_grey(const std::string& path, bool mirror = false) {
   cv::Mat img = cv::imread(path, cv::IMREAD_GRAYSCALE);
   if (img.empty()) throw InputError(path, "cannot read image");
+  if (mirror) cv::flip(img, img, 1);
   return img;
 }
 
-// Covariates of a sample's pin field for the prior (pin_field_prior.hpp), inputs scaled to about [-1, 1]:
-// the press d and d^2 (the contact grows with the press), the tilt (a, b) to third order (it moves the
-// contact across the dome) alone and times d, the slide (sx, sy) and twist w alone and times d and the
-// tilt (the stick region's size, hence how much of the slide the skin follows, grows with the press).
+// Covariates of a sample's pin field for the prior (pin_field_prior.hpp), inputs scaled to about [-1, 1]
+// (the scale only conditions the regression; its predictions do not depend on it): the press d and d^2 (the
+// contact grows with the press), the tilt (a, b) to third order (it moves the contact across the dome) alone
+// and times d, the slide (sx, sy) and twist w alone and times d and the tilt (the stick region's size, hence
+// how much of the slide the skin follows, grows with the press).
 Eigen::VectorXd tactip_covariates(const TactipTarget& t) {
   const double d = t.depth_mm / 5.0, a = t.rx_deg / 25.0, b = t.ry_deg / 25.0, sx = t.sx_mm / 5.0, sy = t.sy_mm / 5.0,
                w = t.twist_deg / 5.0;
@@ -624,30 +631,86 @@ struct TactipSplit {
   std::vector<std::vector<PinDetection>> detections;
 };
 
-TactipSplit read_tactip_split(const fs::path& in, const std::string& name, const PinReference& ref,
-                              const cv::Mat& ref_img, const TactipImportOptions& options, ImportReport& report) {
+// The rest image: images/image_0.png of the calibration split when it exists (the undeformed skin); otherwise the
+// calibration split's shallowest press, the lightest of those within 2 % of the depth range of it (least slide,
+// twist and tilt, each over its range), which is then the rest and no sample.
+struct TactipRest {
+  std::string path;
+  std::string why;
+  int number = 0;  // 0: image_0.png
+  double depth_mm = kNaN;
+};
+TactipRest choose_tactip_rest(const fs::path& in, std::vector<TactipTarget>* calibration) {
+  TactipRest r;
+  r.path = (in / "calibration" / "images" / "image_0.png").string();
+  if (fs::exists(r.path)) {
+    r.why = "calibration/images/image_0.png, the undeformed reference";
+    return r;
+  }
+  auto& t = *calibration;
+  double dmin = kInf, dmax = -kInf, smax = 0, wmax = 0, tmax = 0;
+  for (const auto& x : t) {
+    dmin = std::min(dmin, x.depth_mm);
+    dmax = std::max(dmax, x.depth_mm);
+    smax = std::max(smax, std::hypot(x.sx_mm, x.sy_mm));
+    wmax = std::max(wmax, std::abs(x.twist_deg));
+    tmax = std::max(tmax, std::hypot(x.rx_deg, x.ry_deg));
+  }
+  auto over = [](double v, double range) { return range > 0 ? v / range : 0.0; };
+  std::size_t best = 0;
+  double best_load = kInf;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    if (t[k].depth_mm > dmin + 0.02 * (dmax - dmin)) continue;
+    const double load = over(std::hypot(t[k].sx_mm, t[k].sy_mm), smax) + over(std::abs(t[k].twist_deg), wmax) +
+                        over(std::hypot(t[k].rx_deg, t[k].ry_deg), tmax);
+    if (load < best_load) {
+      best_load = load;
+      best = k;
+    }
+  }
+  r.number = t[best].number;
+  r.depth_mm = t[best].depth_mm;
+  r.path = (in / "calibration" / "images" / t[best].image).string();
+  r.why = "calibration/images/" + t[best].image + ", the shallowest press (" + format_number(r.depth_mm, "%.3f") +
+          " mm; no images/image_0.png), which is the rest and not a sample";
+  t.erase(t.begin() + std::ptrdiff_t(best));
+  return r;
+}
+
+TactipSplit read_tactip_split(const fs::path& in, const std::string& name, std::vector<TactipTarget> targets,
+                              const PinReference& ref, const cv::Mat& ref_img, bool mirror,
+                              const TactipImportOptions& options, ImportReport& report) {
   const fs::path sdir = in / name;
   TactipSplit sp;
   sp.name = name;
-  sp.targets = read_tactip_targets((sdir / "targets.csv").string());
-  if (options.max_samples_per_split > 0 && sp.targets.size() > std::size_t(options.max_samples_per_split))
-    sp.targets.resize(options.max_samples_per_split);
+  sp.targets = std::move(targets);
   const std::string other_ref = (sdir / "images" / "image_0.png").string();
-  if (fs::exists(other_ref)) {
-    const cv::Mat o = read_grey(other_ref);
+  if (name != "calibration" && fs::exists(other_ref)) {
+    const cv::Mat o = read_grey(other_ref, mirror);
     if (o.size() != ref_img.size() || cv::norm(o, ref_img, cv::NORM_INF) != 0)
-      report.lines.push_back(name + ": its image_0.png differs from calibration's; calibration's is the rest");
+      report.lines.push_back(name + ": its image_0.png differs from calibration's rest; calibration's is the rest");
   }
   for (const auto& t : sp.targets) {
     const std::string ipath = (sdir / "images" / t.image).string();
-    const cv::Mat img = read_grey(ipath);
+    const cv::Mat img = read_grey(ipath, mirror);
     if (img.size() != ref_img.size()) throw InputError(ipath, "image size differs from the reference");
     sp.detections.push_back(detect_pins(img, options.tracker, ref.area_px));
   }
   return sp;
 }
 
-// The prior of every sample's pin field, fitted on the calibration split alone by continuation in depth.
+// The targets of one split, the first max_samples_per_split rows when set.
+std::vector<TactipTarget> read_split_targets(const fs::path& in, const std::string& name,
+                                             const TactipImportOptions& options) {
+  std::vector<TactipTarget> t = read_tactip_targets((in / name / "targets.csv").string());
+  if (options.max_samples_per_split > 0 && t.size() > std::size_t(options.max_samples_per_split))
+    t.resize(std::size_t(options.max_samples_per_split));
+  return t;
+}
+
+// The prior of every sample's pin field, fitted on the calibration split alone by continuation in depth over the
+// split's own depth range (by default a first stage over its shallowest quarter, then steps of a sixteenth),
+// limits on a 0.05 mm grid.
 ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& cal,
                                     const TactipImportOptions& options) {
   std::vector<Eigen::VectorXd> x;
@@ -656,8 +719,14 @@ ContinuationResult fit_tactip_prior(const PinReference& ref, const TactipSplit& 
     x.push_back(tactip_covariates(t));
     depth.push_back(t.depth_mm);
   }
+  const auto [lo, hi] = std::minmax_element(depth.begin(), depth.end());
+  const double range = *hi - *lo;
+  auto grid = [](double v) { return std::max(0.05, std::round(v / 0.05) * 0.05); };
+  const double first = std::isfinite(options.prior_first_depth_mm) ? options.prior_first_depth_mm
+                                                                   : grid(*lo + range / 4.0);
+  const double step = std::isfinite(options.prior_step_mm) ? options.prior_step_mm : grid(range / 16.0);
   ContinuationOptions c;
-  for (double d = options.prior_first_depth_mm; d < 5.0; d += options.prior_step_mm) c.limits.push_back(d);
+  for (double d = first; d < *hi - 1e-9; d += step) c.limits.push_back(d);
   c.limits.push_back(std::numeric_limits<double>::infinity());
   return fit_prior_by_continuation(ref, cal.detections, x, depth, options.tracker, c);
 }
@@ -716,36 +785,6 @@ nlohmann::json lattice_check_json(const CheckedPins& p, std::size_t detections, 
           {"detections", detections}};
 }
 
-// The tsd/1 sample of one TacTip image: the pose path of the collection procedure (in E), the markers
-// (frame 0 the reference, the last frame `disp`, NaN between: not imaged) and, with `ref_img` given, the
-// reference and the image as frames 0 and last.
-TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, const std::vector<Vec2>& disp,
-                           const TactipImportOptions& options, const cv::Mat& ref_img, const fs::path& in) {
-  constexpr double kDeg = M_PI / 180.0;
-  TsdSampleOut s;
-  s.id = std::string(split == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
-  s.motion = tactip_motion(t);
-  s.indenter = kTactipSurface;
-  s.split = split;
-  s.dt_s = kTactipDtS;
-  s.pose_known = true;
-  s.X_EI = tactip_pose_path(t.depth_mm * 1e-3, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3, t.sy_mm * 1e-3,
-                            t.twist_deg * kDeg, options.slide_steps);
-  Pose X_ES = Pose::Identity();
-  X_ES.linear() = Eigen::AngleAxisd(kTactipImageFromToolDeg * kDeg, Vec3::UnitZ()).toRotationMatrix();
-  for (auto& X : s.X_EI) X = X_ES * X;
-  const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
-  s.disp_px.assign(s.X_EI.size(), lost);
-  s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
-  s.disp_px.back() = disp;
-  if (!ref_img.empty()) {
-    s.frames.assign(s.X_EI.size(), cv::Mat());
-    s.frames.front() = ref_img;
-    s.frames.back() = read_grey((in / split / "images" / t.image).string());
-  }
-  return s;
-}
-
 }  // namespace
 
 // Frames (SOURCE.md, env_params.json): the work frame W has z down into the surface (the surface plane is
@@ -756,41 +795,95 @@ TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, cons
 // (shear_x, shear_y, -above) above, (shear_x, shear_y, depth) pressed, (0, 0, depth) final, rotation
 // Rz(twist) Ry(ry) Rx(rx) (static x-y-z Euler angles) with the twist going to zero during the slide.
 // The path is X_SI = X_WS^-1.
+std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
+                                   int slide_steps, double above_m) {
+  auto X_WS = [&](double f, double z) {  // f = 1 at the start of the slide, 0 at its end
+    Pose X = Pose::Identity();
+    X.linear() = (Eigen::AngleAxisd(f * twist, Vec3::UnitZ()) * Eigen::AngleAxisd(ry, Vec3::UnitY()) *
+                  Eigen::AngleAxisd(rx, Vec3::UnitX()))
+                     .toRotationMatrix();
+    X.translation() = Vec3(f * sx_m, f * sy_m, z);
+    return X;
+  };
+  std::vector<Pose> path{X_WS(1.0, -above_m).inverse()};
+  const int n = std::max(1, slide_steps);
+  for (int k = 0; k <= n; ++k) path.push_back(X_WS(1.0 - double(k) / n, depth_m).inverse());
+  return path;
+}
+
 namespace {
-// The pinhole camera of the starting values above: f from the field of view over the image width, the distance D
-// such that the pin sphere's equator (radius r_p = R - depth about (0, 0, -R)) projects onto the image's
-// half-width: f r_p / (D - R) = width / 2.
-Camera tactip_camera(int width_px, int height_px, const Vec2& principal_px) {
+
+// The pinhole camera the ring fit starts from: with the ring pitch theta fixed (the skin's pattern), ring 1's
+// image radius rho_1 = f sin theta / (a + cos theta), a = (D - R) / r_p, started at a = 2 (the camera a dome's
+// diameter below the apex; the fit moves it); with the focal length given, the distance such that the pin
+// sphere's equator is seen at the image's half-width.
+Camera tactip_start_camera(int width_px, int height_px, const TactipSensor& s, double ring1_px) {
   Camera c;
   c.model = CameraModel::Pinhole;
   c.width_px = width_px;
   c.height_px = height_px;
-  c.principal_px = principal_px;
-  const double half_width = 0.5 * width_px;
-  c.focal_px = half_width / std::tan(0.5 * kTactipFieldOfViewDeg * M_PI / 180.0);
-  c.distance_m = kTactipDomeRadiusM + c.focal_px * (kTactipDomeRadiusM - kTactipPinDepthM) / half_width;
+  c.principal_px = Vec2((width_px - 1) / 2.0, (height_px - 1) / 2.0);
+  c.k1 = s.k1.value;
+  const double R = s.dome_radius_mm.value * 1e-3, rp = R - s.pin_depth_mm.value * 1e-3;
+  const double theta = s.ring_pitch_deg.value * kDeg;
+  if (s.focal_px.source == SensorValueSource::kGiven) {
+    c.focal_px = s.focal_px.value;
+    c.distance_m = R + c.focal_px * rp / (0.5 * width_px);
+  } else {
+    constexpr double kStartA = 2.0;
+    c.focal_px = ring1_px * (kStartA + std::cos(theta)) / std::sin(theta);
+    c.distance_m = R + kStartA * rp;
+  }
+  if (s.distance_mm.source == SensorValueSource::kGiven) c.distance_m = s.distance_mm.value * 1e-3;
   return c;
 }
 
-// The camera fitted to the reference's pins (tactip_geometry_fit.hpp): the principal point and the distance D
-// (through (D - R) / r_p, the curvature of the rings' image radii) with the ring pitch; R, the pin depth, f and
-// k1 fixed at the starting values above (docs/sensors.md says why and what the others would give).
-TactipGeometryFit fit_tactip_camera(const std::vector<Vec2>& rest_px, int width_px, int height_px,
+// The camera from the reference's pins (tactip_geometry_fit.hpp). The rings give the principal point, phi0 and
+// one function of the ring index whose slope fixes f theta / (a + 1) and whose curvature fixes a: so with the
+// skin's ring pitch (the pattern) fixed they give f and D; with f given, theta. R, the pin depth and k1 are what
+// the sensor says (they trade with D and with a). The sensor's camera values are set from the fit.
+TactipGeometryFit fit_tactip_camera(const std::vector<Vec2>& rest_px, int width_px, int height_px, TactipSensor* s,
                                     const std::string& where) {
+  const TactipRings rings = assign_tactip_rings(rest_px, where);
   TactipGeometryFitOptions o;
-  o.dome_radius_m = kTactipDomeRadiusM;
-  o.pin_depth_m = kTactipPinDepthM;
-  o.initial = tactip_camera(width_px, height_px, Vec2((width_px - 1) / 2.0, (height_px - 1) / 2.0));
-  o.fit_focal = false;
-  o.fit_distance = true;
+  o.dome_radius_m = s->dome_radius_mm.value * 1e-3;
+  o.pin_depth_m = s->pin_depth_mm.value * 1e-3;
+  o.initial = tactip_start_camera(width_px, height_px, *s, rings.ring_radius_px.at(1));
+  const bool focal_given = s->focal_px.source == SensorValueSource::kGiven;
+  const bool pitch_given = s->ring_pitch_deg.source == SensorValueSource::kGiven;
+  o.fit_focal = !focal_given;
+  o.fit_ring_pitch = focal_given && !pitch_given;
+  o.ring_pitch_rad = s->ring_pitch_deg.value * kDeg;
+  o.fit_distance = s->distance_mm.source != SensorValueSource::kGiven;
   o.fit_k1 = false;
-  return fit_tactip_geometry(rest_px, o, where);
+  TactipGeometryFit g = fit_tactip_geometry(rest_px, o, where);
+  const std::string how = "fitted to the reference's " + std::to_string(g.pins_used) + " pins in " +
+                          std::to_string(g.rings.ring_radius_px.size() - 1) + " rings (RMS " +
+                          format_number(g.rms_px, "%.3f") + " px)";
+  auto set = [&](SensorValue& v, double value, double sigma, bool fitted) {
+    if (!fitted) return;
+    v = {value, sigma, SensorValueSource::kIdentified, how};
+  };
+  set(s->focal_px, g.camera.focal_px, g.sigma_focal_px, o.fit_focal);
+  set(s->distance_mm, g.camera.distance_m * 1e3, g.sigma_distance_m * 1e3, o.fit_distance);
+  set(s->ring_pitch_deg, g.ring_pitch_rad / kDeg, g.sigma_pitch_rad / kDeg, o.fit_ring_pitch);
+  if (s->principal_u_px.source != SensorValueSource::kGiven)
+    set(s->principal_u_px, g.camera.principal_px.x(), g.sigma_principal_px.x(), true);
+  if (s->principal_v_px.source != SensorValueSource::kGiven)
+    set(s->principal_v_px, g.camera.principal_px.y(), g.sigma_principal_px.y(), true);
+  else
+    g.camera.principal_px = Vec2(s->principal_u_px.value, s->principal_v_px.value);
+  return g;
 }
 
-nlohmann::json geometry_fit_json(const TactipGeometryFit& g) {
+nlohmann::json geometry_fit_json(const TactipGeometryFit& g, const TactipGeometryFitOptions& o) {
   constexpr double kRadToDeg = 180.0 / M_PI;
-  return {{"fitted", {"principal_px", "distance_m", "ring_pitch_deg", "azimuth_deg"}},
-          {"fixed", {"focal_px", "k1", "gel.radius_m", "markers_depth_m"}},
+  std::vector<std::string> fitted{"principal_px", "azimuth_deg"}, fixed{"k1", "gel.radius_m", "markers_depth_m"};
+  (o.fit_distance ? fitted : fixed).push_back("distance_m");
+  (o.fit_focal ? fitted : fixed).push_back("focal_px");
+  (o.fit_ring_pitch ? fitted : fixed).push_back("ring_pitch_deg");
+  return {{"fitted", fitted},
+          {"fixed", fixed},
           {"pattern", "apex pin + rings i = 1.. of 6 i pins at polar angle i * ring_pitch on the pin sphere"},
           {"rings", int(g.rings.ring_radius_px.size()) - 1},
           {"pins_used", g.pins_used},
@@ -800,69 +893,211 @@ nlohmann::json geometry_fit_json(const TactipGeometryFit& g) {
           {"outer_ring_polar_deg", g.outer_ring_polar_rad() * kRadToDeg},
           {"azimuth_deg", g.azimuth_rad * kRadToDeg},
           {"sigma_principal_px", {g.sigma_principal_px.x(), g.sigma_principal_px.y()}},
+          {"sigma_focal_px", g.sigma_focal_px},
           {"sigma_distance_m", g.sigma_distance_m},
           {"sigma_ring_pitch_deg", g.sigma_pitch_rad * kRadToDeg}};
 }
 
-std::string geometry_fit_line(const TactipGeometryFit& g) {
+std::string geometry_fit_line(const TactipGeometryFit& g, const TactipSensor& s) {
   const Camera& c = g.camera;
+  auto pm = [](double v, double sigma, const char* fmt) {
+    return format_number(v, fmt) + (std::isfinite(sigma) ? " +- " + format_number(sigma, "%.2g") : std::string());
+  };
   return "geometry fit on the reference's pin rings: " + std::to_string(g.pins_used) + " pins in " +
          std::to_string(g.rings.ring_radius_px.size() - 1) + " rings, principal point (" +
          format_number(c.principal_px.x(), "%.2f") + ", " + format_number(c.principal_px.y(), "%.2f") + ") +- " +
-         format_number(g.sigma_principal_px.x(), "%.2f") + " px, distance " +
-         format_number(c.distance_m * 1e3, "%.2f") + " +- " + format_number(g.sigma_distance_m * 1e3, "%.2f") +
-         " mm, ring pitch " + format_number(g.ring_pitch_rad * 180.0 / M_PI, "%.3f") + " deg (outer ring at " +
-         format_number(g.outer_ring_polar_rad() * 180.0 / M_PI, "%.1f") + " deg); fixed f " +
-         format_number(c.focal_px, "%.1f") + " px, k1 " + format_number(c.k1, "%.0f") + ", R " +
-         format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm, pin depth " +
-         format_number(kTactipPinDepthM * 1e3, "%.0f") + " mm; residual RMS " + format_number(g.rms_px, "%.3f") +
-         " px, max " + format_number(g.max_px, "%.2f") + " px";
-}
-}  // namespace
-
-std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
-                                   int slide_steps) {
-  auto X_WS = [&](double f, double z) {  // f = 1 at the start of the slide, 0 at its end
-    Pose X = Pose::Identity();
-    X.linear() = (Eigen::AngleAxisd(f * twist, Vec3::UnitZ()) * Eigen::AngleAxisd(ry, Vec3::UnitY()) *
-                  Eigen::AngleAxisd(rx, Vec3::UnitX()))
-                     .toRotationMatrix();
-    X.translation() = Vec3(f * sx_m, f * sy_m, z);
-    return X;
-  };
-  std::vector<Pose> path{X_WS(1.0, -kTactipAboveM).inverse()};
-  const int n = std::max(1, slide_steps);
-  for (int k = 0; k <= n; ++k) path.push_back(X_WS(1.0 - double(k) / n, depth_m).inverse());
-  return path;
+         format_number(g.sigma_principal_px.x(), "%.2f") + " px, focal " + pm(c.focal_px, g.sigma_focal_px, "%.1f") +
+         " px (" + to_string(s.focal_px.source) + "), distance " +
+         pm(c.distance_m * 1e3, g.sigma_distance_m * 1e3, "%.2f") + " mm, ring pitch " +
+         pm(g.ring_pitch_rad / kDeg, g.sigma_pitch_rad / kDeg, "%.3f") + " deg (" + to_string(s.ring_pitch_deg.source) +
+         "; outer ring at " + format_number(g.outer_ring_polar_rad() / kDeg, "%.1f") + " deg); k1 " +
+         format_number(c.k1, "%.0f") + ", R " + format_number(s.dome_radius_mm.value, "%.4g") + " mm, pin depth " +
+         format_number(s.pin_depth_mm.value, "%.4g") + " mm (" + to_string(s.dome_radius_mm.source) +
+         "); residual RMS " + format_number(g.rms_px, "%.3f") + " px, max " + format_number(g.max_px, "%.2f") + " px";
 }
 
-namespace {
+// The gel the sensor description gives: the hemispherical dome (footprint = radius) on a 1 mm base.
+GelSpec tactip_gel(const TactipSensor& s) {
+  GelSpec gel;
+  const double R = s.dome_radius_mm.value * 1e-3;
+  gel.surface = "spherical_cap";
+  gel.radius_m = R;
+  gel.footprint_radius_m = R;
+  gel.size_m = Vec2(2 * R, 2 * R);
+  gel.thickness_m = R + 0.001;
+  gel.markers_depth_m = s.pin_depth_mm.value * 1e-3;
+  return gel;
+}
+
+// Which rest pins the sensor can place: each one's ray must meet the pin sphere on the dome (a pin seen past its
+// equator sits on the skin's wall, which the spherical-cap gel does not model). Such pins are left out of the
+// dataset (counted in the report), so that every evaluation and fit builds the sensor.
+std::vector<char> pins_on_dome(const std::vector<Vec2>& rest_px, const Camera& camera, const GelSpec& gel) {
+  std::vector<char> keep(rest_px.size(), 1);
+  for (std::size_t i = 0; i < rest_px.size(); ++i) {
+    try {
+      (void)make_sensor(camera, gel, {rest_px[i]});
+    } catch (const InputError&) {
+      keep[i] = 0;
+    }
+  }
+  return keep;
+}
+
+template <typename T>
+std::vector<T> kept_only(const std::vector<T>& v, const std::vector<char>& keep) {
+  std::vector<T> out;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (keep[i]) out.push_back(v[i]);
+  return out;
+}
+
+// Every tracked sample's response to its slide (tactip_sensor.hpp), calibration split only.
+std::vector<ShearResponse> shear_responses(const TactipSplit& sp, const std::vector<CheckedPins>& pins) {
+  std::vector<ShearResponse> out;
+  for (std::size_t k = 0; k < sp.targets.size(); ++k) {
+    ShearResponse r;
+    const TactipTarget& t = sp.targets[k];
+    r.depth_mm = t.depth_mm;
+    r.shear_mm = Vec2(t.sx_mm, t.sy_mm);
+    int tracked = 0;
+    r.response_px = most_displaced_mean(pins[k].disp, &tracked);
+    r.tracked = tracked > 0;
+    out.push_back(r);
+  }
+  return out;
+}
+
+// The rotation (and handedness) from the calibration split's shallow presses, unless the sensor gives it.
+void identify_rotation(const std::vector<ShearResponse>& responses, TactipSensor* s, ImageFromTool* fit,
+                       const std::string& where, ImportReport& report, double min_depth_mm = -kInf) {
+  if (s->image_from_tool_deg.source == SensorValueSource::kGiven) return;
+  try {
+    *fit = identify_image_from_tool(responses, where, min_depth_mm);
+  } catch (const InputError& e) {
+    // Too few slides to tell (a small import): said so, and the tool axes taken as the image's.
+    s->image_from_tool_deg = {0.0, kNaN, SensorValueSource::kDefault,
+                              std::string("the data cannot tell it: ") + e.what() + "; 0 deg taken"};
+    report.lines.push_back("WARNING: image-from-tool rotation: " + s->image_from_tool_deg.how);
+    return;
+  }
+  s->image_from_tool_deg = {
+      fit->angle_rad / kDeg, fit->sigma_rad / kDeg, SensorValueSource::kIdentified,
+      "fitted to " + std::to_string(fit->samples) + " shallow presses' slide: the most displaced pins move " +
+          format_number(fit->gain_px_per_mm, "%.2f") + " px per mm along it, residual " +
+          format_number(fit->rms_px, "%.2f") + " px rms of " + format_number(fit->response_rms_px, "%.2f")};
+  if (s->mirrored.source != SensorValueSource::kGiven)
+    s->mirrored = {double(fit->mirrored), kNaN, SensorValueSource::kIdentified,
+                   "the " + std::string(fit->mirrored ? "mirrored" : "rotated") + " fit explains the slide (" +
+                       format_number(std::min(fit->rms_px, fit->mirrored_rms_px), "%.2f") + " px rms) and the " +
+                       std::string(fit->mirrored ? "rotated" : "mirrored") + " one does not (" +
+                       format_number(std::max(fit->rms_px, fit->mirrored_rms_px), "%.2f") + " px)"};
+  report.lines.push_back("image-from-tool rotation " + format_number(s->image_from_tool_deg.value, "%.2f") + " +- " +
+                         format_number(s->image_from_tool_deg.sigma, "%.2f") + " deg, " +
+                         (fit->mirrored ? "mirrored" : "not mirrored") + ": " + s->image_from_tool_deg.how +
+                         "; mirrored fit " + format_number(fit->mirrored_rms_px, "%.2f") + " px");
+}
+
+// The contact onset from the depth at which the pins begin to follow the slide, unless the sensor gives it.
+void identify_onset(std::vector<ShearResponse>& responses, const std::vector<CheckedPins>& pins, double gain_px_per_mm,
+                    TactipSensor* s, ImportReport& report) {
+  if (s->contact_onset_mm.source == SensorValueSource::kGiven) return;
+  for (std::size_t k = 0; k < responses.size(); ++k)
+    responses[k].moving_fraction = fraction_moved(pins[k].disp, 0.5 * gain_px_per_mm * responses[k].shear_mm.norm());
+  const ContactOnset on = identify_contact_onset(responses);
+  s->onset_extrapolated_mm = on.extrapolated_mm;
+  s->onset_extrapolated_sigma_mm = on.sigma_mm;
+  std::string what = "the fraction of pins following the slide, a line in depth on the " +
+                     std::to_string(on.in_contact) + " shallowest pressed samples, meets zero at " +
+                     format_number(on.extrapolated_mm, "%.3f") + " +- " + format_number(on.sigma_mm, "%.2g") + " mm";
+  if (on.identified) {
+    s->contact_onset_mm = {on.extrapolated_mm, on.sigma_mm, SensorValueSource::kIdentified,
+                           what + "; " + std::to_string(on.out_of_contact) + " presses (to " +
+                               format_number(on.deepest_out_mm, "%.3f") +
+                               " mm) move no pin: the poses' depth is counted from it"};
+  } else {
+    s->contact_onset_mm.how =
+        "every press touches (none moves no pin), so the data cannot tell the tool's zero: "
+        "the collection's zero depth is taken as the touch (" +
+        what + ")";
+  }
+  report.lines.push_back("contact onset " + format_number(s->contact_onset_mm.value, "%.3f") + " mm (" +
+                         to_string(s->contact_onset_mm.source) + "): " + s->contact_onset_mm.how);
+}
+
+// The "above" frame's clearance: the dome, turned about its apex by the largest tilt, reaches R (1 - cos tilt)
+// past the apex; a quarter of the radius more keeps it clear.
+double tactip_above_m(const std::vector<TactipSplit>& splits, double R, double onset_m) {
+  double tilt = 0;
+  for (const auto& sp : splits)
+    for (const auto& t : sp.targets) tilt = std::max(tilt, std::hypot(t.rx_deg, t.ry_deg) * kDeg);
+  return R * (1.0 - std::cos(std::min(tilt, M_PI / 2))) + 0.25 * R + std::max(0.0, onset_m);
+}
+
+// The tsd/1 sample of one TacTip image: the pose path of the collection procedure (in E), the markers
+// (frame 0 the reference, the last frame `disp`, NaN between: not imaged) and, with `ref_img` given, the
+// reference and the image as frames 0 and last.
+struct TactipSampleFrame {
+  double image_from_tool_rad = 0, onset_m = 0, above_m = 0;
+  bool mirror = false;
+};
+TsdSampleOut tactip_sample(const std::string& split, const TactipTarget& t, const std::vector<Vec2>& disp,
+                           const TactipImportOptions& options, const TactipSampleFrame& frame, const cv::Mat& ref_img,
+                           const fs::path& in) {
+  TsdSampleOut s;
+  s.id = std::string(split == "calibration" ? "cal_" : "val_") + format_number(t.number, "%04.0f");
+  s.motion = tactip_motion(t);
+  s.indenter = kTactipSurface;
+  s.split = split;
+  s.dt_s = kTactipDtS;
+  s.pose_known = true;
+  s.X_EI = tactip_pose_path(t.depth_mm * 1e-3 - frame.onset_m, t.rx_deg * kDeg, t.ry_deg * kDeg, t.sx_mm * 1e-3,
+                            t.sy_mm * 1e-3, t.twist_deg * kDeg, options.slide_steps, frame.above_m);
+  Pose X_ES = Pose::Identity();
+  X_ES.linear() = Eigen::AngleAxisd(frame.image_from_tool_rad, Vec3::UnitZ()).toRotationMatrix();
+  for (auto& X : s.X_EI) X = X_ES * X;
+  const std::vector<Vec2> lost(disp.size(), Vec2(kNaN, kNaN));
+  s.disp_px.assign(s.X_EI.size(), lost);
+  s.disp_px.front() = std::vector<Vec2>(disp.size(), Vec2::Zero());
+  s.disp_px.back() = disp;
+  if (!ref_img.empty()) {
+    s.frames.assign(s.X_EI.size(), cv::Mat());
+    s.frames.front() = ref_img;
+    s.frames.back() = read_grey((in / split / "images" / t.image).string(), frame.mirror);
+  }
+  return s;
+}
+
 // The dataset's sensor and indenter blocks: the dome, its pins and the camera fitted to the reference's rings.
-TsdDatasetOut tactip_dataset(const PinReference& ref, const cv::Mat& ref_img, const TactipGeometryFit& geometry) {
+TsdDatasetOut tactip_dataset(const PinReference& ref, const std::vector<char>& keep, const cv::Mat& ref_img,
+                             const TactipGeometryFit& geometry, const TactipGeometryFitOptions& fit_options,
+                             const TactipSensor& sensor) {
   TsdDatasetOut ds;
   ds.name = "tactip_shear";
   ds.kind = "real";
-  ds.license = "no licence file in the source repository (sister repositories GPL-3.0); validation use only";
+  ds.license = "as the source folder states (see its SOURCE.md or licence file)";
   ds.sensor_model = "TacTip midi";
   ds.width_px = ref_img.cols;
   ds.height_px = ref_img.rows;
   ds.camera = geometry.camera;
   ds.principal_px = geometry.camera.principal_px;
-  ds.gel_surface = "spherical_cap";
-  ds.gel_radius_m = kTactipDomeRadiusM;
-  ds.gel_footprint_radius_m = kTactipDomeRadiusM;
-  ds.gel_size_m = Vec2(2 * kTactipDomeRadiusM, 2 * kTactipDomeRadiusM);
-  ds.gel_thickness_m = kTactipDomeRadiusM + 0.001;  // the hemisphere on a 1 mm base (a solid for the SDF)
-  ds.markers_depth_m = kTactipPinDepthM;
-  ds.markers_rest_px = ref.rest_px;
+  const GelSpec gel = tactip_gel(sensor);
+  ds.gel_surface = gel.surface;
+  ds.gel_radius_m = gel.radius_m;
+  ds.gel_footprint_radius_m = gel.footprint_radius_m;
+  ds.gel_size_m = gel.size_m;
+  ds.gel_thickness_m = gel.thickness_m;  // the hemisphere on a 1 mm base (a solid for the SDF)
+  ds.markers_depth_m = gel.markers_depth_m;
+  ds.markers_rest_px = kept_only(ref.rest_px, keep);
   ds.sensor_extra["tactip"] = {
       {"skin", "hemispherical dome, pins on its inner surface below the contact surface (gel: spherical_cap)"},
       {"camera",
-       "pinhole from inside along +z_E; principal point and distance fitted to the reference's pin rings, "
-       "focal length, k1, dome radius and pin depth fixed at public starting values (docs/sensors.md)"},
+       "pinhole from inside along +z_E; fitted to the reference's pin rings with the skin's values "
+       "(sensor.tactip.description says which were identified, given or defaulted; docs/sensors.md)"},
       {"pin_pitch_px", ref.pitch_px},
       {"pin_area_px", ref.area_px},
-      {"geometry_fit", geometry_fit_json(geometry)}};
+      {"geometry_fit", geometry_fit_json(geometry, fit_options)},
+      {"description", to_json(sensor)}};
   ds.indenters = {
       {kTactipSurface,
        {{"mesh", "meshes/flat_surface.obj"},
@@ -871,30 +1106,36 @@ TsdDatasetOut tactip_dataset(const PinReference& ref, const cv::Mat& ref_img, co
   return ds;
 }
 
-// One split's samples tracked against the reference (and the prior) into `ds`, with a summary line in `report`.
-void add_tactip_split(const TactipSplit& sp, const PinReference& ref, const PinFieldPrior& prior,
-                      const cv::Mat& ref_img, const fs::path& in, const TactipImportOptions& options, TsdDatasetOut& ds,
-                      ImportReport& report) {
+// One split's samples (tracked against the reference and the prior) into `ds`, with a summary line in `report`.
+// A sample with no pin tracked is left out (counted, with the reason): nothing of it could be scored.
+void add_tactip_split(const TactipSplit& sp, const std::vector<CheckedPins>& pins, const std::vector<char>& keep,
+                      const TactipSampleFrame& frame, const cv::Mat& ref_img, const fs::path& in,
+                      const TactipImportOptions& options, bool prior_empty, TsdDatasetOut& ds, ImportReport& report,
+                      std::string* notes) {
   std::vector<double> kept;
   int worst_number = -1, slipped_samples = 0, empty_samples = 0;
   double worst = 2.0;
+  const std::size_t pin_count = ds.markers_rest_px.size();
   for (std::size_t k = 0; k < sp.targets.size(); ++k) {
     const TactipTarget& t = sp.targets[k];
-    const CheckedPins pins = track_checked(ref, sp.detections[k], prior.predict(tactip_covariates(t)), options);
-    const std::vector<Vec2>& disp = pins.disp;
-    slipped_samples += !pins.check.clean();
-    const int found = pins.kept();
-    empty_samples += found == 0;
-    const double frac = double(found) / double(disp.size());
+    const std::vector<Vec2> disp = kept_only(pins[k].disp, keep);
+    int found = 0;
+    for (const Vec2& d : disp) found += d.allFinite();
+    slipped_samples += !pins[k].check.clean();
+    const double frac = double(found) / double(pin_count);
     kept.push_back(frac);
     if (frac < worst) {
       worst = frac;
       worst_number = t.number;
     }
-    TsdSampleOut s = tactip_sample(sp.name, t, disp, options, options.frames ? ref_img : cv::Mat(), in);
+    if (found == 0) {
+      ++empty_samples;
+      continue;
+    }
+    TsdSampleOut s = tactip_sample(sp.name, t, disp, options, frame, options.frames ? ref_img : cv::Mat(), in);
     s.extra = {{"image", sp.name + "/images/" + t.image},
                {"pins_tracked", found},
-               {"lattice_check", lattice_check_json(pins, sp.detections[k].size(), options.lattice_check)},
+               {"lattice_check", lattice_check_json(pins[k], sp.detections[k].size(), options.lattice_check)},
                {"targets",
                 {{"depth_mm", t.depth_mm},
                  {"tilt_deg", {t.rx_deg, t.ry_deg}},
@@ -904,30 +1145,34 @@ void add_tactip_split(const TactipSplit& sp, const PinReference& ref, const PinF
   }
   std::sort(kept.begin(), kept.end());
   const auto below = std::count_if(kept.begin(), kept.end(), [](double f) { return f < 0.95; });
-  report.lines.push_back(
-      sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(ref.rest_px.size()) +
-      " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" + std::to_string(worst_number) +
-      "), p5 " + format_number(kept[kept.size() / 20], "%.4f") + ", median " +
-      format_number(kept[kept.size() / 2], "%.4f") + "; images under 0.95: " + std::to_string(below) +
-      "; images not clean under the lattice check: " + std::to_string(slipped_samples));
-  if (empty_samples > 0)
+  report.lines.push_back(sp.name + ": " + std::to_string(kept.size()) + " images, " + std::to_string(pin_count) +
+                         " pins; kept fraction min " + format_number(kept.front(), "%.4f") + " (image_" +
+                         std::to_string(worst_number) + "), p5 " + format_number(kept[kept.size() / 20], "%.4f") +
+                         ", median " + format_number(kept[kept.size() / 2], "%.4f") +
+                         "; images under 0.95: " + std::to_string(below) +
+                         "; images not clean under the lattice check: " + std::to_string(slipped_samples));
+  if (empty_samples > 0) {
     report.lines.push_back("WARNING: " + sp.name + ": " + std::to_string(empty_samples) + " of " +
                            std::to_string(kept.size()) + " samples have no pin tracked (0 of " +
-                           std::to_string(ref.rest_px.size()) + ")" +
-                           (prior.empty() && options.use_prior
+                           std::to_string(pin_count) + "): left out of the dataset, so of every fit and score" +
+                           (prior_empty && options.use_prior
                                 ? ": the pin prior needs " + std::to_string(tactip_prior_min_calibration_samples()) +
                                       " calibration samples (--max-samples " +
                                       std::to_string(tactip_prior_min_calibration_samples()) + " or more, or 0 for all)"
                                 : std::string()));
+    *notes += " " + sp.name + ": " + std::to_string(empty_samples) + " of " + std::to_string(kept.size()) +
+              " images left out, no pin tracked in them.";
+  }
 }
 
 // What the dataset is and how it was made (the tsd/1 provenance text).
-std::string tactip_provenance(const PinReference& ref, const TactipImportOptions& options) {
-  return "TacTip shear data from dexterousrobot/tactile_data_shear commit 31b4e34, data/cr_tactip/surface_3d/ (see "
-         "raw/tactip_shear/SOURCE.md): a flat surface pressed 1-5 mm at a tilt up to 25 deg, slid up to 5 mm and "
-         "twisted up to 5 deg in contact, one thresholded image per sample. Rest = calibration/images/image_0.png "
-         "(identical in validation/), " +
-         std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
+std::string tactip_provenance(const fs::path& in, const PinReference& ref, const TactipRest& rest,
+                              const TactipImportOptions& options, const TactipSensor& s) {
+  std::string source = "TacTip shear data from " + in.filename().string() + "/";
+  if (fs::exists(in / "SOURCE.md")) source += " (its SOURCE.md says where it comes from)";
+  return source +
+         ": a flat surface pressed at a tilt, slid and twisted in contact, one thresholded image per sample. Rest = " +
+         rest.why + ", " + std::to_string(ref.rest_px.size()) + " pins, pitch " + format_number(ref.pitch_px, "%.2f") +
          " px. Pins tracked by shearbench's pin tracker (blob detection, global "
          "affine then local nearest-neighbour correspondence, lost pins NaN)" +
          std::string(options.use_prior ? " against a prior field predicted from each sample's targets by a per-pin "
@@ -938,30 +1183,116 @@ std::string tactip_provenance(const PinReference& ref, const TactipImportOptions
                                              "crossing, a jump between neighbours, a detached island, a whole-field "
                                              "shift) are lost: see 'lattice_check' per sample"
                                            : "") +
-         ". poses.csv is the collection procedure: "
-         "frame 0 above (5 mm clear), frame 1 pressed at (pose + shear), frames 2.." +
+         ". poses.csv is the collection procedure: frame 0 above (clear of the surface), frame 1 pressed at (pose + "
+         "shear), frames 2.." +
          std::to_string(options.slide_steps + 1) +
-         " the slide to the final pose (shear and twist going linearly to zero); markers.csv: frame 0 zero (the "
-         "reference), NaN while not imaged, the tracked pins at the last frame. Frames: S = the tool frame at the "
-         "skin apex (+z out of the skin), I = the work frame on the surface (z into it); rotation Rz(twist) "
-         "Ry(pose_Ry) "
-         "Rx(pose_Rx) "
-         "static Euler as the robot library's sxyz; E = Rz(" +
-         format_number(kTactipImageFromToolDeg, "%.1f") +
-         " deg) S so that "
-         "E's x/y are the image's u/v (angle fitted on the calibration split: the most displaced pins move 1.83 px per "
-         "mm "
-         "of slide along the slide rotated by that angle; not mirrored). Sensor: a spherical-cap skin of radius " +
-         format_number(kTactipDomeRadiusM * 1e3, "%.0f") + " mm with pins " +
-         format_number(kTactipPinDepthM * 1e3, "%.0f") +
-         " mm below the contact surface, seen by a pinhole camera (focal length from a " +
-         format_number(kTactipFieldOfViewDeg, "%.0f") +
-         " deg field of view, no distortion) whose distance and principal point are fitted to the reference image's "
-         "pin rings (sensor.tactip.geometry_fit; shearbench docs/sensors.md). Motion label: shear or twist by the "
-         "larger "
-         "normalised magnitude "
-         "(|shear| / 5 mm vs |twist| / 5 deg), dilation (press + tilt) when both are under 0.25. Targets per sample "
-         "under 'targets' (mm, deg).";
+         " the slide to the final pose (shear and twist going linearly to zero), the press depth counted from the "
+         "contact onset (" +
+         format_number(s.contact_onset_mm.value, "%.3f") + " mm, " + to_string(s.contact_onset_mm.source) +
+         "); markers.csv: frame 0 zero (the reference), NaN while not imaged, the tracked pins at the last frame. "
+         "Frames: S = the tool frame at the skin apex (+z out of the skin), I = the work frame on the surface (z "
+         "into it); rotation Rz(twist) Ry(pose_Ry) Rx(pose_Rx) static Euler as the robot library's sxyz; E = Rz(" +
+         format_number(s.image_from_tool_deg.value, "%.2f") + " deg) S so that E's x/y are the image's u/v (" +
+         to_string(s.image_from_tool_deg.source) + (s.mirrored.value != 0 ? "; images mirrored left-right" : "") +
+         "). Sensor: sensor.tactip.description (every value with its source and uncertainty; docs/sensors.md). "
+         "Motion label: shear or twist by the larger normalised magnitude (|shear| / 5 mm vs |twist| / 5 deg), "
+         "dilation (press + tilt) when both are under 0.25. Targets per sample under 'targets' (mm, deg).";
+}
+
+}  // namespace
+
+namespace {
+
+// The import with the sensor's given values in `sensor`; `mirror_known`: whether its handedness is settled (given,
+// or identified by a first pass), so that a mirrored camera is imported again with the images mirrored.
+ImportReport import_tactip(const fs::path& in, const std::string& out_dir, const TactipImportOptions& options,
+                           TactipSensor sensor, bool mirror_known) {
+  const bool mirror = sensor.mirrored.value != 0;
+  ImportReport report;
+  std::vector<TactipTarget> cal_targets = read_split_targets(in, "calibration", options);
+  const TactipRest rest = choose_tactip_rest(in, &cal_targets);
+  const cv::Mat ref_img = read_grey(rest.path, mirror);
+  const PinReference ref = make_pin_reference(ref_img, options.tracker, rest.path);
+  sensor.width_px = ref_img.cols;
+  sensor.height_px = ref_img.rows;
+  sensor.reference = rest.why;
+  report.lines.push_back("reference: " + rest.why);
+
+  const TactipGeometryFit geometry = fit_tactip_camera(ref.rest_px, ref_img.cols, ref_img.rows, &sensor, rest.path);
+  TactipGeometryFitOptions fit_options;
+  fit_options.fit_focal = sensor.focal_px.source == SensorValueSource::kIdentified;
+  fit_options.fit_distance = sensor.distance_mm.source == SensorValueSource::kIdentified;
+  fit_options.fit_ring_pitch = sensor.ring_pitch_deg.source == SensorValueSource::kIdentified;
+  report.lines.push_back(geometry_fit_line(geometry, sensor));
+  const std::vector<char> keep = pins_on_dome(ref.rest_px, geometry.camera, tactip_gel(sensor));
+  const auto off_dome = std::count(keep.begin(), keep.end(), 0);
+  if (off_dome > 0)
+    report.lines.push_back(std::to_string(off_dome) + " of " + std::to_string(keep.size()) +
+                           " pins are seen past the dome's equator (on the skin's wall): left out of the markers");
+
+  std::vector<TactipSplit> splits;
+  splits.push_back(read_tactip_split(in, "calibration", std::move(cal_targets), ref, ref_img, mirror, options, report));
+  splits.push_back(read_tactip_split(in, "validation", read_split_targets(in, "validation", options), ref, ref_img,
+                                     mirror, options, report));
+  PinFieldPrior prior;
+  if (options.use_prior) {
+    const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
+    prior = fit.prior;
+    report_prior(fit, splits.front().targets.size(), report);
+  }
+  std::vector<std::vector<CheckedPins>> pins(splits.size());
+  for (std::size_t s = 0; s < splits.size(); ++s)
+    for (std::size_t k = 0; k < splits[s].targets.size(); ++k)
+      pins[s].push_back(
+          track_checked(ref, splits[s].detections[k], prior.predict(tactip_covariates(splits[s].targets[k])), options));
+
+  std::vector<ShearResponse> responses = shear_responses(splits.front(), pins.front());
+  ImageFromTool rotation;
+  identify_rotation(responses, &sensor, &rotation, (in / "calibration" / "targets.csv").string(), report);
+  if (!mirror_known && sensor.mirrored.value != 0) {
+    // The camera sees the tool axes mirrored: again with every image mirrored, so that E stays right-handed.
+    report.lines.push_back("the camera sees the tool axes mirrored: importing again with the images mirrored");
+    TactipSensor again = tactip_standard_defaults();
+    if (!options.sensor_file.empty()) read_tactip_sensor_file(options.sensor_file, &again);
+    again.mirrored = sensor.mirrored;
+    ImportReport r = import_tactip(in, out_dir, options, again, true);
+    report.lines.insert(report.lines.end(), r.lines.begin(), r.lines.end());
+    report.datasets = r.datasets;
+    return report;
+  }
+  if (std::isfinite(rotation.gain_px_per_mm))
+    identify_onset(responses, pins.front(), rotation.gain_px_per_mm, &sensor, report);
+  if (sensor.contact_onset_mm.source == SensorValueSource::kIdentified &&
+      sensor.image_from_tool_deg.source == SensorValueSource::kIdentified) {
+    // The presses short of the touch moved nothing: the rotation again from those that touch.
+    report.lines.push_back("the rotation again from the presses past the contact onset:");
+    identify_rotation(responses, &sensor, &rotation, (in / "calibration" / "targets.csv").string(), report,
+                      sensor.contact_onset_mm.value);
+  }
+
+  if (rest.number != 0) {
+    // A press as the rest: undeformed only if it is short of the touch; otherwise its own field is in every
+    // displacement (said so: the data hold no better rest).
+    const bool clear = sensor.contact_onset_mm.source != SensorValueSource::kDefault &&
+                       rest.depth_mm < sensor.contact_onset_mm.value;
+    sensor.reference += clear ? "; short of the contact onset, so undeformed"
+                              : "; not known to be short of the touch: if it is pressed, its own field is in every "
+                                "displacement";
+    if (!clear) report.lines.push_back("WARNING: the reference " + rest.why + " may itself be pressed");
+  }
+  TactipSampleFrame frame;
+  frame.image_from_tool_rad = sensor.image_from_tool_deg.value * kDeg;
+  frame.onset_m = sensor.contact_onset_mm.value * 1e-3;
+  frame.above_m = tactip_above_m(splits, sensor.dome_radius_mm.value * 1e-3, frame.onset_m);
+  frame.mirror = mirror;
+  TsdDatasetOut ds = tactip_dataset(ref, keep, ref_img, geometry, fit_options, sensor);
+  std::string notes;
+  for (std::size_t s = 0; s < splits.size(); ++s)
+    add_tactip_split(splits[s], pins[s], keep, frame, ref_img, in, options, prior.empty(), ds, report, &notes);
+  ds.provenance = tactip_provenance(in, ref, rest, options, sensor) + notes;
+  write_tsd_dataset(ds, out_dir);
+  report.datasets.push_back(out_dir);
+  return report;
 }
 
 }  // namespace
@@ -969,28 +1300,9 @@ std::string tactip_provenance(const PinReference& ref, const TactipImportOptions
 ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
                                  const TactipImportOptions& options) {
   require_dir(in_dir);
-  const fs::path in(in_dir);
-  const std::string ref_path = (in / "calibration" / "images" / "image_0.png").string();
-  const PinReference ref = make_pin_reference(read_grey(ref_path), options.tracker, ref_path);
-  const cv::Mat ref_img = read_grey(ref_path);
-  const TactipGeometryFit geometry = fit_tactip_camera(ref.rest_px, ref_img.cols, ref_img.rows, ref_path);
-  TsdDatasetOut ds = tactip_dataset(ref, ref_img, geometry);
-  ImportReport report;
-  report.lines.push_back(geometry_fit_line(geometry));
-  std::vector<TactipSplit> splits;
-  for (const char* split : {"calibration", "validation"})
-    splits.push_back(read_tactip_split(in, split, ref, ref_img, options, report));
-  PinFieldPrior prior;
-  if (options.use_prior) {
-    const ContinuationResult fit = fit_tactip_prior(ref, splits.front(), options);
-    prior = fit.prior;
-    report_prior(fit, splits.front().targets.size(), report);
-  }
-  for (const auto& sp : splits) add_tactip_split(sp, ref, prior, ref_img, in, options, ds, report);
-  ds.provenance = tactip_provenance(ref, options);
-  write_tsd_dataset(ds, out_dir);
-  report.datasets.push_back(out_dir);
-  return report;
+  TactipSensor sensor = tactip_standard_defaults();
+  if (!options.sensor_file.empty()) read_tactip_sensor_file(options.sensor_file, &sensor);
+  return import_tactip(fs::path(in_dir), out_dir, options, sensor, sensor.mirrored.source == SensorValueSource::kGiven);
 }
 
 }  // namespace sb

@@ -4,6 +4,7 @@
 //
 // Axis convention: the sensor camera looks along +z_E from inside the gel, so image u (right) and v (down)
 // are already x_E and y_E of a right-handed E with +z out of the gel: no mirroring is applied.
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -57,8 +58,12 @@ struct TactipImportOptions {
   // Store the images (frame 0: the reference, the last frame: the sample's thresholded image; the frames
   // between were not imaged and have none) so the workbench shows them behind the panels.
   bool frames = false;
-  double prior_first_depth_mm = 2.0;
-  double prior_step_mm = 0.25;
+  // NaN: from the calibration split's depth range (its shallowest quarter, then steps of a sixteenth).
+  double prior_first_depth_mm = std::numeric_limits<double>::quiet_NaN();
+  double prior_step_mm = std::numeric_limits<double>::quiet_NaN();
+  // A sensor description (tactip_sensor.hpp; `import --sensor FILE`): its values replace the defaults and are
+  // not identified. Empty: the standard TacTip's defaults, everything the data tell identified.
+  std::string sensor_file;
 };
 ImportReport import_tactip_shear(const std::string& in_dir, const std::string& out_dir,
                                  const TactipImportOptions& options = {});
@@ -67,10 +72,11 @@ ImportReport import_tactip_shear(const std::string& in_dir, const std::string& o
 // samples with 0 of 327 pins tracked).
 int tactip_prior_min_calibration_samples();
 
-// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI units):
-// depth d, tilt (rx, ry) and twist w in radians, shear (sx, sy) in metres. See importers.cpp for the frame conventions.
+// The flat surface's pose path X_SI in the tool frame S (the importer turns it into E) for one TacTip sample (SI
+// units): depth d, tilt (rx, ry) and twist w in radians, shear (sx, sy) in metres. See importers.cpp for the frame
+// conventions. above_m: the clearance of the first ("above") frame.
 std::vector<Pose> tactip_pose_path(double depth_m, double rx, double ry, double sx_m, double sy_m, double twist,
-                                   int slide_steps);
+                                   int slide_steps, double above_m);
 
 // Sphere contact from a marker displacement field (pixels): far-field drift = median displacement of all
 // markers, removed first; centre = |d|-weighted centroid of the markers above half the peak |d|; contact

@@ -213,8 +213,12 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
     throw InputError(where, "the TacTip geometry fit needs a dome radius > 0 and 0 <= pin depth < radius");
   TactipGeometryFit fit;
   fit.rings = assign_tactip_rings(pins_px, where);
+  if (!options.fit_ring_pitch && !(options.ring_pitch_rad > 0))
+    throw InputError(where, "the TacTip geometry fit with a fixed ring pitch needs ring_pitch_rad > 0");
   // theta from ring 1 under the starting camera, to first order: rho_1 = f rp theta / (D - R + rp).
-  const double theta0 = fit.rings.ring_radius_px[1] * (c0.distance_m - R + rp) / (c0.focal_px * rp);
+  const double theta0 = options.fit_ring_pitch
+                            ? fit.rings.ring_radius_px[1] * (c0.distance_m - R + rp) / (c0.focal_px * rp)
+                            : options.ring_pitch_rad;
   std::array<double, kParams> x{fit.rings.centre_px.x(),
                                 fit.rings.centre_px.y(),
                                 fit.rings.azimuth_rad,
@@ -235,7 +239,8 @@ TactipGeometryFit fit_tactip_geometry(const std::vector<Vec2>& pins_px, const Ta
     problem.AddResidualBlock(cost, nullptr, blocks);
     ++fit.pins_used;
   }
-  const bool free[kParams] = {true, true, true, true, options.fit_focal, options.fit_distance, options.fit_k1};
+  const bool free[kParams] = {
+      true, true, true, options.fit_ring_pitch, options.fit_focal, options.fit_distance, options.fit_k1};
   for (int k = 0; k < kParams; ++k)
     if (!free[k]) problem.SetParameterBlockConstant(blocks[k]);
   // The pins stay in front of the camera and the ring pitch positive.

@@ -54,7 +54,11 @@ struct TactipGeometryFitOptions {
   bool fit_focal = false;
   bool fit_distance = true;
   bool fit_k1 = false;
-  // theta, phi0 and the principal point are always fitted.
+  // theta: fitted from ring 1's radius under the starting camera (fit_ring_pitch), or fixed at ring_pitch_rad
+  // (a skin's printed pattern; then fit_focal lets the rings tell the focal length). phi0 and the principal
+  // point are always fitted.
+  bool fit_ring_pitch = true;
+  double ring_pitch_rad = 0.0;  // used when !fit_ring_pitch: > 0
 };
 
 struct TactipGeometryFit {
