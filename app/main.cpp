@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ExtrasError& e) {
     if (const std::string typed = misspelt_command(cli); !typed.empty()) {
       std::vector<std::string> names;
+      names.reserve(registry.size());
       for (const auto& c : registry) names.push_back(c.name);
       std::cerr << "shearbench: error: unknown command '" << typed << "'" << sb::did_you_mean(typed, names)
                 << "; `shearbench --help` lists the commands\n";
