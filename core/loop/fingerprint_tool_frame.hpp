@@ -1,25 +1,31 @@
 #pragma once
 // tool_frame's evidence (core/effects/effect_tool_frame.cpp): the press offset at first contact.
 //
-// A robot whose zero lies d0 past the skin presses every frame d0 deeper than recorded, so the measured field
-// starts to move d0 of press before (d0 > 0) or after (d0 < 0) the recorded contact. Any contact model, whatever
-// its form, predicts no field before contact and a field that grows from zero at the recorded contact; a form
-// error changes how fast it grows, not where it starts. Per press that starts at rest (its first frame below the
-// threshold in both the measurement and the model): the first crossing of the largest marker displacement over
-// a threshold T, interpolated between frames, in the measurement (t_m) and in the answer's field without the
-// effect (t_p); d0 = rate (t_p - t_m), rate the recorded penetration per frame over the first frames in contact.
-//   T = max(kMotionThresholdPx, 10 sigma): the noise's largest marker over a frame stays near 4 sigma.
-// Read again at 2T: a true offset is the same at both, while a model softer or stiffer than the gel reaches a
-// threshold later or earlier by a depth that grows with it; readings that differ by more than the agreement
-// ratio count as a difference of sensitivity, not of zero. The pivot (the effect's other parameter) shows only
-// through tilted presses and is reported with the fit, not read here.
+// A robot whose zero lies d0 past the skin presses every frame d0 deeper than recorded: the gel starts to move
+// d0 of press before the recorded contact. No contact model, whatever its form, moves the gel before contact, so
+// motion there is the offset's own signature. Per press that starts at rest: the first frame whose measured field
+// departs from the tracker noise, z_k = (sum_j |meas_kj|^2 / sigma^2 - n_k) / sqrt(2 n_k) >= kDetectSigmas (the
+// field's energy against the chi-square of n_k noise components, sigma = the split's tracker noise) and stays
+// there for kDetectFrames frames, interpolated between frames in the amplitude above the noise (exact for a
+// field that grows linearly with the press); the recorded signed depth there, extrapolated
+// before contact at the press rate of the first frames in contact (a robot approaches at constant speed). The
+// reading is minus that depth: d0 less the small penetration the detection needs (> 0: the gel moved before the
+// recorded contact). It counts only when it exceeds one frame of press (the recorded contact's own resolution).
+// A negative reading (motion starts after the recorded contact) is the detection's lag as much as a zero short of
+// the skin, and is not read: such an offset has no evidence here. The model is not used: a contact model's
+// sensitivity at small depth is form, and a comparison with it reads form error as offset (a finite-element gel
+// stiffer than HydroShear at first touch reads 0.24 mm that way). The pivot (the effect's other parameter) shows
+// only through tilted presses and is reported with the fit, not read here.
 #include "core/loop/evidence.hpp"
 
 namespace sb {
 
-// The press offset (metres, > 0: the presses are deeper than recorded) on one split; `threshold_factor`
-// multiplies T (1 and 2 are the two readings). NaN per sample that does not start at rest or never crosses.
-std::vector<double> press_offsets_m(const EvidenceSplit& split, double threshold_factor);
+// Per sample: how much press before the recorded contact the measured field departs from noise (metres), and the
+// press per frame there; NaN for a sample that does not start at rest, never departs, or never touches.
+struct PressOnset {
+  std::vector<double> before_contact_m, rate_m;
+};
+PressOnset press_onsets(const EvidenceSplit& split);
 
 EffectEvidence tool_frame_evidence(const Sensor& sensor, const EvidenceSplit& calibration,
                                    const EvidenceSplit& validation, const FittedParam& fitted);
