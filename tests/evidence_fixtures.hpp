@@ -22,6 +22,7 @@ struct FrameSpec {
   bool in_contact = false;
   sb::Vec2 centre_px = sb::Vec2::Zero();
   double travel_px = 0;
+  sb::Vec2 slide_px = sb::Vec2::Zero();  // the indenter's lateral travel since first contact (px of E's xy)
 };
 
 // The model's field of a press about `centre`: `amp` px along the outward radius at one Gaussian width (2 pitches)
@@ -66,6 +67,7 @@ inline sb::EvidenceSplit make_split(int n, const FramesOf& frames, const PredOf&
       e.fp.travel_px.push_back(f.travel_px);
       e.depth_m.push_back(f.depth_m);
       e.tilt_rad.push_back(0);
+      e.slide_m.push_back(f.slide_px * s.camera.metres_per_px());
       if (marker_depth) e.marker_depth_m.push_back(h);
     }
     split.samples.push_back(std::move(e));
@@ -90,7 +92,7 @@ inline std::vector<FrameSpec> slide_frames(const sb::Vec2& start, const sb::Vec2
   std::vector<FrameSpec> out = press_frames(start, depth_m, 3, 4);
   for (int k = 1; k <= steps; ++k) {
     const double t = travel_px * k / steps;
-    out.push_back({depth_m, true, start + t * dir.normalized(), t});
+    out.push_back({depth_m, true, start + t * dir.normalized(), t, t * dir.normalized()});
   }
   return out;
 }

@@ -110,9 +110,15 @@ EvidenceSplit evidence_split(const Sensor& sensor, const std::vector<FitSample>&
     const FitSample& s = samples[static_cast<std::size_t>(i)];
     EvidenceSample& e = split.samples[static_cast<std::size_t>(i)];
     e.fp = std::move(fs[static_cast<std::size_t>(i)]);
-    for (const Pose& X_EI : s.X_EI) {
+    bool touched = false;
+    Vec2 first = Vec2::Zero();
+    for (std::size_t k = 0; k < s.X_EI.size(); ++k) {
+      const Pose& X_EI = s.X_EI[k];
       e.depth_m.push_back(indenter_penetration(*sensor.gel_sdf, *s.indenter, X_EI).depth_m);
       e.tilt_rad.push_back(tilt_of(X_EI));
+      const Vec2 xy = X_EI.translation().head<2>();
+      if (e.fp.in_contact[k] != 0 && !touched) first = xy, touched = true;
+      e.slide_m.push_back(touched ? Vec2(xy - first) : Vec2::Zero());
     }
     if (!marker_depth) return;
     EffectContext c;
@@ -130,6 +136,13 @@ EvidenceSplit evidence_split(const Sensor& sensor, const std::vector<FitSample>&
 EffectEvidence read_evidence(const std::string& effect_id, const Sensor& sensor, const EvidenceSplit& calibration,
                              const EvidenceSplit& validation, const FittedParam& fitted) {
   const EvidenceEntry& e = entry(effect_id);
+  if (!make_effect(effect_id)->acts_on(sensor)) {
+    EffectEvidence none;
+    none.effect = effect_id;
+    none.looked_at = "the sensor";
+    none.verdict = "not found: the effect does not act on this sensor (a correction of its form, if it changes the field)";
+    return none;
+  }
   if (e.read == nullptr) return from_fingerprint(effect_id, sensor, calibration, validation, fitted);
   return e.read(sensor, calibration, validation, fitted);
 }

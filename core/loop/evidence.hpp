@@ -34,6 +34,9 @@ struct EvidenceSample {
   FingerprintSample fp;
   std::vector<double> depth_m;   // [frame] the indenter's penetration by the recorded pose (0 out of contact)
   std::vector<double> tilt_rad;  // [frame] angle between the indenter's approach axis and E's z
+  // [frame] the indenter's lateral travel in E's xy since its first frame in contact (metres; 0 before): the
+  // slide, also where the contact centre does not move (a flat slid over a dome touches it where it tilts).
+  std::vector<Vec2> slide_m;
   // [frame][marker] each marker's penetration into the indenter (effects::marker_penetration); filled only for
   // the readers that ask for it (EvidenceEntry::needs_marker_depth), else empty.
   std::vector<std::vector<double>> marker_depth_m;

@@ -9,6 +9,8 @@
 // the markers inside the indenter (penetration h > 0), the residual's component outward from the contact centre
 // is regressed on rho and rho h (rho the marker's distance from the contact centre, px): the reading is the
 // depth-independent coefficient (px of shift per px of distance, > 0 outward), the lever's share at h -> 0.
+// A sample needs at least three press frames: within one frame h also varies across the contact (deep at its
+// centre, 0 at its edge), so a single image cannot tell the lever from a form error at the contact's edge.
 #include "core/loop/evidence.hpp"
 
 namespace sb {

@@ -82,7 +82,7 @@ namespace {
 
 SplitReading read(const EvidenceSplit& split) {
   const PressOnset o = press_onsets(split);
-  SplitReading r = split_reading(split, o.before_contact_m, "start at rest and depart from the noise in a press");
+  SplitReading r = split_reading(split, o.before_contact_m, "recorded frame by frame from rest depart from the noise (a single image per press shows no onset)");
   const double step = mean_estimate(o.rate_m).mean;
   r.detail = "one frame of press " + format_number(1e3 * step, "%.3g", "nan") + " mm";
   if (!r.missing.empty()) return r;
