@@ -87,8 +87,8 @@ inline std::vector<FrameSpec> press_frames(const sb::Vec2& centre, double deepes
 }
 
 // A press to `depth_m` at `start` and a slide of `travel_px` along `dir` in `steps` frames.
-inline std::vector<FrameSpec> slide_frames(const sb::Vec2& start, const sb::Vec2& dir, double depth_m,
-                                           double travel_px, int steps = 10) {
+inline std::vector<FrameSpec> slide_frames(const sb::Vec2& start, const sb::Vec2& dir, double depth_m, double travel_px,
+                                           int steps = 10) {
   std::vector<FrameSpec> out = press_frames(start, depth_m, 3, 4);
   for (int k = 1; k <= steps; ++k) {
     const double t = travel_px * k / steps;

@@ -19,7 +19,9 @@ constexpr double kRollTolRad = 0.003;  // atan2 over hundreds of marker-frames o
 
 // Presses to 1 mm at points over the grid (by sample), the model's field radial about the contact.
 sb::EvidenceSplit presses(const MeasOf& meas, std::uint64_t seed) {
-  const auto frames = [](int i) { return press_frames(grid_centre() + Vec2(20.0 * (i % 3 - 1), 15.0 * (i % 2)), 1e-3); };
+  const auto frames = [](int i) {
+    return press_frames(grid_centre() + Vec2(20.0 * (i % 3 - 1), 15.0 * (i % 2)), 1e-3);
+  };
   const auto pred = [](int, const FrameSpec& f, std::size_t j) {
     return press_field(evidence_sensor().markers_rest_px[j], f.centre_px, 3000 * f.depth_m, Vec2::Zero());
   };

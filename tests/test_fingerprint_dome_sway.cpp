@@ -12,7 +12,7 @@ using namespace sbtest;
 namespace {
 
 constexpr double kNoisePx = 0.02;
-constexpr double kSwayPx = 0.3;     // the whole array's shift along the slide
+constexpr double kSwayPx = 0.3;      // the whole array's shift along the slide
 constexpr double kSwayTolPx = 0.02;  // the far markers' mean: noise / sqrt(markers x frames) << this
 
 Vec2 slide_dir(int i) {

@@ -45,8 +45,8 @@ double fitted_gain(const std::string& n) { return n == "gain_px" ? 1.0 : 0.0; }
 }  // namespace
 
 TEST_CASE("load_stiffening evidence: a uniform fall of the gain with depth is found", "[evidence][load_stiffening]") {
-  const auto e = sb::load_stiffening_evidence(evidence_sensor(), presses(stiffened, 1), presses(stiffened, 2),
-                                              fitted_beta);
+  const auto e =
+      sb::load_stiffening_evidence(evidence_sensor(), presses(stiffened, 1), presses(stiffened, 2), fitted_beta);
   INFO(e.verdict);
   CHECK(e.found);
   CHECK(std::abs(e.calibration.estimate - kBeta) <= kBetaRelTol * kBeta);
@@ -54,8 +54,8 @@ TEST_CASE("load_stiffening evidence: a uniform fall of the gain with depth is fo
 }
 
 TEST_CASE("load_stiffening evidence: an unchanged gain is not found", "[evidence][load_stiffening]") {
-  const auto e = sb::load_stiffening_evidence(evidence_sensor(), presses(unchanged, 3), presses(unchanged, 4),
-                                              fitted_beta);
+  const auto e =
+      sb::load_stiffening_evidence(evidence_sensor(), presses(unchanged, 3), presses(unchanged, 4), fitted_beta);
   INFO(e.verdict);
   CHECK_FALSE(e.found);
 }
@@ -63,8 +63,8 @@ TEST_CASE("load_stiffening evidence: an unchanged gain is not found", "[evidence
 // The whole field's beta is positive (the near part's fall), but the far part's is 0: the shape changed.
 TEST_CASE("load_stiffening evidence: a fall near the contact only is a contact-form error",
           "[evidence][load_stiffening]") {
-  const auto e = sb::load_stiffening_evidence(evidence_sensor(), presses(near_only, 5), presses(near_only, 6),
-                                              fitted_beta);
+  const auto e =
+      sb::load_stiffening_evidence(evidence_sensor(), presses(near_only, 5), presses(near_only, 6), fitted_beta);
   INFO(e.verdict);
   CHECK_FALSE(e.found);
   CHECK(e.calibration.estimate > 0);
@@ -74,13 +74,13 @@ TEST_CASE("load_stiffening evidence: a fall near the contact only is a contact-f
 // Saturation is the near part falling faster than the far: found on near_only, not on a uniform stiffening
 // (beta_near - beta_far = 0 within noise).
 TEST_CASE("spread_saturation evidence: the near field's fall beyond the far field's", "[evidence][spread_saturation]") {
-  const auto found = sb::spread_saturation_evidence(evidence_sensor(), presses(near_only, 7), presses(near_only, 8),
-                                                    fitted_gain);
+  const auto found =
+      sb::spread_saturation_evidence(evidence_sensor(), presses(near_only, 7), presses(near_only, 8), fitted_gain);
   INFO(found.verdict);
   CHECK(found.found);
   CHECK(found.calibration.estimate > 0.5 * kBeta);
-  const auto uniform = sb::spread_saturation_evidence(evidence_sensor(), presses(stiffened, 9),
-                                                      presses(stiffened, 10), fitted_gain);
+  const auto uniform =
+      sb::spread_saturation_evidence(evidence_sensor(), presses(stiffened, 9), presses(stiffened, 10), fitted_gain);
   INFO(uniform.verdict);
   CHECK_FALSE(uniform.found);
 }

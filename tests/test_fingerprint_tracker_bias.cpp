@@ -56,8 +56,8 @@ TEST_CASE("tracker_bias evidence: an offset on the moving markers in every direc
 }
 
 TEST_CASE("tracker_bias evidence: a shear error that turns with the slide is not found", "[evidence][tracker_bias]") {
-  const auto e = sb::tracker_bias_evidence(evidence_sensor(), slides(shear_gain, 3), slides(shear_gain, 4),
-                                           fitted_bias);
+  const auto e =
+      sb::tracker_bias_evidence(evidence_sensor(), slides(shear_gain, 3), slides(shear_gain, 4), fitted_bias);
   INFO(e.verdict);
   CHECK_FALSE(e.found);
 }
@@ -72,14 +72,14 @@ TEST_CASE("gravity_preload evidence: a fixed shear at the contact is found, a sy
     const double d2 = (evidence_sensor().markers_rest_px[j] - f.centre_px).squaredNorm();
     return f.in_contact ? Vec2(p + kBiasPx * std::exp(-d2 / (2 * w_px * w_px)) * Vec2(1, 0)) : p;
   };
-  const auto found = sb::gravity_preload_evidence(evidence_sensor(), slides(preload, 5), slides(preload, 6),
-                                                  fitted_preload);
+  const auto found =
+      sb::gravity_preload_evidence(evidence_sensor(), slides(preload, 5), slides(preload, 6), fitted_preload);
   INFO(found.verdict);
   CHECK(found.found);
   CHECK(found.calibration.estimate > 0.3 * kBiasPx);
   const auto radial = [](int, const FrameSpec&, std::size_t, const Vec2& p) { return Vec2(1.2 * p); };
-  const auto none = sb::gravity_preload_evidence(evidence_sensor(), slides(radial, 7), slides(radial, 8),
-                                                 fitted_preload);
+  const auto none =
+      sb::gravity_preload_evidence(evidence_sensor(), slides(radial, 7), slides(radial, 8), fitted_preload);
   INFO(none.verdict);
   CHECK_FALSE(none.found);
 }

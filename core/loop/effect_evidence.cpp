@@ -127,7 +127,7 @@ EvidenceSplit evidence_split(const Sensor& sensor, const std::vector<FitSample>&
     for (std::size_t k = 0; k < s.X_EI.size(); ++k) {
       c.X_EI = s.X_EI[k];
       e.marker_depth_m.push_back(e.fp.in_contact[k] != 0 ? effects::marker_penetration(c)
-                                                          : std::vector<double>(sensor.p_EM.size(), 0.0));
+                                                         : std::vector<double>(sensor.p_EM.size(), 0.0));
     }
   });
   return split;
@@ -140,7 +140,8 @@ EffectEvidence read_evidence(const std::string& effect_id, const Sensor& sensor,
     EffectEvidence none;
     none.effect = effect_id;
     none.looked_at = "the sensor";
-    none.verdict = "not found: the effect does not act on this sensor (a correction of its form, if it changes the field)";
+    none.verdict =
+        "not found: the effect does not act on this sensor (a correction of its form, if it changes the field)";
     return none;
   }
   if (e.read == nullptr) return from_fingerprint(effect_id, sensor, calibration, validation, fitted);

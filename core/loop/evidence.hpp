@@ -50,7 +50,7 @@ struct EvidenceSplit {
 
 // One split's reading of an effect's evidence.
 struct SplitReading {
-  double estimate = kEvidenceNaN;  // the effect's quantity read from the evidence (units: EffectEvidence::unit)
+  double estimate = kEvidenceNaN;   // the effect's quantity read from the evidence (units: EffectEvidence::unit)
   double std_error = kEvidenceNaN;  // from the scatter of the per-sample estimates
   double samples = 0;               // samples that contributed
   double noise_px = kEvidenceNaN;   // the split's tracker noise (tracker_noise_px), for the report
@@ -67,10 +67,10 @@ struct EvidenceRules {
 // The evidence for one effect of the answer and the finding.
 struct EffectEvidence {
   std::string effect;
-  std::string looked_at;               // what was read, in a phrase
-  std::string quantity, unit;          // what the estimate is ("press offset", "mm")
-  double unit_scale = 1;               // estimate * unit_scale is in `unit`
-  double fitted = kEvidenceNaN;        // the answer's value of the matching parameter (same units as estimate)
+  std::string looked_at;         // what was read, in a phrase
+  std::string quantity, unit;    // what the estimate is ("press offset", "mm")
+  double unit_scale = 1;         // estimate * unit_scale is in `unit`
+  double fitted = kEvidenceNaN;  // the answer's value of the matching parameter (same units as estimate)
   SplitReading calibration, validation;
   bool found = false;
   std::string verdict;  // "found: ..." or "not found: ..." with the numbers

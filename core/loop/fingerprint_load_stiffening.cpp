@@ -83,7 +83,8 @@ SplitReading read(const EvidenceSplit& split) {
   if (!r.missing.empty()) return r;
   const EvidenceRules rules;
   const double a = n.estimate, b = f.estimate;
-  const bool agree = a * b > 0 && std::max(std::abs(a), std::abs(b)) <= rules.agreement * std::min(std::abs(a), std::abs(b));
+  const bool agree = a * b > 0 &&
+                     std::max(std::abs(a), std::abs(b)) <= rules.agreement * std::min(std::abs(a), std::abs(b));
   if (!agree)
     r.missing = "the gain does not fall alike near the contact and away from it (" + r.detail +
                 "): the field changes shape with depth, a contact-form error, not a stiffer gel";

@@ -10,10 +10,10 @@ namespace sb {
 
 namespace {
 
-constexpr double kDetectSigmas = 5.0;   // z of the field's energy over the noise's: 5 sigma of a chi-square
+constexpr double kDetectSigmas = 5.0;     // z of the field's energy over the noise's: 5 sigma of a chi-square
 constexpr std::size_t kDetectFrames = 3;  // and it stays there (a tracker glitch is one frame)
-constexpr std::size_t kRateFrames = 3;  // frames in contact that set the press rate
-constexpr double kMinNoisePx = 0.005;   // a noise estimate below this (noise-free data) counts as this
+constexpr std::size_t kRateFrames = 3;    // frames in contact that set the press rate
+constexpr double kMinNoisePx = 0.005;     // a noise estimate below this (noise-free data) counts as this
 
 // Per frame: the measured field's amplitude above the noise, sqrt(max(0, sum_j |meas_kj|^2 - n_k sigma^2)) (px),
 // and the amplitude at which it departs, sqrt(kDetectSigmas sqrt(2 n_k)) sigma (z = kDetectSigmas). Interpolating
@@ -82,7 +82,9 @@ namespace {
 
 SplitReading read(const EvidenceSplit& split) {
   const PressOnset o = press_onsets(split);
-  SplitReading r = split_reading(split, o.before_contact_m, "recorded frame by frame from rest depart from the noise (a single image per press shows no onset)");
+  SplitReading r = split_reading(
+      split, o.before_contact_m,
+      "recorded frame by frame from rest depart from the noise (a single image per press shows no onset)");
   const double step = mean_estimate(o.rate_m).mean;
   r.detail = "one frame of press " + format_number(1e3 * step, "%.3g", "nan") + " mm";
   if (!r.missing.empty()) return r;

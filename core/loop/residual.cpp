@@ -55,8 +55,7 @@ std::vector<std::string> effects_by_evidence(const ResidualReport& r, bool found
 
 std::string labelled_answer(const ResidualReport& r) {
   std::string s = r.effects.form;
-  for (const auto& e : r.evidence)
-    s += " + " + e.effect + (e.found ? " (found)" : " (correction of unshown cause)");
+  for (const auto& e : r.evidence) s += " + " + e.effect + (e.found ? " (found)" : " (correction of unshown cause)");
   return s;
 }
 

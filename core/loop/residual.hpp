@@ -123,8 +123,8 @@ struct ResidualReport {
   EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
   EffectRounds effects;
-  std::string after_model;             // the final model by name
-  EffectFit after;                     // its joint fit and scores
+  std::string after_model;  // the final model by name
+  EffectFit after;          // its joint fit and scores
   // Step 6: each selected effect's evidence (effect_evidence.hpp), in the order of effects.selection.selected:
   // found, or a correction of unshown cause. The answer's name, headline and JSON say which is which.
   std::vector<EffectEvidence> evidence;

@@ -332,8 +332,8 @@ nlohmann::ordered_json selected_json(const ResidualReport& r) {
 nlohmann::ordered_json at_bound_json(const std::vector<ParamAtBound>& b) {
   nlohmann::ordered_json a = nlohmann::ordered_json::array();
   for (const auto& p : b)
-    a.push_back({{"param", p.name}, {"value", p.value}, {"bound", p.upper ? "upper" : "lower"},
-                 {"is_default", p.is_default}});
+    a.push_back(
+        {{"param", p.name}, {"value", p.value}, {"bound", p.upper ? "upper" : "lower"}, {"is_default", p.is_default}});
   return a;
 }
 
@@ -496,12 +496,13 @@ std::string evidence_headline(const ResidualReport& r) {
 std::string evidence_markdown(const ResidualReport& r) {
   std::string md;
   for (const auto& e : r.evidence)
-    md += "- **" + e.effect + (e.found ? "** found by its evidence" : "** a correction of unshown cause") +
-          " — " + e.looked_at + ": " + e.verdict + "\n";
+    md += "- **" + e.effect + (e.found ? "** found by its evidence" : "** a correction of unshown cause") + " — " +
+          e.looked_at + ": " + e.verdict + "\n";
   if (!md.empty() && !effects_by_evidence(r, false).empty())
-    md += "\nA correction of unshown cause lowers the held-out error, but nothing outside that gain shows the effect "
-          "is why: read it as a correction the model's form needs, not as a measured property of the sensor "
-          "(docs/effects.md).\n";
+    md +=
+        "\nA correction of unshown cause lowers the held-out error, but nothing outside that gain shows the effect "
+        "is why: read it as a correction the model's form needs, not as a measured property of the sensor "
+        "(docs/effects.md).\n";
   return md;
 }
 

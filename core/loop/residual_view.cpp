@@ -247,7 +247,8 @@ ResidualSummary load_residual_summary(const std::string& path) {
   if (after_effects != s.selected) jsonin::fail(path, "/after/effects", "differs from /selected");
 
   s.answer_labelled = s.after_model;
-  if (const auto* l = jsonin::find(j, "answer_labelled")) s.answer_labelled = jsonin::string(*l, path, "/answer_labelled");
+  if (const auto* l = jsonin::find(j, "answer_labelled"))
+    s.answer_labelled = jsonin::string(*l, path, "/answer_labelled");
 
   const nlohmann::json& cands = jsonin::member(j, "candidates", path, "");
   if (!cands.is_array()) jsonin::fail(path, "/candidates", "expected an array");
@@ -257,7 +258,8 @@ ResidualSummary load_residual_summary(const std::string& path) {
   // A selected effect's verdict says whether its evidence was found (reports that record it).
   for (auto& c : s.candidates)
     for (const auto& v : s.selected_evidence)
-      if (v.recorded && c.effect == v.effect && c.verdict == "selected") c.verdict = v.found ? "found" : "unshown cause";
+      if (v.recorded && c.effect == v.effect && c.verdict == "selected")
+        c.verdict = v.found ? "found" : "unshown cause";
   // Ranked: largest improvement first; an unscored (NaN) candidate last.
   std::stable_sort(s.candidates.begin(), s.candidates.end(), [](const auto& a, const auto& b) {
     const double ia = std::isfinite(a.improvement_pct) ? a.improvement_pct : -1e300;

@@ -22,10 +22,10 @@ struct ResidualCandidateView {
   bool accepted = false;
   std::string reason;  // why it was (not) selected
   // The reason in two words, for a table: "found" (selected, its evidence found), "unshown cause" (selected, a
-  // correction of unshown cause), "selected" (a report older than the evidence), "at a bound" (a model-form symptom), "no evidence"
-  // (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it gained < 0.5 %),
-  // "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports older than the
-  // list of model-form symptoms, which did not record the rules.
+  // correction of unshown cause), "selected" (a report older than the evidence), "at a bound" (a model-form
+  // symptom), "no evidence" (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it
+  // gained < 0.5 %), "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports
+  // older than the list of model-form symptoms, which did not record the rules.
   std::string verdict;
 };
 
@@ -84,9 +84,9 @@ struct ResidualSummary {
   std::vector<SelectedEffectView> selected_evidence;  // the same, with each one's evidence
   // The answer with each effect labelled "(found)" or "(correction of unshown cause)"; after_model in older reports.
   std::string answer_labelled;
-  std::vector<AtBoundView> answer_at_bound;  // empty in older reports, or none at a bound
-  nlohmann::json before_params;                   // the base model fitted alone (or as given)
-  nlohmann::json after_params;                    // the corrected model's whole parameter table
+  std::vector<AtBoundView> answer_at_bound;          // empty in older reports, or none at a bound
+  nlohmann::json before_params;                      // the base model fitted alone (or as given)
+  nlohmann::json after_params;                       // the corrected model's whole parameter table
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
   std::vector<InputResponseRowView> input_response;  // the base model's responses (empty: older reports, or none)
   double inputs_only_rmse_px = 0;                    // what the inputs alone predict on validation (with the above)
