@@ -166,7 +166,7 @@ void set_model_field(EvidenceSplit* split, const std::string& model_id, const Pa
 
 }  // namespace
 
-std::vector<EffectEvidence> answer_evidence(std::shared_ptr<const Sensor> sensor, const std::string& form,
+std::vector<EffectEvidence> answer_evidence(const std::shared_ptr<const Sensor>& sensor, const std::string& form,
                                             const std::vector<std::string>& selected, const ParamSet& params,
                                             const std::vector<FitSample>& calibration,
                                             const std::vector<FitSample>& validation) {

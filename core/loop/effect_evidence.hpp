@@ -28,7 +28,7 @@ EffectEvidence read_evidence(const std::string& effect_id, const Sensor& sensor,
 
 // The evidence of every effect of the answer `form` + `selected` at `params` (the answer's table): for each, the
 // answer without it is run on both splits (every sample) and read_evidence applied. In the order of `selected`.
-std::vector<EffectEvidence> answer_evidence(std::shared_ptr<const Sensor> sensor, const std::string& form,
+std::vector<EffectEvidence> answer_evidence(const std::shared_ptr<const Sensor>& sensor, const std::string& form,
                                             const std::vector<std::string>& selected, const ParamSet& params,
                                             const std::vector<FitSample>& calibration,
                                             const std::vector<FitSample>& validation);

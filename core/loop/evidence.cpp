@@ -85,7 +85,7 @@ void conclude_evidence(EffectEvidence* e, const EvidenceRules& rules) {
 bool finite(const Vec2& v) { return std::isfinite(v.x()) && std::isfinite(v.y()); }
 
 Vec2 residual_px(const FingerprintSample& s, std::size_t k, std::size_t j) {
-  const Vec2 nan(kEvidenceNaN, kEvidenceNaN);
+  Vec2 nan(kEvidenceNaN, kEvidenceNaN);
   if (k >= s.pred_px.size() || j >= s.pred_px[k].size() || k >= s.meas_px.size() || j >= s.meas_px[k].size())
     return nan;
   const Vec2 r = s.meas_px[k][j] - s.pred_px[k][j];
