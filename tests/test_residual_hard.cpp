@@ -143,6 +143,12 @@ void check_hard(const std::string& model, const std::string& set, const std::str
   INFO(j["rounds"].dump(1));
   REQUIRE(!r.effects.selection.selected.empty());
   CHECK(r.effects.selection.selected.front() == effect);
+  // The answer's evidence (core/loop/effect_evidence.hpp): the injected effect is found by it, nothing else is.
+  REQUIRE(r.evidence.size() == r.effects.selection.selected.size());
+  for (const auto& e : r.evidence) {
+    INFO(e.effect << ": " << e.verdict);
+    CHECK(e.found == (e.effect == effect));
+  }
   const double fitted = r.after.fit.params.get(effect + "." + main_param);
   INFO(effect << "." << main_param << ": fitted " << fitted << ", injected " << value);
   CHECK(std::abs(fitted - value) <= kMainParamRelTol * std::abs(value));
@@ -194,6 +200,11 @@ TEST_CASE("hard case: subsurface markers under a model wrong at the grid scale a
   const auto j = sb::residual_to_json(r);
   INFO(model << ": " << j["rounds"].dump(1));
   for (const auto& id : r.effects.selection.selected) CHECK(id != "subsurface_markers");
+  // Whatever else is selected is a correction of unshown cause: the set holds no other effect.
+  for (const auto& e : r.evidence) {
+    INFO(e.effect << ": " << e.verdict);
+    CHECK_FALSE(e.found);
+  }
   const auto& first_round = j["rounds"].at(0);
   bool reported = false;
   for (const auto& c : first_round)
@@ -220,6 +231,12 @@ TEST_CASE("hard case: untouched FE twin data select no nuisance effect", "[resid
   for (const auto& id : r.effects.selection.selected)
     nuisance += id == "viscoelastic_creep" || id == "lens_distortion" || id == "subsurface_markers";
   CHECK(nuisance == 0);
+  // Nothing is found: a selected correction (tool_frame on the whole set) is labelled a correction of unshown cause.
+  REQUIRE(r.evidence.size() == r.effects.selection.selected.size());
+  for (const auto& e : r.evidence) {
+    INFO(e.effect << ": " << e.verdict);
+    CHECK_FALSE(e.found);
+  }
 }
 
 // The former false positive: TacSL on the untouched twin_sphere8 selected subsurface markers (1.53 mm, +13 %),

@@ -322,3 +322,48 @@ TEST_CASE("field series job: the fields of stepping the model along the path; cl
 }
 
 }  // namespace test_residual_view
+
+namespace test_residual_view_evidence {
+
+using namespace sb;
+
+// `selected` as residual_to_json writes it now: each effect with its evidence. The summary keeps the ids, the
+// labels and the answer's parameters at a bound; the selected candidate's verdict says found or unshown cause.
+TEST_CASE("residual summary: selected effects with their evidence", "[residual_view]") {
+  auto j = nlohmann::json::parse(R"json({
+    "dataset": "twin/twin_sphere8", "model": "fots-reimpl",
+    "before": {"validation_rmse_px": 0.40, "params": {"kappa_s": 15000.0}},
+    "candidates": [
+      {"effect": "camera_misalignment", "validation_rmse_px": 0.20, "improvement_pct": 50.0,
+       "ci95_pct": [44.0, 55.0], "accepted": true, "reason": "selected"}],
+    "model_form_symptoms": [],
+    "selected": [{"effect": "camera_misalignment", "fingerprint_found": false, "evidence": "camera roll: not found"}],
+    "answer_labelled": "fots-reimpl + camera_misalignment (correction of unshown cause)",
+    "answer_at_bound": [{"param": "camera_misalignment.scale", "value": 1.25, "bound": "upper", "is_default": false}],
+    "after": {"effects": ["camera_misalignment"], "validation_rmse_px": 0.20,
+              "params": {"camera_misalignment.scale": 1.25, "camera_misalignment.rotation_rad": 0.0}}
+  })json");
+  const auto path = sbtest::temp_path("sb_test_residual_view_evidence").string() + ".json";
+  std::ofstream(path) << j.dump(1);
+  const ResidualSummary s = load_residual_summary(path);
+  REQUIRE(s.selected == std::vector<std::string>{"camera_misalignment"});
+  REQUIRE(s.selected_evidence.size() == 1);
+  CHECK(s.selected_evidence[0].recorded);
+  CHECK_FALSE(s.selected_evidence[0].found);
+  CHECK(s.selected_evidence[0].evidence == "camera roll: not found");
+  CHECK(s.answer_labelled == "fots-reimpl + camera_misalignment (correction of unshown cause)");
+  REQUIRE(s.answer_at_bound.size() == 1);
+  CHECK(s.answer_at_bound[0].param == "camera_misalignment.scale");
+  CHECK(s.answer_at_bound[0].bound == "upper");
+  REQUIRE(s.candidates.size() == 1);
+  CHECK(s.candidates[0].verdict == "unshown cause");
+  // A found effect, and a bad flag.
+  j["selected"][0]["fingerprint_found"] = true;
+  std::ofstream(path) << j.dump(1);
+  CHECK(load_residual_summary(path).candidates[0].verdict == "found");
+  j["selected"][0]["fingerprint_found"] = "yes";
+  std::ofstream(path) << j.dump(1);
+  CHECK_THROWS_WITH(load_residual_summary(path), Catch::Contains("/selected/0/fingerprint_found"));
+}
+
+}  // namespace test_residual_view_evidence

@@ -206,7 +206,7 @@ void ResidualSection::draw_summary(const ResidualSummary& r) const {
   ImGui::TextWrapped("%s on %s", display_name(r.model_id).c_str(), r.dataset.c_str());
   const double change = 100.0 * (r.after_rmse_px - r.before_rmse_px) / r.before_rmse_px;
   ImGui::Text("validation RMSE %.3f -> %.3f px (%+.1f %%)", r.before_rmse_px, r.after_rmse_px, change);
-  ImGui::TextWrapped("answer: %s", r.after_model.c_str());
+  ImGui::TextWrapped("answer: %s", r.answer_labelled.c_str());
   if (ImGui::IsItemHovered())
     wrapped_tooltip(
         "The model the analysis found: the selected model form (" +
@@ -214,6 +214,26 @@ void ResidualSection::draw_summary(const ResidualSummary& r) const {
         (r.selected.empty() ? std::string("none") : join(r.selected, " + ")) +
         "), fitted jointly. Load it anywhere as --model " + r.after_model + " with the report's _params.json file.");
   ImGui::Text("effects: %s", r.selected.empty() ? "nothing selected" : join(r.selected, " + ").c_str());
+  draw_evidence(r);
+}
+
+// Each selected effect: found by its evidence, or a correction of unshown cause; and the answer's parameters at a
+// bound (model-form symptoms of the answer itself).
+void ResidualSection::draw_evidence(const ResidualSummary& r) const {
+  for (const auto& v : r.selected_evidence) {
+    if (!v.recorded) continue;
+    const char* label = v.found ? "found" : "correction of unshown cause";
+    if (v.found) ImGui::PushStyleColor(ImGuiCol_Text, kSelectedColour);
+    ImGui::BulletText("%s: %s", v.effect.c_str(), label);
+    if (v.found) ImGui::PopStyleColor();
+    if (ImGui::IsItemHovered())
+      wrapped_tooltip(v.evidence + (v.found ? std::string()
+                                            : "\n\nIt lowers the held-out error, but its own signature is not in the "
+                                              "data: a correction the model's form needs, not a measured effect."));
+  }
+  for (const auto& b : r.answer_at_bound)
+    ImGui::BulletText("model-form symptom: %s = %.3g at its %s bound%s", b.param.c_str(), b.value, b.bound.c_str(),
+                      b.is_default ? " (no-effect default)" : "");
 }
 
 // The ranked candidates: gain, its confidence interval and the verdict (the selected ones in green).

@@ -53,6 +53,7 @@ class ResidualSection {
 
  private:
   void draw_summary(const ResidualSummary& r) const;
+  void draw_evidence(const ResidualSummary& r) const;
   void draw_candidates(const ResidualSummary& r) const;
   void draw_contact_frame_tables(const ResidualSummary& r);
   void draw_input_response_table(const ResidualSummary& r);

@@ -30,10 +30,6 @@ bool next_grid_point(const std::vector<std::vector<double>>& axes, std::vector<s
   return false;
 }
 
-// A fitted parameter closer to a bound than this fraction of its range (log range for log-scale specs)
-// sits at the bound.
-constexpr double kAtBoundFraction = 0.005;
-
 std::vector<std::string> without(std::vector<std::string> names, const std::vector<std::string>& held) {
   std::erase_if(names, [&](const std::string& n) { return std::find(held.begin(), held.end(), n) != held.end(); });
   return names;
@@ -45,16 +41,8 @@ std::vector<std::string> without(std::vector<std::string> names, const std::vect
 std::string params_at_bound(const ParamSet& params, const std::string& effect_id,
                             const std::vector<std::string>& held) {
   std::string out;
-  for (const auto& name : without(effect_fit_params(params, effect_id), held)) {
-    const ParamSpec& sp = params.specs()[static_cast<std::size_t>(params.index_of(name))];
-    const double v = params.get(name);
-    const bool lg = sp.log_scale && sp.min > 0;
-    const auto x = [&](double u) { return lg ? std::log(u) : u; };
-    const double tol = kAtBoundFraction * (x(sp.max) - x(sp.min));
-    for (double b : {sp.min, sp.max})
-      if (std::abs(x(v) - x(b)) <= tol && b != sp.default_value)
-        out += (out.empty() ? "" : ", ") + name + " = " + format_number(v, "%.4g");
-  }
+  for (const auto& b : params_at_bounds(params, without(effect_fit_params(params, effect_id), held)))
+    if (!b.is_default) out += (out.empty() ? "" : ", ") + b.name + " = " + format_number(b.value, "%.4g");
   return out;
 }
 

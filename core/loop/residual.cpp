@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 
 #include "core/base/elapsed.hpp"
 #include "core/effects/effects.hpp"
 #include "core/effects/model_spec.hpp"
+#include "core/loop/effect_evidence.hpp"
 #include "core/loop/effect_search.hpp"
 
 namespace sb {
@@ -21,6 +23,40 @@ std::vector<std::string> model_form_variants(const std::string& model_id) {
 std::vector<std::string> model_form_hold(const std::string& model_id) {
   if (model_id == "hydroshear") return {"lambda_d", "kappa_d"};
   return {};
+}
+
+std::vector<ParamAtBound> params_at_bounds(const ParamSet& params, const std::vector<std::string>& free) {
+  // Closer to a bound than this fraction of the range (of the log range for log-scale specs) is at it.
+  constexpr double kAtBoundFraction = 0.005;
+  std::vector<ParamAtBound> out;
+  for (const auto& name : free) {
+    const int i = params.index_of(name);
+    if (i < 0) continue;
+    const ParamSpec& sp = params.specs()[static_cast<std::size_t>(i)];
+    const double v = params[static_cast<std::size_t>(i)];
+    const bool lg = sp.log_scale && sp.min > 0;
+    const auto x = [&](double u) { return lg ? std::log(u) : u; };
+    const double tol = kAtBoundFraction * (x(sp.max) - x(sp.min));
+    for (const double b : {sp.min, sp.max})
+      if (std::abs(x(v) - x(b)) <= tol) {
+        out.push_back({name, v, b == sp.max, b == sp.default_value});
+        break;
+      }
+  }
+  return out;
+}
+
+std::vector<std::string> effects_by_evidence(const ResidualReport& r, bool found) {
+  std::vector<std::string> out;
+  for (const auto& e : r.evidence)
+    if (e.found == found) out.push_back(e.effect);
+  return out;
+}
+
+std::string labelled_answer(const ResidualReport& r) {
+  std::string s = r.effects.form;
+  for (const auto& e : r.evidence) s += " + " + e.effect + (e.found ? " (found)" : " (correction of unshown cause)");
+  return s;
 }
 
 std::string effect_set_key(const std::vector<std::string>& ids) {
@@ -233,6 +269,17 @@ std::optional<InputResponseAnalysis> ResidualLoop::input_response(const std::str
   return analyse_input_response(cal, val, degree);
 }
 
+// The answer's free parameters: its form's joint ones (when the base is fitted) and its effects'.
+std::vector<std::string> ResidualLoop::answer_free_params(const ResidualReport& rep) const {
+  std::vector<std::string> free;
+  if (o_.fit_base) free = joint_stage(rep.effects.form, false).params;
+  for (const auto& id : rep.effects.selection.selected) {
+    const auto names = effect_fit_params(rep.after.fit.params, id);
+    free.insert(free.end(), names.begin(), names.end());
+  }
+  return free;
+}
+
 ResidualReport ResidualLoop::run() const {
   const auto t0 = std::chrono::steady_clock::now();
   ResidualReport rep;
@@ -250,6 +297,10 @@ ResidualReport ResidualLoop::run() const {
   FinalModel final_model = final_fit(rep.effects);
   rep.after_model = final_model.model_id;
   rep.after = std::move(final_model.fit);
+  o_.progress("evidence of the answer's effects", 1.0);
+  rep.evidence = answer_evidence(in_.sensor, rep.effects.form, rep.effects.selection.selected, rep.after.fit.params,
+                                 in_.calibration, in_.validation);
+  rep.answer_at_bound = params_at_bounds(rep.after.fit.params, answer_free_params(rep));
   o_.progress("residual structure", 1.0);
   rep.structure_before = score(in_.model_id, rep.before);
   rep.structure_after = score(rep.after_model, rep.after);

@@ -25,6 +25,7 @@
 #include "core/base/progress.hpp"
 #include "core/calibration/fit.hpp"
 #include "core/calibration/metrics.hpp"
+#include "core/loop/evidence.hpp"
 #include "core/loop/input_response.hpp"
 #include "core/loop/residual_select.hpp"
 #include "core/loop/residual_structure.hpp"
@@ -104,6 +105,14 @@ struct FinalModel {
   EffectFit fit;
 };
 
+// A fitted parameter at a bound of its range (within kAtBoundFraction of it; of the log range for log-scale specs).
+struct ParamAtBound {
+  std::string name;  // the answer's table name ("hydroshear.mu", "skin_indentation.spread_m")
+  double value = 0;
+  bool upper = false;
+  bool is_default = false;  // the bound is the parameter's "no effect" default (the effect switched itself off)
+};
+
 struct ResidualReport {
   std::string dataset;
   std::string model_id;  // the base model
@@ -114,8 +123,14 @@ struct ResidualReport {
   EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
   EffectRounds effects;
-  std::string after_model;             // the final model by name
-  EffectFit after;                     // its joint fit and scores
+  std::string after_model;  // the final model by name
+  EffectFit after;          // its joint fit and scores
+  // Step 6: each selected effect's evidence (effect_evidence.hpp), in the order of effects.selection.selected:
+  // found, or a correction of unshown cause. The answer's name, headline and JSON say which is which.
+  std::vector<EffectEvidence> evidence;
+  // The answer's free parameters (its form's and its effects') at a bound of their range: model-form symptoms
+  // of the answer itself (answer_at_bound).
+  std::vector<ParamAtBound> answer_at_bound;
   ResidualStructure structure_before;  // base model, all samples (calibration + validation)
   ResidualStructure structure_after;   // final model, all samples
   // How the measured field and each model respond to the known inputs (input_response.hpp); empty when a
@@ -125,6 +140,15 @@ struct ResidualReport {
 };
 
 std::string effect_set_key(const std::vector<std::string>& ids);
+
+// The parameters of `params` named in `free` that sit at a bound of their range.
+std::vector<ParamAtBound> params_at_bounds(const ParamSet& params, const std::vector<std::string>& free);
+
+// The answer's name with each effect labelled: "hydroshear-contact + tool_frame (correction of unshown cause)";
+// found effects carry "(found)". The model id to load stays ResidualReport::after_model.
+std::string labelled_answer(const ResidualReport& r);
+// The selected effects whose evidence was found (found = true) or not (found = false), in selection order.
+std::vector<std::string> effects_by_evidence(const ResidualReport& r, bool found);
 
 // The model-form corrections of `model_id` that are models of their own (docs/effects.md, "Model-form
 // effects"): for hydroshear its layer, stick, layer+stick and contact variants; none for the others yet.
@@ -154,6 +178,7 @@ class ResidualLoop {
   EffectFit scored(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
                    std::size_t free_params) const;
   FitOptions fit_options() const;
+  std::vector<std::string> answer_free_params(const ResidualReport& rep) const;
   EffectFit fit_variant_alone(const std::string& v, const EffectFit& base) const;
   EffectFit fit_variant(const std::string& v, const EffectFit& base, const std::vector<std::string>& hold) const;
 

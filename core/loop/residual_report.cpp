@@ -315,6 +315,30 @@ nlohmann::ordered_json model_forms_json(const ModelFormRound& m) {
 
 }  // namespace
 
+namespace {
+
+// Each selected effect with its evidence: found, or a correction of unshown cause (effect_evidence.hpp).
+nlohmann::ordered_json selected_json(const ResidualReport& r) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i < r.effects.selection.selected.size(); ++i) {
+    const EffectEvidence* e = i < r.evidence.size() ? &r.evidence[i] : nullptr;
+    a.push_back({{"effect", r.effects.selection.selected[i]},
+                 {"fingerprint_found", e != nullptr && e->found},
+                 {"evidence", e != nullptr ? e->looked_at + ": " + e->verdict : std::string("not read")}});
+  }
+  return a;
+}
+
+nlohmann::ordered_json at_bound_json(const std::vector<ParamAtBound>& b) {
+  nlohmann::ordered_json a = nlohmann::ordered_json::array();
+  for (const auto& p : b)
+    a.push_back(
+        {{"param", p.name}, {"value", p.value}, {"bound", p.upper ? "upper" : "lower"}, {"is_default", p.is_default}});
+  return a;
+}
+
+}  // namespace
+
 nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   nlohmann::ordered_json j;
   j["dataset"] = r.dataset;
@@ -350,7 +374,9 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   }
   j["candidates"] = cands;
   j["model_form_symptoms"] = symptoms;
-  j["selected"] = r.effects.selection.selected;
+  j["selected"] = selected_json(r);
+  j["answer_labelled"] = labelled_answer(r);
+  j["answer_at_bound"] = at_bound_json(r.answer_at_bound);
   nlohmann::ordered_json sel_params = nlohmann::ordered_json::object();
   for (const auto& id : r.effects.selection.selected) sel_params[id] = effect_params_json(r.after.fit.params, id);
   j["selected_params"] = sel_params;
@@ -458,9 +484,41 @@ std::string search_subset_note(const ResidualReport& r) {
          "refitted on the whole calibration split.\n\n";
 }
 
+// Which of the answer's effects are found by their evidence and which are corrections of unshown cause.
+std::string evidence_headline(const ResidualReport& r) {
+  if (r.evidence.empty()) return "";
+  const auto found = effects_by_evidence(r, true), unshown = effects_by_evidence(r, false);
+  std::string h = " — found: " + (found.empty() ? std::string("none") : effect_set_key(found));
+  if (!unshown.empty()) h += "; correction of unshown cause: " + effect_set_key(unshown);
+  return h;
+}
+
+std::string evidence_markdown(const ResidualReport& r) {
+  std::string md;
+  for (const auto& e : r.evidence)
+    md += "- **" + e.effect + (e.found ? "** found by its evidence" : "** a correction of unshown cause") + " — " +
+          e.looked_at + ": " + e.verdict + "\n";
+  if (!md.empty() && !effects_by_evidence(r, false).empty())
+    md +=
+        "\nA correction of unshown cause lowers the held-out error, but nothing outside that gain shows the effect "
+        "is why: read it as a correction the model's form needs, not as a measured property of the sensor "
+        "(docs/effects.md).\n";
+  return md;
+}
+
+// The answer's own parameters at a bound: model-form symptoms of the answer, not only of rejected candidates.
+std::string answer_bounds_markdown(const ResidualReport& r) {
+  if (r.answer_at_bound.empty()) return "";
+  std::string md = "\nModel-form symptoms in the answer (free parameters at a bound of their range):\n\n";
+  for (const auto& b : r.answer_at_bound)
+    md += "- `" + b.name + "` = " + g3(b.value) + " at its " + (b.upper ? "upper" : "lower") + " bound" +
+          (b.is_default ? " (its no-effect default: the term switched itself off)" : "") + "\n";
+  return md;
+}
+
 // The answer first: the model the loop ends with, and how it got there.
 std::string answer_markdown(const ResidualReport& r) {
-  std::string md = "## The loop's answer: `" + r.after_model + "`\n\n";
+  std::string md = "## The loop's answer: `" + r.after_model + "`" + evidence_headline(r) + "\n\n";
   md += "Validation RMSE " + f3(rmse_of(r.before)) + " px (" + r.model_id + " as fitted) -> **" + f3(rmse_of(r.after)) +
         " px** (" + r.after_model + ", fitted jointly)";
   const double change = 100.0 * (rmse_of(r.after) - rmse_of(r.before)) / rmse_of(r.before);
@@ -472,7 +530,8 @@ std::string answer_markdown(const ResidualReport& r) {
   md += "- effects on " + r.effects.form + ": " +
         (r.effects.selection.selected.empty() ? std::string("none selected")
                                               : effect_set_key(r.effects.selection.selected)) +
-        final_refit_note(r.effects) + "\n\nLoad it anywhere as `--model " + r.after_model +
+        final_refit_note(r.effects) + "\n" + evidence_markdown(r) + answer_bounds_markdown(r) +
+        "\nLoad it anywhere as `--model " + r.after_model +
         "` with the parameter file written beside this report "
         "(`--params`), or open this report in the workbench.\n\n";
   return md;
@@ -621,7 +680,8 @@ std::string selected_markdown(const ResidualReport& r) {
   if (selected.empty())
     return "**Selected: nothing.** No catalogued effect improves the validation error of " + r.effects.form +
            " reliably at this data size; the rest of its residual is not attributed.\n\n";
-  std::string md = "**Selected: " + effect_set_key(selected) + "** on " + r.effects.form + ". Parameters found:\n\n";
+  std::string md = "**Selected: " + effect_set_key(selected) + "** on " + r.effects.form + " (" + labelled_answer(r) +
+                   "). Parameters fitted:\n\n";
   bool any_bound = false;
   for (const auto& id : selected) {
     const auto pj = effect_params_json(r.after.fit.params, id);

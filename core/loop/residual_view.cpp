@@ -35,6 +35,47 @@ std::vector<std::string> effect_list(const nlohmann::json& j, const std::string&
   return ids;
 }
 
+// `selected`: effect ids (older reports) or {"effect", "fingerprint_found", "evidence"} objects.
+std::vector<SelectedEffectView> selected_list(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_array()) jsonin::fail(file, "/selected", "expected an array of effects");
+  std::vector<SelectedEffectView> out;
+  nlohmann::json ids = nlohmann::json::array();
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string ptr = jsonin::child("/selected", i);
+    SelectedEffectView v;
+    if (j[i].is_object()) {
+      ids.push_back(jsonin::member(j[i], "effect", file, ptr));
+      const nlohmann::json& found = jsonin::member(j[i], "fingerprint_found", file, ptr);
+      if (!found.is_boolean()) jsonin::fail(file, ptr + "/fingerprint_found", "expected true or false");
+      v.recorded = true;
+      v.found = found.get<bool>();
+      v.evidence = jsonin::string(jsonin::member(j[i], "evidence", file, ptr), file, ptr + "/evidence");
+    } else {
+      ids.push_back(j[i]);
+    }
+    out.push_back(v);
+  }
+  const auto names = effect_list(ids, file, "/selected");
+  for (std::size_t i = 0; i < names.size(); ++i) out[i].effect = names[i];
+  return out;
+}
+
+std::vector<AtBoundView> at_bound_list(const nlohmann::json& j, const std::string& file) {
+  if (!j.is_array()) jsonin::fail(file, "/answer_at_bound", "expected an array");
+  std::vector<AtBoundView> out;
+  for (std::size_t i = 0; i < j.size(); ++i) {
+    const std::string ptr = jsonin::child("/answer_at_bound", i);
+    AtBoundView v;
+    v.param = jsonin::string(jsonin::member(j[i], "param", file, ptr), file, ptr + "/param");
+    v.bound = jsonin::string(jsonin::member(j[i], "bound", file, ptr), file, ptr + "/bound");
+    v.value = number_or_nan(j[i], "value", file, ptr);
+    const nlohmann::json& d = jsonin::member(j[i], "is_default", file, ptr);
+    v.is_default = d.is_boolean() && d.get<bool>();
+    out.push_back(v);
+  }
+  return out;
+}
+
 // The candidate's verdict in two words, from the fields residual_to_json writes.
 // rules_recorded: the report lists model-form symptoms (written since the selection records its vetoes and
 // fingerprints); an older one has only the reason's text, and the verdict does not guess from it.
@@ -188,7 +229,9 @@ ResidualSummary load_residual_summary(const std::string& path) {
   s.after_rmse_px = number_or_nan(after, "validation_rmse_px", path, "/after");
   s.after_params = jsonin::member(after, "params", path, "/after");
   jsonin::require_object(s.after_params, path, "/after/params");
-  s.selected = effect_list(jsonin::member(j, "selected", path, ""), path, "/selected");
+  s.selected_evidence = selected_list(jsonin::member(j, "selected", path, ""), path);
+  for (const auto& v : s.selected_evidence) s.selected.push_back(v.effect);
+  if (const auto* b = jsonin::find(j, "answer_at_bound")) s.answer_at_bound = at_bound_list(*b, path);
   if (const auto* form = jsonin::find(j, "model_form_selected"))
     s.model_form = jsonin::string(*form, path, "/model_form_selected");
   s.after_model = ModelSpec{s.model_id, s.selected}.id();
@@ -203,11 +246,20 @@ ResidualSummary load_residual_summary(const std::string& path) {
   const auto after_effects = effect_list(jsonin::member(after, "effects", path, "/after"), path, "/after/effects");
   if (after_effects != s.selected) jsonin::fail(path, "/after/effects", "differs from /selected");
 
+  s.answer_labelled = s.after_model;
+  if (const auto* l = jsonin::find(j, "answer_labelled"))
+    s.answer_labelled = jsonin::string(*l, path, "/answer_labelled");
+
   const nlohmann::json& cands = jsonin::member(j, "candidates", path, "");
   if (!cands.is_array()) jsonin::fail(path, "/candidates", "expected an array");
   const bool rules_recorded = jsonin::find(j, "model_form_symptoms") != nullptr;
   for (std::size_t i = 0; i < cands.size(); ++i)
     s.candidates.push_back(read_candidate(cands[i], path, jsonin::child("/candidates", i), rules_recorded));
+  // A selected effect's verdict says whether its evidence was found (reports that record it).
+  for (auto& c : s.candidates)
+    for (const auto& v : s.selected_evidence)
+      if (v.recorded && c.effect == v.effect && c.verdict == "selected")
+        c.verdict = v.found ? "found" : "unshown cause";
   // Ranked: largest improvement first; an unscored (NaN) candidate last.
   std::stable_sort(s.candidates.begin(), s.candidates.end(), [](const auto& a, const auto& b) {
     const double ia = std::isfinite(a.improvement_pct) ? a.improvement_pct : -1e300;

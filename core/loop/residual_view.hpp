@@ -21,10 +21,11 @@ struct ResidualCandidateView {
   double ci95_low_pct = 0, ci95_high_pct = 0;
   bool accepted = false;
   std::string reason;  // why it was (not) selected
-  // The reason in two words, for a table: "selected", "at a bound" (a model-form symptom), "no evidence"
-  // (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it gained < 0.5 %),
-  // "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports older than the
-  // list of model-form symptoms, which did not record the rules.
+  // The reason in two words, for a table: "found" (selected, its evidence found), "unshown cause" (selected, a
+  // correction of unshown cause), "selected" (a report older than the evidence), "at a bound" (a model-form
+  // symptom), "no evidence" (its fingerprint, the evidence where the effect shows, not found), "screened" (alone it
+  // gained < 0.5 %), "vetoed", "within noise" (the interval or BIC rule), "not scored"; "not selected" in reports
+  // older than the list of model-form symptoms, which did not record the rules.
   std::string verdict;
 };
 
@@ -52,6 +53,22 @@ struct BinnedMeanView {
   Vec2 shift_px = Vec2::Zero();
 };
 
+// A selected effect and its evidence (core/loop/effect_evidence.hpp): found, or a correction of unshown cause.
+// Reports older than the evidence list only the ids: `recorded` false.
+struct SelectedEffectView {
+  std::string effect;
+  bool recorded = false;
+  bool found = false;
+  std::string evidence;
+};
+
+// A parameter of the answer at a bound of its range (a model-form symptom of the answer itself).
+struct AtBoundView {
+  std::string param, bound;
+  double value = 0;
+  bool is_default = false;
+};
+
 struct ResidualSummary {
   std::string file;  // the JSON it came from
   std::string dataset;
@@ -64,8 +81,12 @@ struct ResidualSummary {
   std::string model_form;                         // the selected model form ("" when none was, or the report is older)
   std::vector<ResidualCandidateView> candidates;  // ranked: largest improvement first
   std::vector<std::string> selected;              // effect ids, in the order they wrap the form
-  nlohmann::json before_params;                   // the base model fitted alone (or as given)
-  nlohmann::json after_params;                    // the corrected model's whole parameter table
+  std::vector<SelectedEffectView> selected_evidence;  // the same, with each one's evidence
+  // The answer with each effect labelled "(found)" or "(correction of unshown cause)"; after_model in older reports.
+  std::string answer_labelled;
+  std::vector<AtBoundView> answer_at_bound;          // empty in older reports, or none at a bound
+  nlohmann::json before_params;                      // the base model fitted alone (or as given)
+  nlohmann::json after_params;                       // the corrected model's whole parameter table
   std::vector<ContactFrameTableView> contact_frame;  // where and when the base is wrong (empty: older reports)
   std::vector<InputResponseRowView> input_response;  // the base model's responses (empty: older reports, or none)
   double inputs_only_rmse_px = 0;                    // what the inputs alone predict on validation (with the above)

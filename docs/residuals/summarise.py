@@ -10,19 +10,42 @@ def pct(before, after):
     return 100.0 * (after - before) / before if before else float("nan")
 
 
+def selected(d):
+    """The selected effects as (id, found): found is True / False by the effect's evidence, None in older reports."""
+    return [(e["effect"], e["fingerprint_found"]) if isinstance(e, dict) else (e, None) for e in d["selected"]]
+
+
+def selected_ids(d):
+    return [e for e, _ in selected(d)]
+
+
+def label(found):
+    return {True: "found", False: "correction of unshown cause", None: "evidence not read"}[found]
+
+
 def fmt_effects(d):
-    sel = d["selected"]
+    sel = selected(d)
     if not sel:
         return "nothing"
     parts = []
-    for e in sel:
+    for e, found in sel:
         params = d["selected_params"].get(e, {})
-        parts.append(e + " (" + ", ".join(f"{k.split('.', 1)[-1]} {v:.3g}" for k, v in params.items()) + ")")
+        parts.append(f"{e} **{label(found)}** (" +
+                     ", ".join(f"{k.split('.', 1)[-1]} {v:.3g}" for k, v in params.items()) + ")")
     return " + ".join(parts)
 
 
+def fmt_at_bound(d):
+    """The answer's own parameters at a bound (model-form symptoms of the answer), or '-'."""
+    b = d.get("answer_at_bound", [])
+    if not b:
+        return "-"
+    return ", ".join(f"{p['param']} {p['value']:.3g} ({p['bound']}{', default' if p['is_default'] else ''})"
+                     for p in b)
+
+
 def best_rejected(d):
-    cands = [c for c in d["candidates"] if c["effect"] not in d["selected"] and c["improvement_pct"] is not None]
+    cands = [c for c in d["candidates"] if c["effect"] not in selected_ids(d) and c["improvement_pct"] is not None]
     if not cands:
         return "-"
     c = max(cands, key=lambda c: c["improvement_pct"])
@@ -77,13 +100,13 @@ def goal_table(runs):
 
 
 runs = []
-print("| dataset | model | the loop's answer | validation RMSE before -> after (px) | change | model form selected (val. RMSE px) | effects selected on it (fitted parameters) | best candidate not selected (95 % CI) |")
-print("|---|---|---|---|---|---|---|---|")
+print("| dataset | model | the loop's answer | validation RMSE before -> after (px) | change | model form selected (val. RMSE px) | effects selected on it: found or a correction of unshown cause (fitted parameters) | answer's parameters at a bound | best candidate not selected (95 % CI) |")
+print("|---|---|---|---|---|---|---|---|---|")
 for f in sorted(here.glob("*/residual.json")):
     d = json.loads(f.read_text())
     runs.append(d)
     b, a = d["before"]["validation_rmse_px"], d["after"]["validation_rmse_px"]
     answer = d.get("after_model", d["model"])
     print(f"| [{d['dataset']}]({f.parent.name}/report.md) | {d['model']} | `{answer}` | {b:.3f} -> {a:.3f} | "
-          f"{pct(b, a):+.1f} % | {model_form(d)} | {fmt_effects(d)} | {best_rejected(d)} |")
+          f"{pct(b, a):+.1f} % | {model_form(d)} | {fmt_effects(d)} | {fmt_at_bound(d)} | {best_rejected(d)} |")
 goal_table(runs)
