@@ -157,18 +157,7 @@ BENCHMARK(BM_TactipLoop)->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1)
 void BM_TactipNewSensorLoop(benchmark::State& state) {
   const std::string root = sb::resolve_data_root();
   const fs::path dir = fs::temp_directory_path() / "shearbench_bench_tactip_new_sensor";
-  sbtest::TactipVariant v;
-  v.samples = 1000;
-  v.scale = 1.06;
-  v.rotate_deg = 17;
-  v.width_px = 445;
-  v.height_px = 440;
-  v.drop_reference = true;
-  v.press_offset_mm = 0.8;
-  v.out_of_contact = 12;
-  v.sort_by_depth = true;
-  v.crlf_bom = true;
-  v.reorder_columns = true;
+  const sbtest::TactipVariant v = sbtest::held_out_like_variant(1000);
   sbtest::write_tactip_variant(fs::path(root) / "raw" / "tactip_shear", dir / "raw", v);
   for (auto _ : state) {
     sb::import_tactip_shear((dir / "raw").string(), (dir / "out").string());

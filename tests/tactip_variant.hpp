@@ -30,6 +30,25 @@ struct TactipVariant {
   bool reorder_columns = false;  // the columns reversed and one more appended
 };
 
+// A second sensor as the held-out TacTip presents itself: magnified 1.06, turned 17 deg, cropped to 445 x 440 px,
+// no images/image_0.png, the press depths 0.8 mm deeper with 12 presses short of the touch, rows sorted by depth,
+// targets.csv with CRLF, a BOM, reordered and extra columns.
+inline TactipVariant held_out_like_variant(int samples) {
+  TactipVariant v;
+  v.samples = samples;
+  v.scale = 1.06;
+  v.rotate_deg = 17;
+  v.width_px = 445;
+  v.height_px = 440;
+  v.drop_reference = true;
+  v.press_offset_mm = 0.8;
+  v.out_of_contact = 12;
+  v.sort_by_depth = true;
+  v.crlf_bom = true;
+  v.reorder_columns = true;
+  return v;
+}
+
 // The image transform of a variant: rotation and scale about the source's centre, onto the new crop.
 inline cv::Mat variant_image(const cv::Mat& src, const TactipVariant& v) {
   const cv::Size out(v.width_px > 0 ? v.width_px : src.cols, v.height_px > 0 ? v.height_px : src.rows);

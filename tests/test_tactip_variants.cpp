@@ -143,17 +143,7 @@ TEST_CASE("TacTip variant: the held-out case, every change at once and nothing t
   // the rest (one of the presses short of the touch), the rotation drops by 17 deg (1.5 deg), the focal length
   // scales (1 %), and the contact onset is identified at the original's extrapolated onset + 0.8 mm (tolerance
   // 0.25 mm: the line through the shallow presses' moving fraction).
-  sbtest::TactipVariant v;
-  v.scale = 1.06;
-  v.rotate_deg = 17;
-  v.width_px = 445;
-  v.height_px = 440;
-  v.drop_reference = true;
-  v.press_offset_mm = 0.8;
-  v.out_of_contact = 12;
-  v.sort_by_depth = true;
-  v.crlf_bom = true;
-  v.reorder_columns = true;
+  const sbtest::TactipVariant v = sbtest::held_out_like_variant(sbtest::TactipVariant{}.samples);
   const VariantResult r = run_variant("heldout_like", v);
   const VariantResult& o = original();
   CHECK_THAT(r.description.at("reference").get<std::string>(), Catch::Contains("shallowest press"));

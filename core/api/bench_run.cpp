@@ -10,17 +10,12 @@
 
 #include "core/api/sensor_model_impl.hpp"
 #include "core/models/bench_workload.hpp"
+#include "core/models/model.hpp"
 
 namespace sb {
 
-const std::vector<std::string>& bench_model_ids() {
-  static const std::vector<std::string> ids = {"hydroshear",        "fots",
-                                               "fots-reimpl",       "tacsl",
-                                               "tacsl-normalized",  "hydroshear-layer",
-                                               "hydroshear-stick",  "hydroshear-layer-stick",
-                                               "hydroshear-contact"};
-  return ids;
-}
+// Every model form is benchmarked, in display order.
+const std::vector<std::string>& bench_model_ids() { return model_ids(); }
 
 Stats bench_stats(std::vector<double> v) {
   if (v.empty()) throw std::invalid_argument("bench_stats: no values");
