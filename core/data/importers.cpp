@@ -15,6 +15,7 @@
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
 #include "core/base/format.hpp"
+#include "core/base/median.hpp"
 #include "core/base/numbers.hpp"
 #include "core/data/tactip_sensor.hpp"
 #include "core/sensor/camera.hpp"
@@ -119,13 +120,6 @@ FotsCsv read_fots_csv(const std::string& path) {
   return c;
 }
 
-double median_of(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 double pitch_of(const std::vector<Vec2>& pts) {
   std::vector<double> nn;
   for (std::size_t i = 0; i < pts.size(); ++i) {
@@ -134,7 +128,7 @@ double pitch_of(const std::vector<Vec2>& pts) {
       if (i != j) best = std::min(best, (pts[i] - pts[j]).norm());
     nn.push_back(best);
   }
-  return median_of(nn);
+  return median(nn);
 }
 
 }  // namespace
@@ -233,7 +227,7 @@ SphereContactEstimate estimate_sphere_contact_with_radius(const std::vector<Vec2
   SphereContactEstimate e;
   std::vector<double> dx, dy;
   for (const auto& d : disp) dx.push_back(d.x()), dy.push_back(d.y());
-  e.drift_px = Vec2(median_of(dx), median_of(dy));
+  e.drift_px = Vec2(median(dx), median(dy));
   e.centre_px = centre_px;
   e.a_px = a_px;
   e.a_sigma_px = a_sigma_px;
@@ -259,7 +253,7 @@ SphereContactEstimate estimate_sphere_contact(const std::vector<Vec2>& rest, con
   const std::size_t n = rest.size();
   std::vector<double> dx, dy;
   for (const auto& d : disp) dx.push_back(d.x()), dy.push_back(d.y());
-  e.drift_px = Vec2(median_of(dx), median_of(dy));
+  e.drift_px = Vec2(median(dx), median(dy));
   std::vector<Vec2> d(n);
   double peak = 0;
   for (std::size_t i = 0; i < n; ++i) d[i] = disp[i] - e.drift_px, peak = std::max(peak, d[i].norm());
