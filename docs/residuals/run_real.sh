@@ -22,7 +22,7 @@ for model in fots-reimpl hydroshear tacsl; do
 done
 # The real TacTip set, whole (1000 calibration + 999 validation samples), each model's loop with its
 # model-form round (HydroShear's four variants), every catalogued effect a candidate, three rounds:
-# HydroShear 12.5 min, TacSL 4.4, FOTS (re-impl.) 12.5 on two cores (session 31; the script 31 min). SHEARBENCH_SKIP_TACTIP=1
+# HydroShear 12.5 min, TacSL 4.4, FOTS (re-impl.) 12.5 on two cores (the script 31 min). SHEARBENCH_SKIP_TACTIP=1
 # skips them.
 if [[ "${SHEARBENCH_SKIP_TACTIP:-0}" != 1 ]]; then
   "$exe" import --source tactip_shear --in "$data/raw/tactip_shear" --out "$imp/tactip" >/dev/null
