@@ -172,6 +172,20 @@ def release_table():
     return out
 
 
+def model_forms_table(runs, folder="twin_sphere35_hydroshear"):
+    """One run's model-form round: every variant against the fitted base, by the selection rule."""
+    d = next(d for d in runs if d["_folder"] == folder)
+    out = [f"Base `{d['model']}` fitted on {d['dataset']}: {d['before']['validation_rmse_px']:.3f} px "
+           f"([report]({'residuals/' + folder}/report.md)).", "",
+           "| variant | val. RMSE px | improvement % | 95 % CI % | ΔBIC | accepted |", "|---|---|---|---|---|---|"]
+    for f in d["model_forms"]:
+        lo, hi = f["ci95_pct"]
+        sel = " (selected)" if f["model"] == d.get("model_form_selected") else ""
+        out.append(f"| {f['model']} | {f['validation_rmse_px']:.3f} | {f['improvement_pct']:.1f} | [{lo:.1f}, {hi:.1f}] | "
+                   f"{f['delta_bic']:.0f} | {'yes' if f['accepted'] else 'no'}{sel} |")
+    return out
+
+
 def param_sets_table():
     """Each shipped parameter set: where it was fitted and every published model's validation RMSE it records."""
     models = [("hydroshear", "HydroShear"), ("fots", "FOTS"), ("fots-reimpl", "FOTS re-impl."), ("tacsl", "TacSL"),
@@ -194,6 +208,7 @@ def blocks():
         here / "README.md": {"loop": loop_table(runs), "goal": goal_table(runs), "release": release_table()},
         docs / "fidelity.md": {"fits": fits_table(runs)},
         docs / "workbench.md": {"param_sets": param_sets_table()},
+        docs / "effects.md": {"model_forms": model_forms_table(runs)},
     }
 
 
