@@ -37,7 +37,7 @@ Drag far_drag(const EvidenceSample& e, double min_slide_m, bool* slid) {
   return {sum / n, model / n};
 }
 
-SplitReading read(const Sensor& sensor, const EvidenceSplit& split) {
+SplitReading dome_sway_reading(const Sensor& sensor, const EvidenceSplit& split) {
   const double min_slide = kSlideTravelPx * sensor.camera.metres_per_px();
   std::vector<double> drag, model;
   int slides = 0;
@@ -77,8 +77,8 @@ EffectEvidence dome_sway_evidence(const Sensor& sensor, const EvidenceSplit& cal
   e.quantity = "far-field drag along the slide";
   e.unit = "px";
   e.fitted = fitted("compliance_m");  // >= 0: the array moves with the slide
-  e.calibration = read(sensor, calibration);
-  e.validation = read(sensor, validation);
+  e.calibration = dome_sway_reading(sensor, calibration);
+  e.validation = dome_sway_reading(sensor, validation);
   conclude_evidence(&e);
   return e;
 }

@@ -12,7 +12,7 @@ namespace {
 
 constexpr double kNearFraction = 0.5;  // |pred| >= this x the frame's largest: the near part
 constexpr double kFarFraction = 0.1;   // down to this: the far part (below, the field is the noise's)
-constexpr std::size_t kMinFrames = 3;
+constexpr std::size_t kStiffeningMinFrames = 3;
 // The depths must span this fraction of the deepest for a slope (a hold is one depth).
 constexpr double kMinDepthSpan = 0.25;
 
@@ -21,7 +21,7 @@ struct Line {
   void add(double x, double y) { sx += x, sy += y, sxx += x * x, sxy += x * y, ++n; }
   // b / a of y = a + b x (NaN when under-determined).
   double slope_over_intercept(double min_span) const {
-    if (n < kMinFrames) return kEvidenceNaN;
+    if (n < kStiffeningMinFrames) return kEvidenceNaN;
     const double var = sxx / n - (sx / n) * (sx / n);
     if (!(var > 0) || !(std::sqrt(var) >= min_span)) return kEvidenceNaN;
     const double b = (sxy / n - (sx / n) * (sy / n)) / var;
@@ -71,7 +71,7 @@ DepthGainSlopes depth_gain_slopes(const EvidenceSplit& split) {
 
 namespace {
 
-SplitReading read(const EvidenceSplit& split) {
+SplitReading load_stiffening_reading(const EvidenceSplit& split) {
   const DepthGainSlopes g = depth_gain_slopes(split);
   const std::string what = "press over a depth range";
   SplitReading r = reading_of(g.all, what);
@@ -101,8 +101,8 @@ EffectEvidence load_stiffening_evidence(const Sensor& /*sensor*/, const Evidence
   e.quantity = "stiffening beta";
   e.unit = "/m";
   e.fitted = fitted("beta_per_m");
-  e.calibration = read(calibration);
-  e.validation = read(validation);
+  e.calibration = load_stiffening_reading(calibration);
+  e.validation = load_stiffening_reading(validation);
   conclude_evidence(&e);
   return e;
 }

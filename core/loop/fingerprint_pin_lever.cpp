@@ -7,10 +7,10 @@ namespace sb {
 
 namespace {
 
-constexpr double kMinOffsetPx = 1.0;  // a marker this close to the contact centre has no outward direction
+constexpr double kPinMinOffsetPx = 1.0;  // a marker this close to the contact centre has no outward direction
 // Press frames a sample needs: within one frame the penetration varies across the contact too, and a form error
 // at the contact's edge (where h -> 0) reads as a constant there; over a press each marker's own h grows.
-constexpr std::size_t kMinFrames = 3;
+constexpr std::size_t kPinMinFrames = 3;
 
 double lever(const Sensor& sensor, const EvidenceSample& s) {
   if (s.marker_depth_m.empty()) return kEvidenceNaN;
@@ -24,12 +24,12 @@ double lever(const Sensor& sensor, const EvidenceSample& s) {
       const double h = s.marker_depth_m[k][j];
       const Vec2 r = residual_px(s.fp, k, j);
       const Vec2 out = sensor.markers_rest_px[j] - s.fp.contact_centre_px[k];
-      if (!(h > 0) || !finite(r) || out.norm() < kMinOffsetPx) continue;
+      if (!(h > 0) || !finite(r) || out.norm() < kPinMinOffsetPx) continue;
       const double rho = out.norm(), y = r.dot(out) / rho, x2 = rho * h;
       n11 += rho * rho, n12 += rho * x2, n22 += x2 * x2, v1 += rho * y, v2 += x2 * y;
     }
   }
-  if (frames < kMinFrames) return kEvidenceNaN;
+  if (frames < kPinMinFrames) return kEvidenceNaN;
   const double det = n11 * n22 - n12 * n12;
   // A depth range is needed to tell the constant from the growing part (det ~ 0 at one depth).
   if (!(det > 1e-9 * n11 * n22)) return kEvidenceNaN;

@@ -8,7 +8,7 @@ namespace sb {
 namespace {
 
 constexpr double kMaxCollinearity = 0.95;  // |corr(h u_pp, h u_cc)| above this: the contact is at the centre
-constexpr double kMinOffsetPx = 1.0;       // a marker this close to the centre or the contact has no direction
+constexpr double kSkinMinOffsetPx = 1.0;       // a marker this close to the centre or the contact has no direction
 
 double convergence(const Sensor& sensor, const EvidenceSample& s) {
   if (s.marker_depth_m.empty()) return kEvidenceNaN;
@@ -21,7 +21,7 @@ double convergence(const Sensor& sensor, const EvidenceSample& s) {
       if (!(h > 0) || !finite(r)) continue;
       const Vec2& m = sensor.markers_rest_px[j];
       const Vec2 to_pp = sensor.camera.principal_px - m, to_cc = s.fp.contact_centre_px[k] - m;
-      if (to_pp.norm() < kMinOffsetPx || to_cc.norm() < kMinOffsetPx) continue;
+      if (to_pp.norm() < kSkinMinOffsetPx || to_cc.norm() < kSkinMinOffsetPx) continue;
       const Vec2 x1 = h * to_pp.normalized(), x2 = h * to_cc.normalized();
       n11 += x1.squaredNorm(), n12 += x1.dot(x2), n22 += x2.squaredNorm();
       v1 += x1.dot(r), v2 += x2.dot(r);

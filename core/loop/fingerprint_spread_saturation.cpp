@@ -10,7 +10,7 @@ namespace sb {
 
 namespace {
 
-SplitReading read(const EvidenceSplit& split) {
+SplitReading spread_saturation_reading(const EvidenceSplit& split) {
   const DepthGainSlopes g = depth_gain_slopes(split);
   std::vector<double> diff;
   for (std::size_t i = 0; i < g.near.size(); ++i) diff.push_back(g.near[i] - g.far[i]);
@@ -31,8 +31,8 @@ EffectEvidence spread_saturation_evidence(const Sensor& /*sensor*/, const Eviden
   // The fit's sign: a saturating spread (gain > 0) lowers the near field at depth (a positive difference).
   const double gain = fitted("gain_px");
   e.fitted = std::isfinite(gain) ? gain : kEvidenceNaN;
-  e.calibration = read(calibration);
-  e.validation = read(validation);
+  e.calibration = spread_saturation_reading(calibration);
+  e.validation = spread_saturation_reading(validation);
   conclude_evidence(&e);
   return e;
 }

@@ -80,7 +80,7 @@ PressOnset press_onsets(const EvidenceSplit& split) {
 
 namespace {
 
-SplitReading read(const EvidenceSplit& split) {
+SplitReading tool_frame_reading(const EvidenceSplit& split) {
   const PressOnset o = press_onsets(split);
   SplitReading r = split_reading(
       split, o.before_contact_m,
@@ -107,8 +107,8 @@ EffectEvidence tool_frame_evidence(const Sensor& /*sensor*/, const EvidenceSplit
   e.unit = "mm";
   e.unit_scale = 1e3;
   e.fitted = fitted("press_offset_m");
-  e.calibration = read(calibration);
-  e.validation = read(validation);
+  e.calibration = tool_frame_reading(calibration);
+  e.validation = tool_frame_reading(validation);
   conclude_evidence(&e);
   return e;
 }

@@ -1,4 +1,5 @@
 #include "core/loop/release_phase.hpp"
+#include "core/base/numbers.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,7 +16,6 @@ constexpr int kMinReleaseFrames = 4;
 constexpr double kSettledFraction = 0.8;
 constexpr double kMaxTauS = 1000.0;
 constexpr int kTauGridPerDecade = 40;
-const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool valid(const Vec2& d) { return std::isfinite(d.x()) && std::isfinite(d.y()); }
 
