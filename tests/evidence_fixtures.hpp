@@ -1,6 +1,7 @@
 #pragma once
 // Synthetic splits for the evidence readers (core/loop/evidence.hpp): presses and slides on the default sensor's
 // 7 x 9 marker grid (33 px pitch), with a model field of known shape and a measured field built from it by hand.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <random>
@@ -22,7 +23,8 @@ struct FrameSpec {
   bool in_contact = false;
   sb::Vec2 centre_px = sb::Vec2::Zero();
   double travel_px = 0;
-  sb::Vec2 slide_px = sb::Vec2::Zero();  // the indenter's lateral travel since first contact (px of E's xy)
+  sb::Vec2 slide_px = sb::Vec2::Zero();     // the indenter's lateral travel since first contact (px of E's xy)
+  sb::Vec2 approach_xy = sb::Vec2::Zero();  // (R_EI z)_xy: the tilt's sine along its direction
 };
 
 // The model's field of a press about `centre`: `amp` px along the outward radius at one Gaussian width (2 pitches)
@@ -66,7 +68,8 @@ inline sb::EvidenceSplit make_split(int n, const FramesOf& frames, const PredOf&
       e.fp.contact_centre_px.push_back(f.centre_px);
       e.fp.travel_px.push_back(f.travel_px);
       e.depth_m.push_back(f.depth_m);
-      e.tilt_rad.push_back(0);
+      e.tilt_rad.push_back(std::asin(std::min(1.0, f.approach_xy.norm())));
+      e.approach_xy.push_back(f.approach_xy);
       e.slide_m.push_back(f.slide_px * s.camera.metres_per_px());
       if (marker_depth) e.marker_depth_m.push_back(h);
     }

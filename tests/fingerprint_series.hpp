@@ -23,7 +23,7 @@ inline const sb::Sensor& sensor() {
 
 // Runs `effect` at `params` over a series frame by frame (as the effect wraps a model).
 inline Series apply_effect(const std::string& effect, const std::map<std::string, double>& params, const Series& in,
-                    double dt_s, const sb::Sensor& on = sensor()) {
+                           double dt_s, const sb::Sensor& on = sensor()) {
   auto e = sb::make_effect(effect);
   sb::ParamSet p = e->params();
   for (const auto& [name, value] : params) p.set(name, value);

@@ -24,7 +24,6 @@ using sb::Vec2;
 
 namespace {
 
-
 // A press of `amplitude` px (marker j moves amplitude * (j % 7 + 1) / 7 along x and half that along y):
 // 5 frames free, a 10-frame ramp, a held press of `hold` frames, a 10-frame release, 30 frames free.
 struct Press {
@@ -157,8 +156,5 @@ TEST_CASE("creep fingerprint: an SLS-filtered held press gives tau and c back", 
     CHECK(split->verdict.find("disagree") != std::string::npos);
   }
 }
-
-
-
 
 }  // namespace test_fingerprint_creep

@@ -203,5 +203,4 @@ TEST_CASE("lens fingerprint: a rest grid that is a lattice is the evidence, what
 
 // ------------------------------------------------------------------------------------- subsurface
 
-
 }  // namespace test_fingerprint_lens

@@ -174,5 +174,4 @@ TEST_CASE("subsurface fingerprint: a depth counts only where the model explains 
   }
 }
 
-
 }  // namespace test_fingerprint_subsurface

@@ -37,5 +37,4 @@ TEST_CASE("every fingerprint in the registry belongs to a catalogued effect", "[
   CHECK_FALSE(sb::fingerprint_check("dome_sway", sensor(), {}, {}).has_value());
 }
 
-
 }  // namespace test_fingerprints

@@ -116,6 +116,7 @@ EvidenceSplit evidence_split(const Sensor& sensor, const std::vector<FitSample>&
       const Pose& X_EI = s.X_EI[k];
       e.depth_m.push_back(indenter_penetration(*sensor.gel_sdf, *s.indenter, X_EI).depth_m);
       e.tilt_rad.push_back(tilt_of(X_EI));
+      e.approach_xy.push_back((X_EI.linear() * Vec3::UnitZ()).head<2>());
       const Vec2 xy = X_EI.translation().head<2>();
       if (e.fp.in_contact[k] != 0 && !touched) first = xy, touched = true;
       e.slide_m.push_back(touched ? Vec2(xy - first) : Vec2::Zero());

@@ -37,6 +37,9 @@ struct EvidenceSample {
   // [frame] the indenter's lateral travel in E's xy since its first frame in contact (metres; 0 before): the
   // slide, also where the contact centre does not move (a flat slid over a dome touches it where it tilts).
   std::vector<Vec2> slide_m;
+  // [frame] the lateral part of the indenter's approach axis, (R_EI z)_xy: sin of the tilt along its direction
+  // (a pivot h below the apex moves the indenter by h times this: tool_frame's pivot).
+  std::vector<Vec2> approach_xy;
   // [frame][marker] each marker's penetration into the indenter (effects::marker_penetration); filled only for
   // the readers that ask for it (EvidenceEntry::needs_marker_depth), else empty.
   std::vector<std::vector<double>> marker_depth_m;

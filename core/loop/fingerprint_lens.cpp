@@ -161,7 +161,8 @@ namespace {
 
 std::string lens_missing(const LensFingerprint& f, const FingerprintRules& r) {
   if (!std::isfinite(f.k1)) return "no frame of a press or twist in contact";
-  if (!(std::abs(f.k1) >= r.min_k1)) return "k1 " + estimate_text(f.k1) + " is none (|k1| < " + estimate_text(r.min_k1) + ")";
+  if (!(std::abs(f.k1) >= r.min_k1))
+    return "k1 " + estimate_text(f.k1) + " is none (|k1| < " + estimate_text(r.min_k1) + ")";
   if (!(std::abs(f.k1) >= r.k1_sigmas * f.k1_stderr))
     return "k1 " + estimate_text(f.k1) + " within " + estimate_text(r.k1_sigmas) + " standard errors of 0";
   if (!(std::abs(f.k1) < 1)) return "k1 " + estimate_text(f.k1) + " outside the lens range";

@@ -8,7 +8,7 @@ namespace sb {
 namespace {
 
 constexpr double kMaxCollinearity = 0.95;  // |corr(h u_pp, h u_cc)| above this: the contact is at the centre
-constexpr double kSkinMinOffsetPx = 1.0;       // a marker this close to the centre or the contact has no direction
+constexpr double kSkinMinOffsetPx = 1.0;   // a marker this close to the centre or the contact has no direction
 
 double convergence(const Sensor& sensor, const EvidenceSample& s) {
   if (s.marker_depth_m.empty()) return kEvidenceNaN;

@@ -174,7 +174,7 @@ FingerprintCheck check_subsurface(const Sensor& sensor, const SubsurfaceFingerpr
   c.signal_px = std::sqrt(cal.measured_energy_px2 / std::max(1.0, cal.frames));
   const double min_depth = r.min_depth_fraction * marker_pitch_px(sensor) * sensor.camera.metres_per_px();
   conclude_finding(&c, subsurface_missing(cal, min_depth, r), subsurface_missing(val, min_depth, r),
-           splits_agree(cal.depth_m, val.depth_m, r.agreement), r);
+                   splits_agree(cal.depth_m, val.depth_m, r.agreement), r);
   c.band = {agreement_band("depth_m", cal.depth_m, r.agreement)};
   return c;
 }

@@ -73,15 +73,15 @@ FingerprintCheck::Band agreement_band(const std::string& name, double estimate, 
   return {name, estimate, std::min(a, b), std::max(a, b)};
 }
 
-void conclude_finding(FingerprintCheck* c, const std::string& missing_cal, const std::string& missing_val, bool agreeing,
-              const FingerprintRules& rules) {
+void conclude_finding(FingerprintCheck* c, const std::string& missing_cal, const std::string& missing_val,
+                      bool agreeing, const FingerprintRules& rules) {
   if (!missing_cal.empty())
     c->verdict = "calibration: " + missing_cal;
   else if (!missing_val.empty())
     c->verdict = "validation: " + missing_val;
   else if (!agreeing)
-    c->verdict = "the splits disagree (" + estimate_text(c->calibration) + " vs " + estimate_text(c->validation) + ", more than x" +
-                 estimate_text(rules.agreement) + ")";
+    c->verdict = "the splits disagree (" + estimate_text(c->calibration) + " vs " + estimate_text(c->validation) +
+                 ", more than x" + estimate_text(rules.agreement) + ")";
   else
     c->verdict = "found on both splits";
   c->consistent = missing_cal.empty() && missing_val.empty() && agreeing;

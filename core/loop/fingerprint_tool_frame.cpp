@@ -1,8 +1,11 @@
 // tool_frame's evidence: the gel moving before the recorded contact (fingerprint_tool_frame.hpp).
 #include "core/loop/fingerprint_tool_frame.hpp"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "core/base/format.hpp"
 
@@ -80,6 +83,73 @@ PressOnset press_onsets(const EvidenceSplit& split) {
 
 namespace {
 
+// Each marker's neighbours within 1.5 pitches: where the model's field's gradient is read.
+std::vector<std::vector<std::size_t>> gradient_neighbours(const Sensor& sensor) {
+  const auto& m = sensor.markers_rest_px;
+  const double reach = 1.5 * marker_pitch_px(sensor);
+  std::vector<std::vector<std::size_t>> nb(m.size());
+  for (std::size_t i = 0; i < m.size(); ++i)
+    for (std::size_t j = 0; j < m.size(); ++j)
+      if (i != j && (m[i] - m[j]).norm() < reach) nb[i].push_back(j);
+  return nb;
+}
+
+// The shift s (px) of the model's field that best explains the measured one up to a gain: meas = g pred(m - s)
+// ~ g pred - J (g s), J the field's gradient at each marker from its neighbours (least squares), solved for g and
+// t = g s over the markers; nullopt where the gain is not positive or the system is singular. Unlike a centroid,
+// the view's edge does not shrink it.
+std::optional<Vec2> field_shift_px(const Sensor& sensor, const std::vector<std::vector<std::size_t>>& nb,
+                                   const std::vector<Vec2>& meas, const std::vector<Vec2>& pred) {
+  const auto& m = sensor.markers_rest_px;
+  Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d Atb = Eigen::Vector3d::Zero();
+  for (std::size_t j = 0; j < m.size(); ++j) {
+    if (!finite(meas[j]) || !finite(pred[j])) continue;
+    Eigen::Matrix2d dm_dm = Eigen::Matrix2d::Zero(), df_dm = Eigen::Matrix2d::Zero();
+    for (std::size_t n : nb[j]) {
+      if (!finite(pred[n])) continue;
+      const Vec2 dm = m[n] - m[j], df = pred[n] - pred[j];
+      dm_dm += dm * dm.transpose(), df_dm += df * dm.transpose();
+    }
+    if (!(std::abs(dm_dm.determinant()) > 1e-9 * dm_dm.squaredNorm())) continue;
+    const Eigen::Matrix2d J = df_dm * dm_dm.inverse();
+    Eigen::Matrix<double, 2, 3> A;
+    A.col(0) = pred[j];
+    A.rightCols<2>() = -J;
+    AtA += A.transpose() * A;
+    Atb += A.transpose() * meas[j];
+  }
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(AtA);
+  if (ldlt.info() != Eigen::Success || !(AtA.determinant() > 0)) return std::nullopt;
+  const Eigen::Vector3d x = ldlt.solve(Atb);
+  if (!(x(0) > 0.1)) return std::nullopt;
+  return Vec2(x.tail<2>() / x(0));
+}
+
+}  // namespace
+
+std::vector<double> pivot_depths_m(const Sensor& sensor, const EvidenceSplit& split) {
+  const auto nb = gradient_neighbours(sensor);
+  std::vector<double> out;
+  for (const auto& s : split.samples) {
+    double shift_dot_dir = 0, dir_sq = 0;
+    std::size_t frames = 0;
+    for (std::size_t k = 0; k < s.approach_xy.size() && k < s.fp.pred_px.size(); ++k) {
+      if (!press_frame(s.fp, k) || !moved_frame(s.fp, k) || !(s.tilt_rad[k] >= kMinPivotTiltRad)) continue;
+      const auto shift = field_shift_px(sensor, nb, s.fp.meas_px[k], s.fp.pred_px[k]);
+      if (!shift) continue;
+      const Vec2 per_metre_px = sensor.camera.px_displacement(s.approach_xy[k]);  // image shift per metre of h
+      shift_dot_dir += shift->dot(per_metre_px);
+      dir_sq += per_metre_px.squaredNorm();
+      ++frames;
+    }
+    out.push_back(frames >= kMinPivotFrames && dir_sq > 0 ? shift_dot_dir / dir_sq : kEvidenceNaN);
+  }
+  return out;
+}
+
+namespace {
+
 SplitReading tool_frame_reading(const EvidenceSplit& split) {
   const PressOnset o = press_onsets(split);
   SplitReading r = split_reading(
@@ -96,10 +166,8 @@ SplitReading tool_frame_reading(const EvidenceSplit& split) {
   return r;
 }
 
-}  // namespace
-
-EffectEvidence tool_frame_evidence(const Sensor& /*sensor*/, const EvidenceSplit& calibration,
-                                   const EvidenceSplit& validation, const FittedParam& fitted) {
+EffectEvidence press_offset_evidence(const EvidenceSplit& calibration, const EvidenceSplit& validation,
+                                     const FittedParam& fitted) {
   EffectEvidence e;
   e.effect = "tool_frame";
   e.looked_at = "where the measured field departs from the tracker noise against the recorded contact, in presses";
@@ -110,6 +178,37 @@ EffectEvidence tool_frame_evidence(const Sensor& /*sensor*/, const EvidenceSplit
   e.calibration = tool_frame_reading(calibration);
   e.validation = tool_frame_reading(validation);
   conclude_evidence(&e);
+  return e;
+}
+
+EffectEvidence pivot_evidence(const Sensor& sensor, const EvidenceSplit& calibration, const EvidenceSplit& validation,
+                              const FittedParam& fitted) {
+  EffectEvidence e;
+  e.effect = "tool_frame";
+  e.looked_at = "where the measured field sits against the model's in presses tilted in place";
+  e.quantity = "pivot depth below the apex that moves the contact so";
+  e.unit = "mm";
+  e.unit_scale = 1e3;
+  e.fitted = fitted("pivot_depth_m");
+  const std::string what = "with " + std::to_string(kMinPivotFrames) + " frames of a press tilted by >= 2 deg in place";
+  e.calibration = split_reading(calibration, pivot_depths_m(sensor, calibration), what);
+  e.validation = split_reading(validation, pivot_depths_m(sensor, validation), what);
+  conclude_evidence(&e);
+  return e;
+}
+
+}  // namespace
+
+EffectEvidence tool_frame_evidence(const Sensor& sensor, const EvidenceSplit& calibration,
+                                   const EvidenceSplit& validation, const FittedParam& fitted) {
+  const EffectEvidence press = press_offset_evidence(calibration, validation, fitted);
+  const EffectEvidence pivot = pivot_evidence(sensor, calibration, validation, fitted);
+  // The effect is found when either parameter's evidence is; the report leads with the one found.
+  const bool pivot_leads = pivot.found && !press.found;
+  EffectEvidence e = pivot_leads ? pivot : press;
+  const EffectEvidence& other = pivot_leads ? press : pivot;
+  e.looked_at += "; and " + other.looked_at;
+  e.verdict += "; and " + other.verdict;
   return e;
 }
 

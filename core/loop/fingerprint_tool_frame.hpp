@@ -14,8 +14,17 @@
 // A negative reading (motion starts after the recorded contact) is the detection's lag as much as a zero short of
 // the skin, and is not read: such an offset has no evidence here. The model is not used: a contact model's
 // sensitivity at small depth is form, and a comparison with it reads form error as offset (a finite-element gel
-// stiffer than HydroShear at first touch reads 0.24 mm that way). The pivot (the effect's other parameter) shows
-// only through tilted presses and is reported with the fit, not read here.
+// stiffer than HydroShear at first touch reads 0.24 mm that way).
+//
+// The pivot h (the effect's other parameter) shows in pure tilts: the recorded pose tilts the indenter about the
+// apex, the robot about a point h below it, which moves the indenter by h (R z - z), laterally h (R z)_xy. A
+// curved indenter tilted in place then touches the gel h (R z)_xy from where the recorded pose puts it, and the
+// whole field moves with it. Per frame of a press (in contact, the recorded contact has not travelled) tilted by
+// at least kMinPivotTiltRad: the centroid of |meas| minus that of |pred| (the answer's field without the effect),
+// over the markers where either field is at least a tenth of its largest; per sample the least-squares h of
+// those shifts against the camera's image of (R z)_xy. A centroid does not move with a gain or a symmetric width
+// error of the model, which is what tells the pivot from form error. A flat surface on a dome touches it where
+// the tilt says whatever the pivot: there the pivot changes only the depth and reads 0 here.
 #include "core/loop/evidence.hpp"
 
 namespace sb {
@@ -26,6 +35,13 @@ struct PressOnset {
   std::vector<double> before_contact_m, rate_m;
 };
 PressOnset press_onsets(const EvidenceSplit& split);
+
+inline constexpr double kMinPivotTiltRad = 0.035;  // 2 degrees: (R z)_xy = 0.035, a 0.035 h shift
+inline constexpr std::size_t kMinPivotFrames = 3;  // tilted press frames a sample needs for its reading
+
+// Per sample: the pivot depth below the apex (metres) whose lateral shift h (R z)_xy best explains the measured
+// field's centroid against the model's over its tilted press frames; NaN with fewer than kMinPivotFrames.
+std::vector<double> pivot_depths_m(const Sensor& sensor, const EvidenceSplit& split);
 
 EffectEvidence tool_frame_evidence(const Sensor& sensor, const EvidenceSplit& calibration,
                                    const EvidenceSplit& validation, const FittedParam& fitted);
