@@ -97,14 +97,35 @@ def model_form(d):
     return f"{sel}{held} {c['validation_rmse_px']:.3f} ({-c['improvement_pct']:+.1f} %)"
 
 
-def load_runs():
-    """Every residual.json in this folder, with the folder it came from."""
+def load_runs(injected=False):
+    """Every residual.json in this folder, with the folder it came from: the runs on data as recorded, or (injected)
+    those on twin data with a known effect put in (docs/residuals/run_injected.sh, folders injected_*)."""
     runs = []
     for f in sorted(here.glob("*/residual.json")):
+        if f.parent.name.startswith("injected_") != injected:
+            continue
         d = json.loads(f.read_text())
         d["_folder"] = f.parent.name
         runs.append(d)
     return runs
+
+
+def injected_table(runs):
+    """One row per injected run: what was put in, the loop's answer, and whether the injected effect is found and
+    nothing else is."""
+    out = ["| put into twin_sphere35 | model | the loop's answer | validation RMSE before -> after (px) | "
+           "effects selected: found or a correction of unshown cause (fitted parameters) | injected effect found, "
+           "nothing else found |", "|---|---|---|---|---|---|"]
+    for d in runs:
+        # The injected dataset's name is the source set's plus "+<effect>" (shearbench inject).
+        put_in = d["dataset"].split("+", 1)[1] if "+" in d["dataset"] else "?"
+        params = d["_folder"][len("injected_twin_sphere35_"):].rsplit("_", 1)[0]
+        found = [e for e, f in selected(d) if f]
+        ok = "yes" if found == [put_in] else ("**no**: found " + (", ".join(found) if found else "nothing"))
+        b, a = d["before"]["validation_rmse_px"], d["after"]["validation_rmse_px"]
+        out.append(f"| [{put_in} ({params})]({d['_folder']}/report.md) | {d['model']} | "
+                   f"`{d.get('after_model', d['model'])}` | {b:.3f} -> {a:.3f} | {fmt_effects(d)} | {ok} |")
+    return out
 
 
 def loop_table(runs):
@@ -205,7 +226,8 @@ def blocks():
     """{doc path: {block name: lines}}: every generated block and the doc it belongs to."""
     runs = load_runs()
     return {
-        here / "README.md": {"loop": loop_table(runs), "goal": goal_table(runs), "release": release_table()},
+        here / "README.md": {"loop": loop_table(runs), "goal": goal_table(runs), "release": release_table(),
+                             "injected": injected_table(load_runs(injected=True))},
         docs / "fidelity.md": {"fits": fits_table(runs)},
         docs / "workbench.md": {"param_sets": param_sets_table()},
         docs / "effects.md": {"model_forms": model_forms_table(runs)},
