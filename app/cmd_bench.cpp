@@ -113,10 +113,7 @@ int run_bench(const BenchArgs& a, const GlobalOptions& g) {
   } else {
     bool known = false;
     for (const auto& id : bench_model_ids()) known = known || id == a.model;
-    if (!known)
-      throw InputError("--model", "unknown model '" + a.model +
-                                      "' (hydroshear, fots, fots-reimpl, "
-                                      "tacsl, tacsl-normalized, all)");
+    if (!known) throw InputError("--model", "unknown model '" + a.model + "' (" + model_ids_text(", ") + ", all)");
     models = {a.model};
   }
   const std::vector<int> envs = a.envs.empty() ? std::vector<int>{256, 512, 1024} : a.envs;

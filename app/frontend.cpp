@@ -22,6 +22,7 @@
 #include "core/base/free_memory.hpp"
 #include "core/data/json_read.hpp"
 #include "core/effects/model_spec.hpp"
+#include "core/models/model_family.hpp"
 #include "core/workbench/field_export.hpp"
 #include "widgets/panels.hpp"
 
@@ -342,9 +343,8 @@ void Frontend::switch_model(int slot, const std::string& model_id) {
   model->set_params(session_.param_set.params(model_id));  // the variant starts from the set too
   state.request_model(static_cast<std::size_t>(slot), std::move(model));
   // The session remembers the variant (what `gui --hydroshear/--fots/--tacsl` would open).
-  if (model_id.rfind("hydroshear", 0) == 0) session_options_.open.hydroshear_id = model_id;
-  if (model_id.rfind("fots", 0) == 0) session_options_.open.fots_id = model_id;
-  if (model_id.rfind("tacsl", 0) == 0) session_options_.open.tacsl_id = model_id;
+  if (const ModelFamily* f = find_model_family_of_form(model_id.substr(0, model_id.find('+'))))
+    session_options_.open.form_shown(f->id) = model_id;
   workbench_.set_message("switched to " + ui::display_name(model_id));
 }
 

@@ -3,6 +3,7 @@
 #include "app/command.hpp"
 #include "core/calibration/param_sets.hpp"
 #include "core/effects/model_spec.hpp"
+#include "core/models/model_family.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include "core/base/display_path.hpp"
 #include "core/base/error.hpp"
 #include "core/base/install_paths.hpp"
+#include "core/base/strings.hpp"
 #include "core/calibration/metrics.hpp"
 #include "core/data/json_read.hpp"
 #include "core/data/tsd.hpp"
@@ -55,14 +57,14 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
                                                      const NamedParamSet& param_set,
                                                      const std::shared_ptr<const Indenter>& indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
-  std::vector<std::string> ids = {o.open.hydroshear_id, o.open.fots_id, o.open.tacsl_id};
+  std::vector<std::string> ids;
+  for (const ModelFamily& f : model_families()) ids.push_back(o.open.form_shown(f.id));
   std::string beside = o.open.beside_hydroshear;
   if (beside == kBesideHydroshearAuto)
     beside = param_set.tables.count(kBesideHydroshearAutoModel) != 0 ? kBesideHydroshearAutoModel : "";
   if (!beside.empty()) {
-    // HydroShear or one of its model-form variants: the residual loop's list (one place names them).
-    std::vector<std::string> family = model_form_variants("hydroshear");
-    family.insert(family.begin(), "hydroshear");
+    // HydroShear or one of its model-form variants, as its family's descriptor lists them.
+    const std::vector<std::string> family = model_family("hydroshear").form_ids();
     if (std::find(family.begin(), family.end(), beside) == family.end()) {
       std::string names;
       for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
@@ -228,11 +230,8 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
   sub.add_option("--sample", open.sample_id, "sample id of the dataset (default: the first)");
   sub.add_option("--indenter-mesh", open.indenter_mesh, "replace the indenter by a mesh (e.g. data:meshes/cow.obj)");
   sub.add_option("--indenter-scale", open.indenter_scale, "mesh units to metres")->capture_default_str();
-  sub.add_option("--hydroshear", open.hydroshear_id,
-                 "hydroshear | hydroshear-layer | hydroshear-stick | hydroshear-layer-stick | hydroshear-contact")
-      ->capture_default_str();
-  sub.add_option("--fots", open.fots_id, "fots | fots-reimpl")->capture_default_str();
-  sub.add_option("--tacsl", open.tacsl_id, "tacsl | tacsl-normalized")->capture_default_str();
+  for (const ModelFamily& f : model_families())  // --hydroshear hydroshear | hydroshear-layer | ...
+    sub.add_option("--" + f.id, open.form_shown(f.id), join(f.form_ids(), " | "))->capture_default_str();
   sub.add_option("--beside-hydroshear", open.beside_hydroshear,
                  "a HydroShear variant in a panel of its own beside HydroShear's, none, or auto: the variant the "
                  "residual loop selects on the twin sets (hydroshear-contact) when the parameter set holds fitted "
@@ -248,8 +247,8 @@ void add_source_options(CLI::App& sub, SessionSource& open) {
 }
 
 std::vector<std::string> source_arguments(const SessionSource& open) {
-  std::vector<std::string> args = {"--hydroshear", open.hydroshear_id, "--fots",
-                                   open.fots_id,   "--tacsl",          open.tacsl_id};
+  std::vector<std::string> args;
+  for (const ModelFamily& f : model_families()) args.insert(args.end(), {"--" + f.id, open.form_shown(f.id)});
   const auto add = [&](const char* flag, const std::string& value) {
     if (!value.empty()) args.insert(args.end(), {flag, value});
   };

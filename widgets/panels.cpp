@@ -6,21 +6,14 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/models/model_family.hpp"
 #include "widgets/text_field.hpp"
 
 namespace sb::ui {
 
 std::string display_name(const std::string& id) {
-  if (id == "hydroshear") return "HydroShear";
-  if (id == "hydroshear-layer") return "HydroShear (layer)";
-  if (id == "hydroshear-stick") return "HydroShear (stick)";
-  if (id == "hydroshear-layer-stick") return "HydroShear (layer+stick)";
-  if (id == "hydroshear-contact") return "HydroShear (contact)";
-  if (id == "fots") return "FOTS";
-  if (id == "fots-reimpl") return "FOTS (reimpl)";
-  if (id == "tacsl") return "TacSL";
-  if (id == "tacsl-normalized") return "TacSL (normalized)";
-  return id;
+  const ModelForm* form = find_model_form(id);
+  return form != nullptr ? form->label : id;
 }
 
 namespace {

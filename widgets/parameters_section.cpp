@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "core/models/model_family.hpp"
+
 #include "widgets/panels.hpp"
 #include "widgets/text_field.hpp"
 
@@ -28,26 +30,16 @@ void ParametersSection::draw(const AppSnapshot& snap, AppState& state, Workbench
   draw_sliders(snap, state);
 }
 
-// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both | the contact variant (both,
-// the layer's far field, contact-following tractions; docs/effects.md);
-// FOTS: original | re-implementation;
-// TacSL: raw | normalised. The choice replaces that panel's model at
+// One combo per model family, over its forms as its descriptor lists them (core/models/model_family.hpp), e.g.
+// HydroShear: the authors' | with the bonded-layer kernel | the stick zone | both | the contact variant;
+// FOTS: original | re-implementation; TacSL: raw | normalised. The choice replaces that panel's model at
 // the sync point (AppState::request_model), which replays the path to the current step.
 void ParametersSection::draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req) {
-  struct Family {
-    const char* label;
-    std::vector<std::string> ids;
-  };
-  static const std::vector<Family> kFamilies{
-      {"HydroShear",
-       {"hydroshear", "hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"}},
-      {"FOTS", {"fots", "fots-reimpl"}},
-      {"TacSL", {"tacsl", "tacsl-normalized"}}};
-  const auto in_family = [](const Family& f, const std::string& id) {
-    return std::find(f.ids.begin(), f.ids.end(), id) != f.ids.end();
+  const auto in_family = [](const ModelFamily& f, const std::string& id) {
+    return find_model_family_of_form(id) == &f;
   };
   std::string beside;  // a second HydroShear slot is the panel beside HydroShear's
-  for (const Family& f : kFamilies) {
+  for (const ModelFamily& f : model_families()) {
     bool first = true;
     for (int m = 0; m < static_cast<int>(snap.models.size()); ++m) {
       const std::string& id = snap.models[m].id;
@@ -58,8 +50,8 @@ void ParametersSection::draw_variant_switches(const AppSnapshot& snap, Workbench
       }
       first = false;
       ImGui::SetNextItemWidth(-125);  // room for "HydroShear variant"
-      if (ImGui::BeginCombo((std::string(f.label) + " variant").c_str(), display_name(id).c_str())) {
-        for (const std::string& v : f.ids)
+      if (ImGui::BeginCombo((f.label + " variant").c_str(), display_name(id).c_str())) {
+        for (const std::string& v : f.form_ids())
           if (ImGui::Selectable(display_name(v).c_str(), id == v) && id != v) req.switch_model = std::make_pair(m, v);
         ImGui::EndCombo();
       }
@@ -69,7 +61,7 @@ void ParametersSection::draw_variant_switches(const AppSnapshot& snap, Workbench
   ImGui::SetNextItemWidth(-125);
   if (ImGui::BeginCombo("beside HydroShear", beside.empty() ? "none" : display_name(beside).c_str())) {
     if (ImGui::Selectable("none", beside.empty()) && !beside.empty()) req.beside_hydroshear = "";
-    for (const std::string& v : kFamilies.front().ids)
+    for (const std::string& v : model_family("hydroshear").form_ids())
       if (ImGui::Selectable(display_name(v).c_str(), beside == v) && beside != v) req.beside_hydroshear = v;
     ImGui::EndCombo();
   }

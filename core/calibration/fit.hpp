@@ -13,6 +13,10 @@
 //
 // The split rule lives in one place: fit_model refuses any sample whose split is not "calibration", and
 // load_calibration_samples (fit_data.hpp) never reads the others.
+//
+// Two files: the engine (fit_engine.cpp: run_fit_stages, the minimiser's calls, progress and cancel) and the
+// policy (fit.cpp: a model's stages, the joint refinement, fit_model), whose per-family part is the family's
+// descriptor (core/models/model_family.hpp).
 #include <atomic>
 #include <functional>
 #include <memory>
@@ -23,6 +27,7 @@
 #include "core/calibration/metrics.hpp"
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
+#include "core/models/model_family.hpp"
 #include "core/sensor/sensor.hpp"
 
 namespace sb {
@@ -46,14 +51,8 @@ struct FitSample {
 // and in them every marker whose measurement is finite. Flat indices frame * n_markers + marker.
 std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas_px);
 
-// One stage of a model's calibration procedure.
-struct FitStage {
-  std::string name{};
-  std::vector<std::string> params{};            // names in the model's ParamSet
-  std::vector<std::string> motions{};           // samples used
-  bool rescale = false;                         // fit the shape with a free per-fit scale
-  std::vector<std::string> fallback_motions{};  // used (and reported) when no sample has `motions`
-};
+// FitStage, one stage of a model's calibration procedure: core/models/model_family.hpp (a family's descriptor
+// holds its forms' stage tables).
 
 // The stage table of a model id (throws std::invalid_argument for an unknown id). A form with effects
 // (core/effects/model_spec.hpp) has the form's stages, then one stage of the effects' parameters on every motion.

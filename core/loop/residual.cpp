@@ -11,18 +11,26 @@
 #include "core/effects/model_spec.hpp"
 #include "core/loop/effect_evidence.hpp"
 #include "core/loop/effect_search.hpp"
+#include "core/models/model_family.hpp"
 
 namespace sb {
 
+namespace {
+// The family whose base form `model_id` is, or nullptr (a correction, a form with effects, an unknown id).
+const ModelFamily* family_based_on(const std::string& model_id) {
+  const ModelFamily* family = find_model_family_of_form(model_id);
+  return family != nullptr && family->base().id == model_id ? family : nullptr;
+}
+}  // namespace
+
 std::vector<std::string> model_form_variants(const std::string& model_id) {
-  if (model_id == "hydroshear")
-    return {"hydroshear-layer", "hydroshear-stick", "hydroshear-layer-stick", "hydroshear-contact"};
-  return {};
+  const ModelFamily* family = family_based_on(model_id);
+  return family != nullptr ? family->correction_ids() : std::vector<std::string>{};
 }
 
 std::vector<std::string> model_form_hold(const std::string& model_id) {
-  if (model_id == "hydroshear") return {"lambda_d", "kappa_d"};
-  return {};
+  const ModelFamily* family = family_based_on(model_id);
+  return family != nullptr ? family->hold : std::vector<std::string>{};
 }
 
 std::vector<ParamAtBound> params_at_bounds(const ParamSet& params, const std::vector<std::string>& free) {

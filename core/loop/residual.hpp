@@ -151,11 +151,13 @@ std::string labelled_answer(const ResidualReport& r);
 std::vector<std::string> effects_by_evidence(const ResidualReport& r, bool found);
 
 // The model-form corrections of `model_id` that are models of their own (docs/effects.md, "Model-form
-// effects"): for hydroshear its layer, stick, layer+stick and contact variants; none for the others yet.
+// effects"), as its family's descriptor lists them (core/models/model_family.hpp) when `model_id` is the family's
+// base form: for hydroshear its layer, stick, layer+stick and contact variants; none for the others yet.
 std::vector<std::string> model_form_variants(const std::string& model_id);
-// The parameters the selected variant is also fitted with held after their first stage (FitOptions::hold):
-// for hydroshear the dilation kernel (lambda_d, kappa_d), which none of its variants changes. Fitted
-// jointly, the kernel can move to serve the shear frames; the loop keeps whichever fit held-out data prefers.
+// The parameters the selected variant is also fitted with held after their first stage (FitOptions::hold), the
+// family descriptor's hold list: for hydroshear the dilation kernel (lambda_d, kappa_d), which none of its variants
+// changes. Fitted jointly, the kernel can move to serve the shear frames; the loop keeps whichever fit held-out data
+// prefers.
 std::vector<std::string> model_form_hold(const std::string& model_id);
 
 class ResidualLoop {

@@ -1,5 +1,5 @@
 #pragma once
-// The three batched kernels (HydroShearBatch, FotsBatch, TacslBatch) behind one interface: they share the
+// The batched kernels (HydroShearBatch, FotsBatch, TacslBatch, ...) behind one interface: they share the
 // step signature, not a base class. Used by the public API's SensorModel (core/api), which also times the
 // benchmark workload through it.
 #include <memory>

@@ -68,7 +68,7 @@ class ShearPass {
 // T = float only where the parameter float32 asks for it (the contact variant's default): the sums change by
 // ~1e-6 of themselves against double (tests/test_hydroshear_contact.cpp), for half the memory traffic and twice
 // the vector width, the precision the authors' GPU code computes in. Fits run it in double (their cost must be
-// smooth far below that: core/calibration/fit.cpp).
+// smooth far below that: core/calibration/fit_engine.cpp).
 void ShearPass::run() {
   const int nm = m.markers();
   sc.out.x.assign(nm, 0.0);

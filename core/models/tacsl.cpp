@@ -20,20 +20,54 @@ namespace {
 ParamFields<TacslParams> tacsl_fields(bool normalized) {
   using T = TacslParams;
   ParamFields<TacslParams> f = {
-      {{"kn", "1/m", 1.0, 1e-3, 1e6, "normal penalty gain: f_n = kn * depth (TacSL: 1, so f_n is metres)", true},
+      {{.name = "kn",
+        .unit = "1/m",
+        .default_value = 1.0,
+        .min = 1e-3,
+        .max = 1e6,
+        .help = "normal penalty gain: f_n = kn * depth (TacSL: 1, so f_n is metres)",
+        .log_scale = true},
        &T::kn},
-      {{"kt", "s", 0.1, 1e-4, 1e6, "viscous tangential gain: |f_t| = kt |v_t| in the static branch (TacSL: 0.1)", true},
+      {{.name = "kt",
+        .unit = "s",
+        .default_value = 0.1,
+        .min = 1e-4,
+        .max = 1e6,
+        .help = "viscous tangential gain: |f_t| = kt |v_t| in the static branch (TacSL: 0.1)",
+        .log_scale = true},
        &T::kt},
-      {{"mu", "", 2.0, 0, 10, "friction cap |f_t| <= mu f_n (TacSL: 2)"}, &T::mu},
-      {{"include_normal", "", 1, 0, 1, "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
+      {{.name = "mu",
+        .unit = "",
+        .default_value = 2.0,
+        .min = 0,
+        .max = 10,
+        .help = "friction cap |f_t| <= mu f_n (TacSL: 2)"},
+       &T::mu},
+      {{.name = "include_normal",
+        .unit = "",
+        .default_value = 1,
+        .min = 0,
+        .max = 1,
+        .help = "1: shear = in-plane part of f_n n + f_t (TacSL code); 0: of f_t only"},
        &T::include_normal},
   };
   if (normalized)
-    f.push_back(
-        {{"gain_px", "px", 1.0, 1e-3, 1e6, "length of the unit shear vectors in the output", true}, &T::gain_px});
+    f.push_back({{.name = "gain_px",
+                  .unit = "px",
+                  .default_value = 1.0,
+                  .min = 1e-3,
+                  .max = 1e6,
+                  .help = "length of the unit shear vectors in the output",
+                  .log_scale = true},
+                 &T::gain_px});
   else
-    f.push_back({{"gain_px", "px", 1000.0, 1e-3, 1e9,
-                  "px per unit shear; 1000 gives ~1 px for a 1 mm press sliding at 10 mm/s", true},
+    f.push_back({{.name = "gain_px",
+                  .unit = "px",
+                  .default_value = 1000.0,
+                  .min = 1e-3,
+                  .max = 1e9,
+                  .help = "px per unit shear; 1000 gives ~1 px for a 1 mm press sliding at 10 mm/s",
+                  .log_scale = true},
                  &T::gain_px});
   return f;
 }

@@ -1,12 +1,17 @@
 #include "core/workbench/session_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
+#include <utility>
 
 #include "core/base/atomic_write.hpp"
 #include "core/base/error.hpp"
+#include "core/base/strings.hpp"
 #include "core/data/json_read.hpp"
+#include "core/models/model_family.hpp"
 
 namespace sb {
 namespace {
@@ -47,6 +52,27 @@ CameraView camera_from_json(const json& j, const std::string& file, const std::s
   return c;
 }
 
+// The one place a family's session key meets its field of SessionSource (const or not).
+template <class Source>
+auto& form_field(Source& source, const std::string& family_id) {
+  for (auto [id, field] : {std::pair{"hydroshear", &SessionSource::hydroshear_id},
+                           std::pair{"fots", &SessionSource::fots_id}, std::pair{"tacsl", &SessionSource::tacsl_id}})
+    if (family_id == id) return source.*field;
+  throw std::invalid_argument("the session keeps no form for model family '" + family_id + "'");
+}
+
+// /open's keys: a scene or dataset, the form shown per model family (keyed by the family's id), the rest.
+void reject_unknown_open_keys(const json& open, const std::string& file) {
+  std::vector<std::string> allowed = {"scene", "dataset", "sample"};
+  for (const ModelFamily& f : model_families()) allowed.push_back(f.id);
+  allowed.insert(allowed.end(), {"beside_hydroshear", "indenter_mesh", "indenter_scale", "param_set"});
+  jsonin::require_object(open, file, "/open");
+  for (const auto& item : open.items())
+    if (std::find(allowed.begin(), allowed.end(), item.key()) == allowed.end())
+      jsonin::fail(file, jsonin::child("/open", item.key()),
+                   "unknown key (expected one of: " + join(allowed, ", ") + ")");
+}
+
 std::string optional_string(const json& j, const char* key, const std::string& file, const std::string& ptr,
                             const std::string& fallback) {
   const json* v = jsonin::find(j, key);
@@ -55,19 +81,21 @@ std::string optional_string(const json& j, const char* key, const std::string& f
 
 }  // namespace
 
+std::string& SessionSource::form_shown(const std::string& family_id) { return form_field(*this, family_id); }
+
+const std::string& SessionSource::form_shown(const std::string& family_id) const {
+  return form_field(*this, family_id);
+}
+
 nlohmann::ordered_json session_to_json(const SessionFile& s) {
   nlohmann::ordered_json j;
   j["format"] = "shearbench-session";
   j["version"] = SessionFile::kFormatVersion;
-  j["open"] = {{"scene", s.open.scene_path},
-               {"dataset", s.open.dataset_dir},
-               {"sample", s.open.sample_id},
-               {"hydroshear", s.open.hydroshear_id},
-               {"fots", s.open.fots_id},
-               {"tacsl", s.open.tacsl_id},
-               {"indenter_mesh", s.open.indenter_mesh},
-               {"indenter_scale", s.open.indenter_scale},
-               {"param_set", s.open.param_set}};
+  j["open"] = {{"scene", s.open.scene_path}, {"dataset", s.open.dataset_dir}, {"sample", s.open.sample_id}};
+  for (const ModelFamily& f : model_families()) j["open"][f.id] = s.open.form_shown(f.id);
+  j["open"]["indenter_mesh"] = s.open.indenter_mesh;
+  j["open"]["indenter_scale"] = s.open.indenter_scale;
+  j["open"]["param_set"] = s.open.param_set;
   // Written only when used, so sessions without it stay readable by builds from before it.
   if (!s.open.beside_hydroshear.empty()) j["open"]["beside_hydroshear"] = s.open.beside_hydroshear;
   j["params"] = s.params;
@@ -103,16 +131,14 @@ SessionFile session_from_json(const json& j, const std::string& file) {
     jsonin::fail(file, "/residual", "a version 1 session has no residual section");
   SessionFile s;
   const json& open = jsonin::member(j, "open", file, "");
-  jsonin::reject_unknown_keys(open,
-                              {"scene", "dataset", "sample", "hydroshear", "fots", "tacsl", "beside_hydroshear",
-                               "indenter_mesh", "indenter_scale", "param_set"},
-                              file, "/open");
+  reject_unknown_open_keys(open, file);
   s.open.scene_path = optional_string(open, "scene", file, "/open", "");
   s.open.dataset_dir = optional_string(open, "dataset", file, "/open", "");
   s.open.sample_id = optional_string(open, "sample", file, "/open", "");
-  s.open.hydroshear_id = optional_string(open, "hydroshear", file, "/open", s.open.hydroshear_id);
-  s.open.fots_id = optional_string(open, "fots", file, "/open", s.open.fots_id);
-  s.open.tacsl_id = optional_string(open, "tacsl", file, "/open", s.open.tacsl_id);
+  for (const ModelFamily& f : model_families()) {
+    std::string& form = s.open.form_shown(f.id);
+    form = optional_string(open, f.id.c_str(), file, "/open", form);
+  }
   s.open.beside_hydroshear = optional_string(open, "beside_hydroshear", file, "/open", "");
   s.open.indenter_mesh = optional_string(open, "indenter_mesh", file, "/open", "");
   // Version 1 files predate parameter sets: their models started from the published values.

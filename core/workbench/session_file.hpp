@@ -2,7 +2,7 @@
 // The workbench session file: what the user made, so it can be saved, reopened, autosaved and offered
 // back after a crash. JSON with a format version; written atomically; every bad value is reported as
 // "file: /json/pointer: what". Parameter tables are kept as JSON here and validated by the models'
-// ParamSet when applied (the session reader does not depend on the model registry).
+// ParamSet when applied; the form shown per model family is keyed by the family's id (core/models/model_family.hpp).
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -28,6 +28,11 @@ struct SessionSource {
       "hydroshear";                // or hydroshear-layer, hydroshear-stick, hydroshear-layer-stick, hydroshear-contact
   std::string fots_id = "fots";    // or fots-reimpl
   std::string tacsl_id = "tacsl";  // or tacsl-normalized
+  // The form shown in the panel of the model family `family_id` (core/models/model_family.hpp): one of the three
+  // above, whose session-file key and gui flag are the family's id. Throws std::invalid_argument for a family
+  // without a field here.
+  std::string& form_shown(const std::string& family_id);
+  const std::string& form_shown(const std::string& family_id) const;
   // A HydroShear variant in a panel of its own beside HydroShear's (empty: none), to compare a model-form
   // correction with the model it corrects. The first view shows "auto" (above); a session file
   // without the key shows none, as before.
