@@ -45,7 +45,7 @@ const std::vector<SetRecipe>& recipes() {
        "fots",
        {"press"}},
       // The whole calibration split (1000 samples), scored on every 5th validation sample, at most 10 steps per
-      // stage (docs/performance.md, session 30: every model's fit on it within minutes).
+      // stage (every model's fit on it within minutes: docs/performance.md).
       {"tactip_shear",
        "data:raw/tactip_shear",
        "fitted on the real TacTip set (its own sensor: dome, pins 3 mm below the skin, fitted pinhole camera); "

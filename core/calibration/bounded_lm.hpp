@@ -4,7 +4,7 @@
 // Why not Ceres here: with bounds, Ceres's trust-region minimiser projects each step by an Armijo line search
 // that asks the gradient (a whole finite-difference Jacobian) at every probe and tests the Armijo condition along
 // the unprojected step (its own comment calls the projection "incorrect and not terribly effective", ceres-solver
-// issue 187); on the TacTip that was two Jacobians per iteration. Here a trial step costs one evaluation and an
+// GitHub #187); on the TacTip that was two Jacobians per iteration. Here a trial step costs one evaluation and an
 // accepted step one Jacobian. docs/performance.md, "Fits: a projected Levenberg-Marquardt".
 //
 // The step (Moré's trust-region Levenberg-Marquardt as MINPACK's lmder takes it, with an active set for the box):

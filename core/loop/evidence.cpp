@@ -11,11 +11,11 @@ namespace sb {
 
 namespace {
 
-std::string num(double v) { return format_number(v, "%.3g", "nan"); }
+std::string evidence_num(double v) { return format_number(v, "%.3g", "nan"); }
 
 std::string describe(const SplitReading& r, const EffectEvidence& e) {
-  return num(r.estimate * e.unit_scale) + " ± " + num(r.std_error * e.unit_scale) + " " + e.unit + " (" +
-         num(r.samples) + " samples" + (r.detail.empty() ? "" : "; " + r.detail) + ")";
+  return evidence_num(r.estimate * e.unit_scale) + " ± " + evidence_num(r.std_error * e.unit_scale) + " " + e.unit + " (" +
+         evidence_num(r.samples) + " samples" + (r.detail.empty() ? "" : "; " + r.detail) + ")";
 }
 
 // Why one split does not show the effect ("" when it does).
@@ -23,7 +23,7 @@ std::string split_missing(const SplitReading& r, const EvidenceRules& rules) {
   if (!r.missing.empty()) return r.missing;
   if (!std::isfinite(r.estimate) || !std::isfinite(r.std_error)) return "no reading";
   if (!(std::abs(r.estimate) > rules.sigmas * r.std_error))
-    return "within " + num(rules.sigmas) + " standard errors of 0";
+    return "within " + evidence_num(rules.sigmas) + " standard errors of 0";
   return "";
 }
 
@@ -51,7 +51,7 @@ SplitReading reading_of(const std::vector<double>& per_sample, const std::string
   r.std_error = m.std_error;
   r.samples = m.n;
   if (m.n < rules.min_samples)
-    r.missing = "only " + num(m.n) + " samples " + what + " (< " + num(rules.min_samples) + ")";
+    r.missing = "only " + evidence_num(m.n) + " samples " + what + " (< " + evidence_num(rules.min_samples) + ")";
   return r;
 }
 
@@ -73,9 +73,9 @@ void conclude_evidence(EffectEvidence* e, const EvidenceRules& rules) {
     const double a = e->calibration.estimate, b = e->validation.estimate;
     const double ratio = std::max(std::abs(a), std::abs(b)) / std::min(std::abs(a), std::abs(b));
     if (a * b <= 0 || !(ratio <= rules.agreement))
-      why = "the splits disagree (ratio " + num(ratio) + ", allowed " + num(rules.agreement) + " with one sign)";
+      why = "the splits disagree (ratio " + evidence_num(ratio) + ", allowed " + evidence_num(rules.agreement) + " with one sign)";
     else if (std::isfinite(e->fitted) && e->fitted != 0 && a * e->fitted < 0)
-      why = "the evidence has the opposite sign of the fitted value (" + num(e->fitted * e->unit_scale) + " " +
+      why = "the evidence has the opposite sign of the fitted value (" + evidence_num(e->fitted * e->unit_scale) + " " +
             e->unit + ")";
   }
   e->found = why.empty();

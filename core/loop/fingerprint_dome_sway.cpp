@@ -10,7 +10,7 @@ namespace sb {
 
 namespace {
 
-constexpr double kFarFraction = 0.1;  // |pred| below this x the frame's largest: the model says nothing there
+constexpr double kSwayFarFraction = 0.1;  // |pred| below this x the frame's largest: the model says nothing there
 
 // The far markers' mean residual along the slide, and their model field's (the kernel's tail), per sample.
 struct Drag {
@@ -28,7 +28,7 @@ Drag far_drag(const EvidenceSample& e, double min_slide_m, bool* slid) {
     double fs = 0, fm = 0, fn = 0;
     for (std::size_t j = 0; j < s.pred_px[k].size(); ++j) {
       const Vec2 r = residual_px(s, k, j);
-      if (!finite(r) || !(s.pred_px[k][j].norm() < kFarFraction * peak)) continue;
+      if (!finite(r) || !(s.pred_px[k][j].norm() < kSwayFarFraction * peak)) continue;
       fs += r.dot(along), fm += std::abs(s.pred_px[k][j].dot(along)), ++fn;
     }
     if (fn > 0) sum += fs / fn, model += fm / fn, ++n;
