@@ -38,9 +38,9 @@ ui::ReplayUi replay_ui(const Session& s) { return s.replay; }
 }  // namespace
 
 ui::CameraPreset parse_camera(const std::string& name) {
-  if (name == "iso") return ui::CameraPreset::Iso;
-  if (name == "top") return ui::CameraPreset::Top;
-  if (name == "side") return ui::CameraPreset::Side;
+  if (name == "iso") return ui::CameraPreset::kIso;
+  if (name == "top") return ui::CameraPreset::kTop;
+  if (name == "side") return ui::CameraPreset::kSide;
   throw InputError("--camera", "expected iso, top or side, got '" + name + "'");
 }
 
@@ -141,7 +141,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
     throw;
   }
   recent_.add(typed);
-  if (t.kind == OpenKind::Session) {
+  if (t.kind == OpenKind::kSession) {
     open_session_file(t.path);
     return;
   }
@@ -149,7 +149,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   o.open.sample_id.clear();
   o.open.param_set.clear();  // the set for the new sensor (a Mini set is meaningless on a TacTip)
   o.open.indenter_mesh.clear();
-  if (t.kind == OpenKind::Dataset) {
+  if (t.kind == OpenKind::kDataset) {
     o.open.dataset_dir = data_path(t.path, root);  // "data:twin/..." stays portable in the session file
     o.open.scene_path.clear();
   } else {
@@ -305,7 +305,7 @@ int Frontend::export_fields(const std::string& dir) {
   start_export(dir);
   workbench_.wait_for_export();
   const FieldExportStatus st = workbench_.export_status();
-  if (st.phase != FieldExportStatus::Phase::Done)
+  if (st.phase != FieldExportStatus::Phase::kDone)
     throw std::runtime_error("field export to " + dir + ": " + (st.error.empty() ? "did not finish" : st.error));
   return st.written;
 }

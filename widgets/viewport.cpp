@@ -438,15 +438,15 @@ void Viewport3D::set_camera(CameraPreset preset) {
   const double sx = s.shown.sensor ? s.shown.sensor->gel.size_m.x() * kMmPerM : 25.0;
   cam->SetFocalPoint(0, 0, 0);
   switch (preset) {
-    case CameraPreset::Top:
+    case CameraPreset::kTop:
       cam->SetPosition(0, 0, 3 * sx);
       cam->SetViewUp(0, 1, 0);
       break;
-    case CameraPreset::Side:
+    case CameraPreset::kSide:
       cam->SetPosition(0, -3 * sx, 0.2 * sx);
       cam->SetViewUp(0, 0, 1);
       break;
-    case CameraPreset::Iso:
+    case CameraPreset::kIso:
       cam->SetPosition(0.9 * sx, -1.6 * sx, 1.3 * sx);
       cam->SetViewUp(0, 0, 1);
       break;
@@ -474,7 +474,7 @@ std::optional<CameraView> Viewport3D::camera_view() const {
 
 void Viewport3D::set_camera_view(const CameraView& view) {
   Impl& s = *impl_;
-  if (!s.shown.camera_set) set_camera(CameraPreset::Iso);  // the view angle and framing of the presets
+  if (!s.shown.camera_set) set_camera(CameraPreset::kIso);  // the view angle and framing of the presets
   vtkCamera* cam = s.vtk.renderer->GetActiveCamera();
   cam->SetPosition(view.position.data());
   cam->SetFocalPoint(view.focal_point.data());
@@ -488,7 +488,7 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   Impl& s = *impl_;
   const int w = std::max(16, static_cast<int>(width));
   const int h = std::max(16, static_cast<int>(height));
-  if (!s.shown.camera_set) set_camera(CameraPreset::Iso);
+  if (!s.shown.camera_set) set_camera(CameraPreset::kIso);
   if (s.shown.dirty) {
     s.vtk.renderer->ResetCameraClippingRange();
   }

@@ -16,7 +16,7 @@
 
 namespace sb::ui {
 
-enum class CameraPreset { Iso, Top, Side };
+enum class CameraPreset { kIso, kTop, kSide };
 
 class Viewport3D {
  public:
