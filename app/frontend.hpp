@@ -8,9 +8,9 @@
 #include "app/frame_report.hpp"
 #include "app/session.hpp"
 #include "app/session_loader.hpp"
-#include "app/work_keeper.hpp"
 #include "core/workbench/open_target.hpp"
 #include "core/workbench/session_file.hpp"
+#include "core/workbench/work_keeper.hpp"
 #include "widgets/frame_stats.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
@@ -47,7 +47,7 @@ class Frontend {
   std::vector<double> profile_drag(int frames);
   Session& session() { return session_; }
   ui::Workbench& workbench() { return workbench_; }
-  // How the clean/unsaved baseline follows a new session (app/work_keeper.hpp).
+  // How the clean/unsaved baseline follows a new session (core/workbench/work_keeper.hpp).
   using Baseline = WorkBaseline;
   // Opens `session` now (headless renders, tests).
   void reopen(const SessionOptions& session, Baseline baseline = Baseline::kClean);

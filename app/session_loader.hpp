@@ -8,8 +8,8 @@
 #include <string>
 
 #include "app/session.hpp"
-#include "app/work_keeper.hpp"
 #include "core/base/status_job.hpp"
+#include "core/workbench/work_keeper.hpp"
 
 namespace sb::app {
 

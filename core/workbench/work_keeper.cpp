@@ -1,8 +1,8 @@
-#include "app/work_keeper.hpp"
+#include "core/workbench/work_keeper.hpp"
 
 #include <filesystem>
 
-namespace sb::app {
+namespace sb {
 
 std::string work_fingerprint(const SessionFile& file) {
   nlohmann::ordered_json j = session_to_json(file);
@@ -65,4 +65,4 @@ bool WorkKeeper::unsaved_on_close(double now_s) {
   return work_.dirty() && !close_confirmed_;
 }
 
-}  // namespace sb::app
+}  // namespace sb

@@ -9,7 +9,7 @@
 #include "core/workbench/session_file.hpp"
 #include "core/workbench/unsaved_work.hpp"
 
-namespace sb::app {
+namespace sb {
 
 // How the clean/unsaved baseline follows a new session: a session file opened is clean, an autosave
 // restored is unsaved, anything else the user opened (dataset, scene, sample, parameter set) is a change.
@@ -64,4 +64,4 @@ class WorkKeeper {
   double last_check_s_ = -1e9;
 };
 
-}  // namespace sb::app
+}  // namespace sb
