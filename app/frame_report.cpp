@@ -1,6 +1,7 @@
 #include "app/frame_report.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -12,7 +13,7 @@ std::string percentiles_line(std::vector<double> ms) {
   if (ms.empty()) return "no frames";
   std::sort(ms.begin(), ms.end());
   const auto pct = [&](double p) {
-    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * (ms.size() - 1) + 0.5))];
+    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(std::floor(p * (ms.size() - 1) + 0.5)))];
   };
   char buf[200];
   std::snprintf(buf, sizeof buf, "%zu frames: p50 %.1f ms (%.1f fps)  p90 %.1f ms  p99 %.1f ms  max %.1f ms", ms.size(),

@@ -500,8 +500,8 @@ std::optional<Pose> Viewport3D::draw(float width, float height, const Pose& X_EI
   const ImVec2 origin = ImGui::GetCursorScreenPos();
   // VTK's texture rows start at the bottom: flip V. ImGui's texture handle is a void* that carries the GL
   // texture's name, so the integer-to-pointer cast is the API's, not an optimisation to lose.
-  const auto texture_id = reinterpret_cast<ImTextureID>(
-      static_cast<std::uintptr_t>(s.target.texture));  // NOLINT(performance-no-int-to-ptr)
+  const std::uintptr_t texture_name = s.target.texture;
+  const auto texture_id = reinterpret_cast<ImTextureID>(texture_name);  // NOLINT(performance-no-int-to-ptr)
   ImGui::Image(texture_id, ImVec2(float(w), float(h)), ImVec2(0, 1), ImVec2(1, 0));
   if (!interactive) return std::nullopt;
 
