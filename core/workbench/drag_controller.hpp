@@ -6,7 +6,7 @@
 //
 // Units: mouse positions in screen pixels (y down, as ImGui's io.MousePos); rays and picked points in E in
 // millimetres (the viewport's world: VTK draws in mm); poses in metres, as everywhere else.
-#include <cmath>
+#include <numbers>
 #include <optional>
 
 #include "core/geometry/pose.hpp"
@@ -43,7 +43,7 @@ class DragController {
   static constexpr double kMmPerM = 1000.0;
   // Gains: a pixel of vertical mouse motion pushes 0.01 mm; a pixel turns 0.4 degrees.
   static constexpr double kPushMmPerPx = 0.01;
-  static constexpr double kTurnRadPerPx = 0.4 * M_PI / 180.0;
+  static constexpr double kTurnRadPerPx = 0.4 * std::numbers::pi / 180.0;
 
   // A press on the indenter at pose X_EI, on its surface point p_EP_mm (E, mm; the plane drag keeps this
   // point under the mouse), with the mouse at mouse_px. kNone starts nothing.
