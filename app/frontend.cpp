@@ -7,7 +7,6 @@
 #include <ctime>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <thread>
 
 #include <GLFW/glfw3.h>
@@ -40,9 +39,9 @@ ui::ReplayUi replay_ui(const Session& s) { return s.replay; }
 }  // namespace
 
 ui::CameraPreset parse_camera(const std::string& name) {
-  if (name == "iso") return ui::CameraPreset::Iso;
-  if (name == "top") return ui::CameraPreset::Top;
-  if (name == "side") return ui::CameraPreset::Side;
+  if (name == "iso") return ui::CameraPreset::kIso;
+  if (name == "top") return ui::CameraPreset::kTop;
+  if (name == "side") return ui::CameraPreset::kSide;
   throw InputError("--camera", "expected iso, top or side, got '" + name + "'");
 }
 
@@ -52,8 +51,10 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
       session_(open_session(session)),
       window_(window_options(options)),
       workbench_({options.show_timings, options.interactive}),
-      work_(options.autosave_interval_s),
-      autosave_path_(options.autosave_path.empty() ? default_autosave_path() : options.autosave_path) {
+      keeper_(options.autosave_interval_s,
+              options.autosave_path.empty() ? default_autosave_path() : options.autosave_path,
+              {[this] { return session_.state->pending_edits(); }, [this] { return current_session_file(); }}),
+      loader_([] { glfwPostEmptyEvent(); }) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
   workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
   workbench_.set_metrics(field_metrics());
@@ -84,7 +85,7 @@ void Frontend::install_session(Session next, const SessionOptions& options, Base
   workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
-  baseline_pending_ = baseline;
+  keeper_.expect_baseline(baseline);
   refresh_open_choices();
 }
 
@@ -95,51 +96,28 @@ void Frontend::reopen_then(const SessionOptions& session, Baseline baseline, con
     if (then) then();
     return;
   }
-  if (load_pending_) throw InputError(what, "still opening " + loading_what_ + ": wait for it, then open again");
-  load_pending_ = true;
-  loading_options_ = session;
-  loading_baseline_ = baseline;
-  after_load_ = std::move(then);
-  loading_what_ = what;
-  load_started_s_ = now_s();
+  loader_.start(session, baseline, what, std::move(then), now_s());
   workbench_.set_loading(what);
-  load_job_.start(LoadStatus{LoadStatus::Phase::Running, nullptr, ""},
-                  [session](const std::atomic<bool>&, StatusJob<LoadStatus>& job) {
-                    LoadStatus done;
-                    try {
-                      done.session = std::make_shared<Session>(open_session(session));
-                      done.phase = LoadStatus::Phase::Done;
-                    } catch (const std::exception& e) {
-                      done.error = e.what();
-                      done.phase = LoadStatus::Phase::Failed;
-                    }
-                    job.update([&](LoadStatus& s) { s = std::move(done); });
-                    glfwPostEmptyEvent();  // wake the idle frame loop
-                  });
 }
 
 // At the start of a frame: a finished open is swapped in here, never mid-frame.
 void Frontend::poll_load() {
-  if (!load_pending_) return;
-  const LoadStatus st = load_job_.status();
-  if (st.running()) return;
-  load_pending_ = false;
+  std::optional<SessionLoader::Opened> opened = loader_.take_finished(now_s());
+  if (!opened) return;
   workbench_.set_loading("");
-  std::function<void()> then = std::move(after_load_);
-  after_load_ = nullptr;
-  if (st.phase != LoadStatus::Phase::Done || !st.session) {
-    workbench_.set_message("error: " + st.error);
+  if (!opened->session) {
+    workbench_.set_message("error: " + opened->error);
     workbench_.revert_session_path();
     return;
   }
   try {
-    const double read_s = now_s() - load_started_s_;
     const double t0 = now_s();
-    install_session(std::move(*st.session), loading_options_, loading_baseline_);
+    install_session(std::move(*opened->session), opened->options, opened->baseline);
     char buf[96];
-    std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", read_s, 1e3 * (now_s() - t0));
-    workbench_.set_message("opened " + loading_what_ + " (parameter set " + session_.param_set.name + buf);
-    if (then) then();
+    std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", opened->read_s,
+                  1e3 * (now_s() - t0));
+    workbench_.set_message("opened " + opened->what + " (parameter set " + session_.param_set.name + buf);
+    if (opened->then) opened->then();
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());
   }
@@ -164,7 +142,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
     throw;
   }
   recent_.add(typed);
-  if (t.kind == OpenKind::Session) {
+  if (t.kind == OpenKind::kSession) {
     open_session_file(t.path);
     return;
   }
@@ -172,7 +150,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   o.open.sample_id.clear();
   o.open.param_set.clear();  // the set for the new sensor (a Mini set is meaningless on a TacTip)
   o.open.indenter_mesh.clear();
-  if (t.kind == OpenKind::Dataset) {
+  if (t.kind == OpenKind::kDataset) {
     o.open.dataset_dir = data_path(t.path, root);  // "data:twin/..." stays portable in the session file
     o.open.scene_path.clear();
   } else {
@@ -181,7 +159,7 @@ void Frontend::open_path(const std::string& typed, bool from_session_field) {
   }
   if (from_session_field) workbench_.revert_session_path();  // a scene or dataset is not the session file
   const std::string what = display_path(t.path, root);
-  reopen_then(o, Baseline::None, what);
+  reopen_then(o, Baseline::kNone, what);
 }
 
 void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
@@ -232,7 +210,7 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
     o.open.sample_id = session_.replay.samples.at(*req.open_sample);
     o.open.dataset_dir = session_.replay.dataset_dir;
     o.open.scene_path.clear();
-    reopen_then(o, Baseline::None, o.open.dataset_dir + " / " + o.open.sample_id);
+    reopen_then(o, Baseline::kNone, o.open.dataset_dir + " / " + o.open.sample_id);
   }
   if (req.open_session) open_path(*req.open_session, true);
   if (req.open_dataset) open_path(*req.open_dataset, false);
@@ -240,7 +218,7 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
     SessionOptions o = session_options_;
     o.open.param_set = *req.param_set;
     const std::string name = *req.param_set;
-    reopen_then(o, Baseline::None, "parameter set " + name,
+    reopen_then(o, Baseline::kNone, "parameter set " + name,
                 [this, name] { workbench_.set_message("every model starts again from parameter set " + name); });
   }
 }
@@ -248,12 +226,8 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
 // Save / Ctrl+S: the session file is adopted only once written (a refused path is not offered again).
 void Frontend::save_session_to(const std::string& path) {
   save_session_file(path, session_file_for_saving());
-  work_.saved(work_fingerprint());
-  saved_once_ = true;
+  keeper_.saved_to(path);
   workbench_.set_saved_once(true);
-  std::error_code ec;
-  // Saved: the autosave is stale, unless the user just saved over the autosave file itself.
-  if (!std::filesystem::equivalent(path, autosave_path_, ec)) std::filesystem::remove(autosave_path_, ec);
   workbench_.set_session_path(path);
   workbench_.set_message(
       "saved session " + path +
@@ -332,7 +306,7 @@ int Frontend::export_fields(const std::string& dir) {
   start_export(dir);
   workbench_.wait_for_export();
   const FieldExportStatus st = workbench_.export_status();
-  if (st.phase != FieldExportStatus::Phase::Done)
+  if (st.phase != FieldExportStatus::Phase::kDone)
     throw std::runtime_error("field export to " + dir + ": " + (st.error.empty() ? "did not finish" : st.error));
   return st.written;
 }
@@ -355,7 +329,7 @@ void Frontend::set_beside_hydroshear(const std::string& model_id) {
   f.open.beside_hydroshear = model_id;
   const std::string done = model_id.empty() ? std::string("removed the panel beside HydroShear")
                                             : ui::display_name(model_id) + " beside HydroShear";
-  apply_session_file(f, Baseline::None, [this, done] { workbench_.set_message(done); });
+  apply_session_file(f, Baseline::kNone, [this, done] { workbench_.set_message(done); });
 }
 
 void Frontend::load_residual(const std::string& path) {
@@ -405,17 +379,6 @@ SessionFile Frontend::session_file_for_saving() {
   return current_session_file();
 }
 
-// What counts as the user's work: everything in the session file but the step shown (playing a
-// replay changes the step, and that is not an edit worth asking about) and derived display scales.
-std::string Frontend::work_fingerprint() const {
-  nlohmann::ordered_json j = session_to_json(current_session_file());
-  j.erase("step");
-  j["display"].erase("camera");  // orbiting the view is not work to ask about (it is saved with the rest)
-  // With auto scale on, the arrow gain and colour range follow the fields: derived, not edited.
-  if (j["display"]["auto_scale"].get<bool>()) j.erase("display");
-  return j.dump();
-}
-
 // A session file's document on top of the session it opens (at the sync point, after the swap).
 void Frontend::apply_session_edits(const SessionFile& f) {
   AppState& state = *session_.state;
@@ -460,8 +423,8 @@ void Frontend::open_session_file(const std::string& path, std::function<void()> 
     workbench_.revert_session_path();  // a failed open adopts nothing
     throw;
   }
-  apply_session_file(f, Baseline::Clean, [this, path, then = std::move(then)] {
-    saved_once_ = true;
+  apply_session_file(f, Baseline::kClean, [this, path, then = std::move(then)] {
+    keeper_.opened_session_file();
     workbench_.set_saved_once(true);
     workbench_.set_session_path(path);
     workbench_.set_message("opened session " + path);
@@ -470,40 +433,38 @@ void Frontend::open_session_file(const std::string& path, std::function<void()> 
 }
 
 void Frontend::offer_autosave() {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(autosave_path_, ec)) return;
-  workbench_.ask(
-      "restore",
-      "shearbench did not close cleanly last time.\nRestore the unsaved session autosaved in\n" + autosave_path_ + " ?",
-      {"Restore", "Discard"});
+  if (!keeper_.has_autosave()) return;
+  workbench_.ask("restore",
+                 "shearbench did not close cleanly last time.\nRestore the unsaved session autosaved in\n" +
+                     keeper_.autosave_path() + " ?",
+                 {"Restore", "Discard"});
 }
 
 void Frontend::handle_answer(const std::string& id, int button) {
-  std::error_code ec;
   if (id == "restore") {
     if (button == 0) {
-      apply_session_file(load_session_file(autosave_path_), Baseline::Restored,
+      apply_session_file(load_session_file(keeper_.autosave_path()), Baseline::kRestored,
                          [this] { workbench_.set_message("restored the autosaved session (not yet saved: Ctrl+S)"); });
     } else {
-      std::filesystem::remove(autosave_path_, ec);
+      keeper_.discard_autosave();
     }
   } else if (id == "close") {
     if (button == 0) {  // Save, then close (a refused path keeps the window open, with the reason)
       save_session_to(workbench_.session_path());
-      close_confirmed_ = true;
+      keeper_.confirm_close();
       quit_ = true;
     } else if (button == 1) {  // Discard
-      close_confirmed_ = true;
+      keeper_.confirm_close();
       quit_ = true;
     }
   }
 }
 
 void Frontend::update_window_title() {
-  std::string state = load_pending_   ? "opening " + loading_what_
-                      : work_.dirty() ? std::string("unsaved changes")
-                      : saved_once_   ? std::string("saved")
-                                      : std::string("new session, not saved");
+  std::string state = loader_.pending()      ? "opening " + loader_.what()
+                      : keeper_.dirty()      ? std::string("unsaved changes")
+                      : keeper_.saved_once() ? std::string("saved")
+                                             : std::string("new session, not saved");
   const std::string title = "shearbench - " + session_.title + " - " + state;
   if (title == window_title_) return;
   window_title_ = title;
@@ -511,28 +472,10 @@ void Frontend::update_window_title() {
 }
 
 void Frontend::keep_work_tick() {
-  constexpr double kCheckEveryS = 0.5;  // building the document costs ~ a millisecond for long paths
-  const double now = now_s();
-  if (now - last_work_check_s_ < kCheckEveryS) return;
-  last_work_check_s_ = now;
-  // The baseline is taken once the physics has applied the opened session's edits.
-  if (baseline_pending_ != Baseline::None && session_.state->pending_edits() == 0) {
-    if (baseline_pending_ == Baseline::Clean)
-      work_.saved(work_fingerprint());
-    else
-      work_.restored(work_fingerprint());
-    baseline_pending_ = Baseline::None;
-  }
-  work_.observe(work_fingerprint(), now);
-  workbench_.set_unsaved(work_.dirty());
-  if (work_.autosave_due(now)) {
-    try {
-      save_session_file(autosave_path_, current_session_file());
-      work_.autosaved();
-    } catch (const std::exception& e) {
-      workbench_.set_message(std::string("autosave failed: ") + e.what());
-    }
-  }
+  const std::optional<WorkKeeper::Check> check = keeper_.tick(now_s());
+  if (!check) return;
+  workbench_.set_unsaved(check->dirty);
+  if (!check->autosave_error.empty()) workbench_.set_message("autosave failed: " + check->autosave_error);
 }
 
 // Screenshots, exports, drags, scene and residual loads free what they allocated, but glibc keeps the freed
@@ -549,8 +492,7 @@ void Frontend::trim_memory_when_idle() {
 // Called when the user asked to close: with unsaved work, ask first (the window stays open).
 bool Frontend::allow_close() {
   if (!options_.keep_work) return false;
-  if (baseline_pending_ == Baseline::None) work_.observe(work_fingerprint(), now_s());
-  if (work_.dirty() && !close_confirmed_) {
+  if (keeper_.unsaved_on_close(now_s())) {
     quit_ = false;
     glfwSetWindowShouldClose(window_.handle(), GLFW_FALSE);
     if (!workbench_.asking())
@@ -559,8 +501,7 @@ bool Frontend::allow_close() {
           {"Save", "Discard", "Cancel"});
     return true;
   }
-  std::error_code ec;
-  std::filesystem::remove(autosave_path_, ec);  // a clean exit: nothing to offer back next time
+  keeper_.discard_autosave();  // a clean exit: nothing to offer back next time
   return false;
 }
 
@@ -618,40 +559,6 @@ std::vector<double> Frontend::profile_drag(int frames) {
     std::printf("  mean per frame: widgets + VTK 3D view %.1f ms, ImGui GL draw %.1f ms, swap %.1f ms\n",
                 draw_ms_sum / frames, imgui_ms_sum / frames, present_ms_sum / frames);
   return ms;
-}
-
-std::string percentiles_line(std::vector<double> ms) {
-  if (ms.empty()) return "no frames";
-  std::sort(ms.begin(), ms.end());
-  const auto pct = [&](double p) {
-    return ms[std::min(ms.size() - 1, static_cast<std::size_t>(p * (ms.size() - 1) + 0.5))];
-  };
-  char buf[200];
-  std::snprintf(buf, sizeof buf, "%zu frames: p50 %.1f ms (%.1f fps)  p90 %.1f ms  p99 %.1f ms  max %.1f ms", ms.size(),
-                pct(0.5), 1000.0 / pct(0.5), pct(0.9), pct(0.99), ms.back());
-  return buf;
-}
-
-std::string text_report(const AppSnapshot& snap) {
-  std::ostringstream r;
-  r << "step " << snap.step << " of " << snap.num_steps - 1 << " (t = " << std::max(0, snap.step) * snap.dt_s
-    << " s)\n";
-  for (const auto& m : snap.models) {
-    double max_px = 0, sum = 0;
-    int contact = 0;
-    for (const Vec2& d : m.out.disp_px) {
-      max_px = std::max(max_px, d.norm());
-      sum += d.norm();
-    }
-    for (auto c : m.out.marker_in_contact) contact += c != 0;
-    char buf[256];
-    std::snprintf(buf, sizeof buf,
-                  "  %-18s step %7.2f ms (mean of %ld)  |d| max %.3f px  mean %.3f px  markers in contact %d\n",
-                  ui::display_name(m.id).c_str(), m.timing.mean_ms, m.timing.count, max_px,
-                  m.out.disp_px.empty() ? 0.0 : sum / m.out.disp_px.size(), contact);
-    r << buf;
-  }
-  return r.str();
 }
 
 }  // namespace sb::app

@@ -5,11 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_report.hpp"
 #include "app/session.hpp"
-#include "core/base/status_job.hpp"
+#include "app/session_loader.hpp"
 #include "core/workbench/open_target.hpp"
 #include "core/workbench/session_file.hpp"
-#include "core/workbench/unsaved_work.hpp"
+#include "core/workbench/work_keeper.hpp"
 #include "widgets/frame_stats.hpp"
 #include "widgets/gl_window.hpp"
 #include "widgets/workbench.hpp"
@@ -46,17 +47,16 @@ class Frontend {
   std::vector<double> profile_drag(int frames);
   Session& session() { return session_; }
   ui::Workbench& workbench() { return workbench_; }
-  // How the clean/unsaved baseline follows a new session: a session file opened is clean, an autosave
-  // restored is unsaved, anything else the user opened (dataset, scene, sample, parameter set) is a change.
-  enum class Baseline { None, Clean, Restored };
+  // How the clean/unsaved baseline follows a new session (core/workbench/work_keeper.hpp).
+  using Baseline = WorkBaseline;
   // Opens `session` now (headless renders, tests).
-  void reopen(const SessionOptions& session, Baseline baseline = Baseline::Clean);
+  void reopen(const SessionOptions& session, Baseline baseline = Baseline::kClean);
   // The interactive GUI opens on a worker (core/base/status_job.hpp) while the window stays live with a
   // progress line; the new session is swapped in at the start of a frame (one sync point), then `then`
   // runs. Headless (not interactive): at once, as reopen. `what` names it in the progress line.
   void reopen_then(const SessionOptions& session, Baseline baseline, const std::string& what,
                    std::function<void()> then = {});
-  bool loading() const { return load_pending_; }
+  bool loading() const { return loader_.pending(); }
   // A path typed into the Open field (or chosen from its list): dataset, scene or session file
   // (core/workbench/open_target.hpp); `from_session_field`: a failed open leaves the session path as it was.
   void open_path(const std::string& typed, bool from_session_field);
@@ -100,7 +100,6 @@ class Frontend {
   void handle_answer(const std::string& id, int button);
   void apply_session_file(const SessionFile& file, Baseline baseline, std::function<void()> then = {});
   void apply_session_edits(const SessionFile& file);
-  std::string work_fingerprint() const;
   void keep_work_tick();
   bool allow_close();
   std::string screenshot_region_;
@@ -114,36 +113,13 @@ class Frontend {
   ui::FrameStats stats_;
   bool quit_ = false;
   bool screenshot_pending_ = false;
-  // No lost work (keep_work).
-  UnsavedWork work_;
-  std::string autosave_path_;
-  Baseline baseline_pending_ = Baseline::Clean;
-  bool saved_once_ = false;  // saved or opened from a session file at least once
-  // Opening on a worker (reopen_then).
-  struct LoadStatus {
-    enum class Phase { Idle, Running, Done, Failed } phase = Phase::Idle;
-    std::shared_ptr<Session> session;
-    std::string error;
-    bool running() const { return phase == Phase::Running; }
-  };
-  StatusJob<LoadStatus> load_job_;
-  bool load_pending_ = false;
-  SessionOptions loading_options_;
-  Baseline loading_baseline_ = Baseline::Clean;
-  std::function<void()> after_load_;
-  std::string loading_what_;
-  double load_started_s_ = 0;
+  WorkKeeper keeper_;     // no lost work (keep_work)
+  SessionLoader loader_;  // opening on a worker (reopen_then)
   RecentPaths recent_;
-  bool close_confirmed_ = false;
-  double last_work_check_s_ = -1e9;
   double last_trim_s_ = 0;  // steady-clock seconds of the last trim_memory_when_idle
   void trim_memory_when_idle();
 };
 
-// p50 / p90 / p99 / max of frame times, one line.
-std::string percentiles_line(std::vector<double> ms);
-// Short text report: per-model step time and field magnitudes at the current step.
-std::string text_report(const AppSnapshot& snap);
 ui::CameraPreset parse_camera(const std::string& name);
 
 }  // namespace sb::app

@@ -131,7 +131,7 @@ TEST_CASE("the export job ends Done, Failed or Cancelled and says so", "[field_e
     job.start(request(tmp.path, 20));
     job.wait();
     const FieldExportStatus s = job.status();
-    REQUIRE(s.phase == FieldExportStatus::Phase::Done);
+    REQUIRE(s.phase == FieldExportStatus::Phase::kDone);
     CHECK(s.written == 2);
     CHECK(s.fraction == 1.0);
     CHECK(fs::exists(tmp.path / "hydroshear" / "dataset.json"));
@@ -142,7 +142,7 @@ TEST_CASE("the export job ends Done, Failed or Cancelled and says so", "[field_e
     job.start(r);
     job.wait();
     const FieldExportStatus s = job.status();
-    REQUIRE(s.phase == FieldExportStatus::Phase::Failed);
+    REQUIRE(s.phase == FieldExportStatus::Phase::kFailed);
     CHECK_THAT(s.error, Catch::Contains("path is empty"));
   }
   SECTION("cancelled") {
@@ -151,7 +151,7 @@ TEST_CASE("the export job ends Done, Failed or Cancelled and says so", "[field_e
     job.start(request(tmp.path, 20000));
     job.cancel();
     job.wait();
-    REQUIRE(job.status().phase == FieldExportStatus::Phase::Cancelled);
+    REQUIRE(job.status().phase == FieldExportStatus::Phase::kCancelled);
     CHECK_FALSE(fs::exists(tmp.path));
   }
 }

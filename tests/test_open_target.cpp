@@ -32,14 +32,14 @@ TEST_CASE("Open tells a dataset, a scene and a session apart, resolving paths as
   const std::string r = root.string(), w = work.string();
   using sb::OpenKind;
   // A dataset by data:, by a path relative to the data root (not in the working folder), and by its dataset.json.
-  CHECK(sb::classify_open_target("data:twin/twin_a", r, w).kind == OpenKind::Dataset);
+  CHECK(sb::classify_open_target("data:twin/twin_a", r, w).kind == OpenKind::kDataset);
   const sb::OpenTarget rel = sb::classify_open_target("twin/twin_a", r, w);
-  CHECK(rel.kind == OpenKind::Dataset);
+  CHECK(rel.kind == OpenKind::kDataset);
   CHECK(rel.path == (root / "twin/twin_a").string());
   CHECK(sb::classify_open_target("twin/twin_a/dataset.json", r, w).path == (root / "twin/twin_a").string());
   // A scene is a scene, not a session (Session -> Open on a scene adopted its path).
-  CHECK(sb::classify_open_target("scenes/press.json", r, w).kind == OpenKind::Scene);
-  CHECK(sb::classify_open_target("mine.json", r, w).kind == OpenKind::Session);
+  CHECK(sb::classify_open_target("scenes/press.json", r, w).kind == OpenKind::kScene);
+  CHECK(sb::classify_open_target("mine.json", r, w).kind == OpenKind::kSession);
   // Errors name the file.
   CHECK_THROWS_WITH(sb::classify_open_target("nowhere", r, w), Catch::Contains((work / "nowhere").string()));
   CHECK_THROWS_AS(sb::classify_open_target("notes.txt", r, w), sb::InputError);

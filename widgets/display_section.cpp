@@ -73,11 +73,11 @@ void DisplaySection::draw(const AppSnapshot& snap, Viewport3D& viewport, const s
                           WorkbenchRequest& req) {
   draw_scale_controls();
   draw_marker_model_combo(snap);
-  if (ImGui::SmallButton("Top")) viewport.set_camera(CameraPreset::Top);
+  if (ImGui::SmallButton("Top")) viewport.set_camera(CameraPreset::kTop);
   ImGui::SameLine();
-  if (ImGui::SmallButton("Side")) viewport.set_camera(CameraPreset::Side);
+  if (ImGui::SmallButton("Side")) viewport.set_camera(CameraPreset::kSide);
   ImGui::SameLine();
-  if (ImGui::SmallButton("Iso")) viewport.set_camera(CameraPreset::Iso);
+  if (ImGui::SmallButton("Iso")) viewport.set_camera(CameraPreset::kIso);
   draw_screenshot_row(regions, req);
 }
 

@@ -35,11 +35,11 @@ bool ExportRow::take_report(std::string& message) {
   if (reported_) return false;
   const FieldExportStatus st = job_.status();
   using Phase = FieldExportStatus::Phase;
-  if (st.phase == Phase::Running || st.phase == Phase::Idle) return false;
+  if (st.phase == Phase::kRunning || st.phase == Phase::kIdle) return false;
   reported_ = true;
-  if (st.phase == Phase::Done)
+  if (st.phase == Phase::kDone)
     message = "exported " + std::to_string(st.written) + " fields (tsd/1) to " + st.dir;
-  else if (st.phase == Phase::Cancelled)
+  else if (st.phase == Phase::kCancelled)
     message = "export cancelled; nothing was written to " + st.dir;
   else
     message = "error: export to " + st.dir + ": " + st.error;

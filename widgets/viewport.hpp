@@ -7,7 +7,8 @@
 //
 // Mouse: left-drag on the indenter moves it in the pad plane; Shift+drag pushes it in/out; Ctrl+drag
 // twists it about the pad normal; Alt+drag tilts (x) and rolls (y). Elsewhere left-drag orbits,
-// middle-drag pans, right-drag and the wheel zoom (VTK's trackball camera).
+// middle-drag pans, right-drag and the wheel zoom (VTK's trackball camera). The drag's arithmetic, mouse to
+// pose: core/workbench/drag_controller.hpp.
 #include <memory>
 #include <optional>
 
@@ -16,7 +17,7 @@
 
 namespace sb::ui {
 
-enum class CameraPreset { Iso, Top, Side };
+enum class CameraPreset { kIso, kTop, kSide };
 
 class Viewport3D {
  public:

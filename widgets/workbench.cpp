@@ -123,30 +123,30 @@ void Workbench::apply_action(Action action, WorkbenchRequest& req) {
     pose_.nudge(make_pose(Vec3::Zero(), Quat(Eigen::AngleAxisd(rad, Vec3::UnitZ()))), true, snap_, *state_);
   };
   switch (action) {
-    case Action::PlayPause: state_->set_playing(!snap_.playing); break;
-    case Action::StepForward: state_->request_seek(snap_.step + 1); break;
-    case Action::StepBack: state_->request_seek(std::max(-1, snap_.step - 1)); break;
-    case Action::Rewind: state_->request_seek(-1); break;
-    case Action::End: state_->request_seek(snap_.num_steps - 1); break;
-    case Action::NudgeXPlus: move(Vec3(kNudgeM, 0, 0)); break;
-    case Action::NudgeXMinus: move(Vec3(-kNudgeM, 0, 0)); break;
-    case Action::NudgeYPlus: move(Vec3(0, kNudgeM, 0)); break;
-    case Action::NudgeYMinus: move(Vec3(0, -kNudgeM, 0)); break;
-    case Action::PushIn: move(Vec3(0, 0, -kPushM)); break;
-    case Action::PullOut: move(Vec3(0, 0, kPushM)); break;
-    case Action::TwistPlus: twist(kTwistRad); break;
-    case Action::TwistMinus: twist(-kTwistRad); break;
-    case Action::CameraReset:
-    case Action::CameraIso: viewport_.set_camera(CameraPreset::Iso); break;
-    case Action::CameraTop: viewport_.set_camera(CameraPreset::Top); break;
-    case Action::CameraSide: viewport_.set_camera(CameraPreset::Side); break;
-    case Action::ArrowsLonger: display_.lengthen_arrows(true); break;
-    case Action::ArrowsShorter: display_.lengthen_arrows(false); break;
-    case Action::NextMarkerModel: display_.next_marker_model(static_cast<int>(snap_.models.size())); break;
-    case Action::Screenshot: req.screenshot = true; break;
-    case Action::ToggleHelp: show_help_ = !show_help_; break;
-    case Action::SaveSession: req.save_session = session_.field(); break;
-    case Action::Quit: req.quit = true; break;
+    case Action::kPlayPause: state_->set_playing(!snap_.playing); break;
+    case Action::kStepForward: state_->request_seek(snap_.step + 1); break;
+    case Action::kStepBack: state_->request_seek(std::max(-1, snap_.step - 1)); break;
+    case Action::kRewind: state_->request_seek(-1); break;
+    case Action::kEnd: state_->request_seek(snap_.num_steps - 1); break;
+    case Action::kNudgeXPlus: move(Vec3(kNudgeM, 0, 0)); break;
+    case Action::kNudgeXMinus: move(Vec3(-kNudgeM, 0, 0)); break;
+    case Action::kNudgeYPlus: move(Vec3(0, kNudgeM, 0)); break;
+    case Action::kNudgeYMinus: move(Vec3(0, -kNudgeM, 0)); break;
+    case Action::kPushIn: move(Vec3(0, 0, -kPushM)); break;
+    case Action::kPullOut: move(Vec3(0, 0, kPushM)); break;
+    case Action::kTwistPlus: twist(kTwistRad); break;
+    case Action::kTwistMinus: twist(-kTwistRad); break;
+    case Action::kCameraReset:
+    case Action::kCameraIso: viewport_.set_camera(CameraPreset::kIso); break;
+    case Action::kCameraTop: viewport_.set_camera(CameraPreset::kTop); break;
+    case Action::kCameraSide: viewport_.set_camera(CameraPreset::kSide); break;
+    case Action::kArrowsLonger: display_.lengthen_arrows(true); break;
+    case Action::kArrowsShorter: display_.lengthen_arrows(false); break;
+    case Action::kNextMarkerModel: display_.next_marker_model(static_cast<int>(snap_.models.size())); break;
+    case Action::kScreenshot: req.screenshot = true; break;
+    case Action::kToggleHelp: show_help_ = !show_help_; break;
+    case Action::kSaveSession: req.save_session = session_.field(); break;
+    case Action::kQuit: req.quit = true; break;
   }
 }
 

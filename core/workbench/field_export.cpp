@@ -81,7 +81,7 @@ int export_fields(const FieldExportRequest& req, const Progress& progress) {
 
 void FieldExportJob::start(FieldExportRequest request) {
   FieldExportStatus running;
-  running.phase = FieldExportStatus::Phase::Running;
+  running.phase = FieldExportStatus::Phase::kRunning;
   running.dir = request.dir;
   job_.start(std::move(running),
              [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) { run(req, cancel, job); });
@@ -100,17 +100,17 @@ void FieldExportJob::run(const FieldExportRequest& req, const std::atomic<bool>&
   end.dir = req.dir;
   try {
     end.written = export_fields(req, progress);
-    end.phase = FieldExportStatus::Phase::Done;
+    end.phase = FieldExportStatus::Phase::kDone;
     end.fraction = 1;
   } catch (const Cancelled&) {
-    end.phase = FieldExportStatus::Phase::Cancelled;
+    end.phase = FieldExportStatus::Phase::kCancelled;
   } catch (const std::exception& e) {
-    end.phase = FieldExportStatus::Phase::Failed;
+    end.phase = FieldExportStatus::Phase::kFailed;
     end.error = e.what();
   }
   job.update([&](FieldExportStatus& s) {
     end.stage = s.stage;
-    if (end.phase != FieldExportStatus::Phase::Done) end.fraction = s.fraction;
+    if (end.phase != FieldExportStatus::Phase::kDone) end.fraction = s.fraction;
     s = std::move(end);
   });
 }

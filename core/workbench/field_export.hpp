@@ -45,13 +45,13 @@ void check_export_target(const FieldExportRequest& req);
 int export_fields(const FieldExportRequest& req, const Progress& progress = {});
 
 struct FieldExportStatus {
-  enum class Phase { Idle, Running, Done, Cancelled, Failed } phase = Phase::Idle;
+  enum class Phase { kIdle, kRunning, kDone, kCancelled, kFailed } phase = Phase::kIdle;
   std::string stage;    // model being computed, or "writing"
   double fraction = 0;  // of all models' steps
   int written = 0;      // Done: datasets written
   std::string dir;      // the request's folder
   std::string error;    // Failed: why
-  bool running() const { return phase == Phase::Running; }
+  bool running() const { return phase == Phase::kRunning; }
 };
 
 class FieldExportJob {

@@ -24,21 +24,21 @@ OpenTarget classify_open_target(const std::string& typed, const std::string& dat
   if (fs::is_directory(t.path, ec)) {
     if (!fs::exists(fs::path(t.path) / "dataset.json", ec))
       throw InputError(t.path, "is a folder without dataset.json: not a tsd/1 dataset");
-    t.kind = OpenKind::Dataset;
+    t.kind = OpenKind::kDataset;
     return t;
   }
   if (fs::path(t.path).filename() == "dataset.json") {
-    t.kind = OpenKind::Dataset;
+    t.kind = OpenKind::kDataset;
     t.path = fs::path(t.path).parent_path().string();
     return t;
   }
   if (is_session_file(t.path)) {
-    t.kind = OpenKind::Session;
+    t.kind = OpenKind::kSession;
     return t;
   }
   if (fs::path(t.path).extension() != ".json")
     throw InputError(t.path, "is not a dataset folder, a scene (.json) or a shearbench session file");
-  t.kind = OpenKind::Scene;
+  t.kind = OpenKind::kScene;
   return t;
 }
 

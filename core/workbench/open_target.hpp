@@ -8,10 +8,10 @@
 
 namespace sb {
 
-enum class OpenKind { Dataset, Scene, Session };
+enum class OpenKind { kDataset, kScene, kSession };
 
 struct OpenTarget {
-  OpenKind kind = OpenKind::Scene;
+  OpenKind kind = OpenKind::kScene;
   std::string path;   // resolved: the dataset folder, the scene or the session file
   std::string typed;  // as the user wrote it (kept for the session file: "data:..." stays portable)
 };
