@@ -18,6 +18,7 @@
 #include "core/data/tactip_sensor.hpp"
 #include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
+#include "core/loop/residual_report.hpp"
 
 namespace sb::app {
 namespace {

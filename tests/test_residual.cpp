@@ -16,6 +16,7 @@
 
 #include "core/effects/effects.hpp"
 #include "core/loop/residual.hpp"
+#include "core/loop/residual_report.hpp"
 #include "core/loop/rest_grid_lens.hpp"
 
 // This file's names in a namespace of its own: the unity build (CMAKE_UNITY_BUILD) compiles several

@@ -215,8 +215,8 @@ std::vector<Vec2> reference_pins() {
   return make_pin_reference(cv::imread(path, cv::IMREAD_GRAYSCALE), PinTrackerOptions{}, path).rest_px;
 }
 
-// The import's starting values (importers.cpp): R 20 mm, pins 3 mm deep, f = 210 / tan 30 deg, D such that the
-// pin sphere's equator is seen at 210 px, k1 = 0.
+// The import's starting values (core/sensor/tactip_sensor_camera.cpp): R 20 mm, pins 3 mm deep, f = 210 / tan 30
+// deg, D such that the pin sphere's equator is seen at 210 px, k1 = 0.
 TactipGeometryFitOptions import_start() {
   TactipGeometryFitOptions o;
   o.initial.model = CameraModel::Pinhole;

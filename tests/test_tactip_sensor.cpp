@@ -1,5 +1,6 @@
-// The TacTip sensor description and what the data identify of it (core/data/tactip_sensor.hpp), and the import's
-// inputs as users have them.
+// The TacTip sensor description and what the data identify of it (core/sensor/tactip_sensor.hpp,
+// core/sensor/tactip_identify.hpp, read from a file by core/data/tactip_sensor.hpp), and the import's inputs as users
+// have them.
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "core/data/importers.hpp"
 #include "core/data/tactip_sensor.hpp"
 #include "core/data/tsd.hpp"
+#include "core/sensor/tactip_identify.hpp"
 #include "tests/temp_path.hpp"
 
 namespace test_tactip_sensor {

@@ -1,3 +1,4 @@
+// Reading tsd/1 datasets: dataset.json and, on demand, one sample's CSVs (tsd.hpp; writing: tsd_write.cpp).
 #include "core/data/tsd.hpp"
 
 #include <unistd.h>
@@ -84,9 +85,12 @@ std::string read_whole_file(const std::string& path) {
 }
 
 // A fast reader of simple numeric CSV (no quoting: tsd/1 files hold numbers only). It walks the file
-// line by line, splits fields in place, and reports every problem as file:line:column.
+// line by line, splits fields in place, and reports every problem as file:line:column. The current line and
+// its fields are views into the reader's own copy of the text, so a reader is neither copied nor moved.
 class CsvReader {
  public:
+  CsvReader(const CsvReader&) = delete;
+  CsvReader& operator=(const CsvReader&) = delete;
   CsvReader(std::string path, const char* header, std::size_t columns)
       : path_(std::move(path)), text_(read_whole_file(path_)), columns_(columns) {
     if (!next_row()) fail(1, 1, "empty file (expected header '" + std::string(header) + "')");
@@ -177,10 +181,6 @@ class CsvReader {
   std::vector<std::size_t> starts_;
 };
 
-constexpr const char* kPosesHeader = "frame,t_s,x_m,y_m,z_m,qw,qx,qy,qz";
-constexpr const char* kMarkersHeader = "frame,marker,du_px,dv_px";
-constexpr const char* kForcesHeader = "frame,fx_n,fy_n,fz_n";
-
 // The frame column must count 0, 1, 2, ... without gaps.
 void expect_frame(const CsvReader& csv, long long frame, std::size_t expected) {
   if (frame == static_cast<long long>(expected)) return;
@@ -194,7 +194,7 @@ void expect_frame(const CsvReader& csv, long long frame, std::size_t expected) {
 }  // namespace
 
 void read_poses_csv(const std::string& path, SampleData* out, Warnings* warnings) {
-  CsvReader csv(path, kPosesHeader, 9);
+  CsvReader csv(path, kTsdPosesHeader, 9);
   static const char* names[] = {"frame", "t_s", "x_m", "y_m", "z_m", "qw", "qx", "qy", "qz"};
   out->t_s.clear();
   out->p_EI.clear();
@@ -225,7 +225,7 @@ void read_poses_csv(const std::string& path, SampleData* out, Warnings* warnings
 }
 
 void read_markers_csv(const std::string& path, std::size_t n_frames, std::size_t n_markers, SampleData* out) {
-  CsvReader csv(path, kMarkersHeader, 4);
+  CsvReader csv(path, kTsdMarkersHeader, 4);
   const Vec2 lost(std::nan(""), std::nan(""));
   out->markers_px.assign(n_frames, std::vector<Vec2>(n_markers, lost));
   std::vector<char> seen(n_markers, 0);
@@ -276,7 +276,7 @@ void read_markers_csv(const std::string& path, std::size_t n_frames, std::size_t
 }
 
 void read_forces_csv(const std::string& path, std::size_t n_frames, SampleData* out) {
-  CsvReader csv(path, kForcesHeader, 4);
+  CsvReader csv(path, kTsdForcesHeader, 4);
   out->forces_n.clear();
   while (csv.next_row()) {
     expect_frame(csv, csv.index(0, "frame"), out->forces_n.size());
@@ -461,141 +461,6 @@ Dataset read_dataset(const std::string& dir, Warnings* /*warnings*/) {
   if (!fs::is_directory(dir)) throw InputError(dir, "dataset folder not found");
   const std::string file = (fs::path(dir) / "dataset.json").string();
   return parse_dataset_json(jsonin::load_file(file), file, dir);
-}
-
-// ------------------------------------------------------------------------------------------ writing
-
-namespace {
-
-// Shortest text that reads back to the same double; NaN as "nan".
-void append_number(std::string& s, double v) {
-  if (std::isnan(v)) {
-    s += "nan";
-    return;
-  }
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  s.append(buf, r.ptr);
-}
-void append_index(std::string& s, std::size_t v) {
-  char buf[24];
-  const auto r = std::to_chars(buf, buf + sizeof buf, v);
-  s.append(buf, r.ptr);
-}
-
-}  // namespace
-
-void write_sample(const std::string& dir, const TsdSampleInfo& info, const SampleData& data, std::size_t n_markers) {
-  const fs::path sdir = fs::path(dir) / info.id;
-  const std::size_t n = data.frames();
-  if (data.p_EI.size() != n || data.q_EI.size() != n || data.markers_px.size() != n)
-    throw std::invalid_argument("write_sample: sample '" + info.id + "' has inconsistent frame counts");
-  std::string poses = std::string(kPosesHeader) + "\n";
-  poses.reserve(n * 160);
-  for (std::size_t k = 0; k < n; ++k) {
-    append_index(poses, k);
-    const double v[8] = {data.t_s[k],      data.p_EI[k].x(), data.p_EI[k].y(), data.p_EI[k].z(),
-                         data.q_EI[k].w(), data.q_EI[k].x(), data.q_EI[k].y(), data.q_EI[k].z()};
-    for (double x : v) {
-      poses += ',';
-      append_number(poses, x);
-    }
-    poses += '\n';
-  }
-  std::string markers = std::string(kMarkersHeader) + "\n";
-  markers.reserve(n * n_markers * 32);
-  for (std::size_t k = 0; k < n; ++k) {
-    if (data.markers_px[k].size() != n_markers)
-      throw std::invalid_argument("write_sample: frame " + std::to_string(k) + " of '" + info.id + "' has " +
-                                  std::to_string(data.markers_px[k].size()) + " markers, expected " +
-                                  std::to_string(n_markers));
-    for (std::size_t m = 0; m < n_markers; ++m) {
-      append_index(markers, k);
-      markers += ',';
-      append_index(markers, m);
-      markers += ',';
-      append_number(markers, data.markers_px[k][m].x());
-      markers += ',';
-      append_number(markers, data.markers_px[k][m].y());
-      markers += '\n';
-    }
-  }
-  write_file_atomic((sdir / "poses.csv").string(), poses);
-  write_file_atomic((sdir / "markers.csv").string(), markers);
-  if (info.has_forces) {
-    if (data.forces_n.size() != n)
-      throw std::invalid_argument("write_sample: '" + info.id + "' has_forces but forces_n has the wrong size");
-    std::string forces = std::string(kForcesHeader) + "\n";
-    for (std::size_t k = 0; k < n; ++k) {
-      append_index(forces, k);
-      for (int i = 0; i < 3; ++i) {
-        forces += ',';
-        append_number(forces, data.forces_n[k][i]);
-      }
-      forces += '\n';
-    }
-    write_file_atomic((sdir / "forces.csv").string(), forces);
-  }
-}
-
-nlohmann::ordered_json dataset_to_json(const Dataset& ds) {
-  // ordered_json keeps the FORMAT.md field order, which makes the files easy to read and diff.
-  nlohmann::ordered_json j;
-  j["format"] = "tsd/1";
-  j["name"] = ds.name;
-  j["kind"] = ds.kind;
-  j["provenance"] = ds.provenance;
-  j["license"] = ds.license;
-  nlohmann::ordered_json sensor;
-  sensor["model"] = ds.sensor_model;
-  sensor["image_size_px"] = {ds.camera.width_px, ds.camera.height_px};
-  sensor["camera"] = camera_to_json(ds.camera);
-  sensor["gel"] = {{"size_m", {ds.gel.size_m.x(), ds.gel.size_m.y()}},
-                   {"thickness_m", ds.gel.thickness_m},
-                   {"surface", ds.gel.surface}};
-  if (ds.gel.surface == "spherical_cap") {
-    sensor["gel"]["radius_m"] = ds.gel.radius_m;
-    sensor["gel"]["footprint_radius_m"] = ds.gel.footprint_radius_m;
-  }
-  // A GelSight-Mini-like sensor (orthographic, markers on the surface) keeps the block it always had.
-  if (!is_classic_sensor(ds.camera, ds.gel)) sensor["markers_depth_m"] = ds.gel.markers_depth_m;
-  nlohmann::ordered_json markers = nlohmann::ordered_json::array();
-  for (const Vec2& m : ds.markers_rest_px) markers.push_back({m.x(), m.y()});
-  sensor["markers_rest_px"] = markers;
-  for (const auto& [k, v] : ds.sensor_extra.items()) sensor[k] = v;
-  j["sensor"] = sensor;
-  nlohmann::ordered_json indenters = nlohmann::ordered_json::object();
-  for (const auto& [name, ind] : ds.indenters) {
-    nlohmann::ordered_json e{{"mesh", ind.mesh}};
-    for (const auto& [k, v] : ind.extra.items()) e[k] = v;
-    indenters[name] = e;
-  }
-  j["indenters"] = indenters;
-  nlohmann::ordered_json samples = nlohmann::ordered_json::array();
-  for (const auto& s : ds.samples) {
-    nlohmann::ordered_json e{
-        {"id", s.id},     {"motion", s.motion},         {"indenter", s.indenter},     {"split", s.split},
-        {"dt_s", s.dt_s}, {"pose_known", s.pose_known}, {"has_forces", s.has_forces}, {"has_frames", s.has_frames}};
-    for (const auto& [k, v] : s.extra.items()) e[k] = v;
-    samples.push_back(e);
-  }
-  j["samples"] = samples;
-  for (const auto& [k, v] : ds.extra.items()) j[k] = v;
-  return j;
-}
-
-void write_dataset_json(const std::string& dir, const Dataset& ds) {
-  // nlohmann prints doubles in their shortest round-trip form, so the metadata round-trips exactly too.
-  write_file_atomic((fs::path(dir) / "dataset.json").string(), dataset_to_json(ds).dump(2) + "\n");
-}
-
-void write_dataset(const std::string& dir, const Dataset& ds, const std::vector<SampleData>& samples) {
-  if (samples.size() != ds.samples.size())
-    throw std::invalid_argument("write_dataset: " + std::to_string(samples.size()) + " sample data for " +
-                                std::to_string(ds.samples.size()) + " samples");
-  for (std::size_t i = 0; i < samples.size(); ++i)
-    write_sample(dir, ds.samples[i], samples[i], ds.markers_rest_px.size());
-  write_dataset_json(dir, ds);
 }
 
 }  // namespace sb

@@ -101,7 +101,12 @@ void read_poses_csv(const std::string& path, SampleData* out, Warnings* warnings
 void read_markers_csv(const std::string& path, std::size_t n_frames, std::size_t n_markers, SampleData* out);
 void read_forces_csv(const std::string& path, std::size_t n_frames, SampleData* out);
 
-// Writing. write_sample writes <dir>/<id>/poses.csv, markers.csv and (when has_forces) forces.csv, each
+// The CSV headers of tsd/1 (FORMAT.md), as the reader expects and the writer writes them.
+inline constexpr const char* kTsdPosesHeader = "frame,t_s,x_m,y_m,z_m,qw,qx,qy,qz";
+inline constexpr const char* kTsdMarkersHeader = "frame,marker,du_px,dv_px";
+inline constexpr const char* kTsdForcesHeader = "frame,fx_n,fy_n,fz_n";
+
+// Writing (tsd_write.cpp). write_sample writes <dir>/<id>/poses.csv, markers.csv and (when has_forces) forces.csv, each
 // atomically; it does not copy frame images or meshes. write_dataset_json writes dataset.json
 // atomically. write_dataset writes every sample, then dataset.json, so a reader never sees a
 // dataset.json that lists samples not yet written. `samples[i]` belongs to `ds.samples[i]`.

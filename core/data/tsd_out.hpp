@@ -19,7 +19,7 @@ struct TsdSampleOut {
   std::string id;
   std::string motion = "free";
   std::string
-      indenter;  // a key of TsdDatasetOut::indenters (tsd/1 requires one; see importers.cpp for unknown contacts)
+      indenter;  // a key of TsdDatasetOut::indenters (tsd/1 requires one; see import_common.cpp for unknown contacts)
   std::string split = "validation";
   double dt_s = 0.04;
   bool pose_known = false;

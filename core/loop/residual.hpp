@@ -196,12 +196,10 @@ ResidualReport run_residual_loop(const ResidualInputs& in, const ResidualOptions
 // The effect's own parameters ("tau_s", ...) from a combined table (prefix removed).
 nlohmann::ordered_json effect_params_json(const ParamSet& params, const std::string& effect_id);
 
-nlohmann::ordered_json residual_to_json(const ResidualReport& r);
+// The report's JSON, Markdown and plots: residual_report.hpp.
+
 // The final model as a parameter file ({"<after_model>": {name: value}}) that `evaluate --params`,
 // `simulate --params` and the workbench load.
 nlohmann::ordered_json final_model_params_json(const ResidualReport& r);
-// Writes the PNG plots into `dir` named "<stem>_*.png" and returns their file names (not paths).
-std::vector<std::string> write_residual_plots(const ResidualReport& r, const std::string& dir, const std::string& stem);
-std::string residual_to_markdown(const ResidualReport& r, const std::vector<std::string>& plots);
 
 }  // namespace sb
