@@ -1,7 +1,8 @@
 // `shearbench inject --dataset DIR --effect ID [--set name=value,...] [--hold-frames N] --out DIR`: a copy of
 // a dataset with a catalogued effect put into its measured fields, undeclared (core/loop/inject.hpp), to check
-// that the residual loop finds what was put in. The copy's poses and markers are written as tsd/1; frames
-// and forces are not copied (a hold changes the frame count), meshes are referenced where they are.
+// that the residual loop finds what was put in. A lens bends the recorded rest grid too (recorded_rest_px). The
+// copy's poses and markers are written as tsd/1; frames and forces are not copied (a hold changes the frame
+// count), meshes are referenced where they are.
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -91,6 +92,7 @@ int run_inject(const InjectArgs& a, const GlobalOptions& g) {
   for (const auto& [name, value] : values) what += " " + name + "=" + std::to_string(value);
   ds.provenance += " | shearbench inject: " + what +
                    (a.hold_frames ? ", hold of " + std::to_string(a.hold_frames) + " frames at peak load" : "");
+  ds.markers_rest_px = recorded_rest_px(ds.camera, a.effect, values, ds.markers_rest_px);
   ds.name += "+" + a.effect;
   write_dataset(a.out, ds, samples);
   if (!g.quiet)

@@ -86,7 +86,7 @@ std::shared_ptr<const sb::Sensor> recorded_sensor(const std::shared_ptr<const sb
                                                   const std::map<std::string, double>& params) {
   if (effect != "lens_distortion") return sensor;
   auto bent = std::make_shared<sb::Sensor>(*sensor);
-  for (Vec2& m : bent->markers_rest_px) m = sb::lens_distort_px(bent->camera, params.at("k1"), m);
+  bent->markers_rest_px = sb::recorded_rest_px(bent->camera, effect, params, bent->markers_rest_px);
   return bent;
 }
 

@@ -2,6 +2,7 @@
 #include "core/loop/inject.hpp"
 
 #include "core/effects/effects.hpp"
+#include "core/loop/rest_grid_lens.hpp"
 
 namespace sb {
 
@@ -36,6 +37,15 @@ void inject_effect(const Sensor& sensor, const std::string& effect, const std::m
     ctx.time_s += ctx.dt_s;
     e->apply(ctx, s->meas_px[k]);
   }
+}
+
+std::vector<Vec2> recorded_rest_px(const Camera& camera, const std::string& effect,
+                                   const std::map<std::string, double>& params, std::vector<Vec2> rest_px) {
+  if (effect != "lens_distortion") return rest_px;
+  const auto k1 = params.find("k1");
+  if (k1 == params.end()) return rest_px;  // the effect's default k1 is 0: no lens
+  for (Vec2& m : rest_px) m = lens_distort_px(camera, k1->second, m);
+  return rest_px;
 }
 
 }  // namespace sb

@@ -22,4 +22,10 @@ void insert_hold(const Sensor& sensor, int frames, double noise_px, std::mt19937
 void inject_effect(const Sensor& sensor, const std::string& effect, const std::map<std::string, double>& params,
                    FitSample* s);
 
+// The rest grid as a camera with `effect` records it: a lens images the printed grid bent too (each rest position
+// through the k1 lens, lens_distort_px; k2 is not applied), while p_EM stays where the markers physically are.
+// Any other effect leaves the rest grid as it is. The injected fields (inject_effect) are about the unbent rest.
+std::vector<Vec2> recorded_rest_px(const Camera& camera, const std::string& effect,
+                                   const std::map<std::string, double>& params, std::vector<Vec2> rest_px);
+
 }  // namespace sb
