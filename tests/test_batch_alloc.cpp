@@ -141,11 +141,11 @@ TEST_CASE("the batched models allocate nothing per step once warm", "[models][al
                                   markers) == 0);
   }
   SECTION("fots") {
-    CHECK(second_pass_allocations(FotsBatch(FotsVariant::Original, sensor, peg, kSlots, default_params("fots")), kSlots,
-                                  markers) == 0);
+    CHECK(second_pass_allocations(FotsBatch(FotsVariant::kOriginal, sensor, peg, kSlots, default_params("fots")),
+                                  kSlots, markers) == 0);
   }
   SECTION("fots-reimpl") {
-    CHECK(second_pass_allocations(FotsBatch(FotsVariant::Reimpl, sensor, peg, kSlots, default_params("fots-reimpl")),
+    CHECK(second_pass_allocations(FotsBatch(FotsVariant::kReimpl, sensor, peg, kSlots, default_params("fots-reimpl")),
                                   kSlots, markers) == 0);
   }
   SECTION("tacsl") {

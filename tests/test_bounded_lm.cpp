@@ -58,7 +58,7 @@ TEST_CASE("bounded LM: a linear problem inside the box is Gauss-Newton's answer"
   Counted c;
   coupled(&c, kInf);
   const auto res = sb::minimize_bounded_lm(c.problem, {5, -3}, tight());
-  CHECK(res.termination == LmTermination::Convergence);
+  CHECK(res.termination == LmTermination::kConvergence);
   CHECK(res.x[0] == Approx(1).margin(kSolutionTol));
   CHECK(res.x[1] == Approx(1).margin(kSolutionTol));
   CHECK(res.cost == Approx(0).margin(kSolutionTol));
@@ -155,13 +155,13 @@ TEST_CASE("bounded LM: the iteration cap and a cancel", "[bounded_lm]") {
   BoundedLmOptions o = tight();
   o.max_iterations = 0;  // the start's cost only: no Jacobian is paid
   auto res = sb::minimize_bounded_lm(c.problem, {-2, 4}, o);
-  CHECK(res.termination == LmTermination::NoConvergence);
+  CHECK(res.termination == LmTermination::kNoConvergence);
   CHECK(c.jacobian_calls == 0);
   CHECK(res.x == std::vector<double>{-2, 4});
   o.max_iterations = 100;
   o.on_iteration = [](int iteration, double) { return iteration < 1; };  // cancel after the first step
   res = sb::minimize_bounded_lm(c.problem, {-2, 4}, o);
-  CHECK(res.termination == LmTermination::Aborted);
+  CHECK(res.termination == LmTermination::kAborted);
   CHECK(res.iterations == 1);
   CHECK(sb::to_string(res.termination) == "USER_FAILURE");
 }

@@ -30,7 +30,7 @@ Degradation make(DegradeKind kind, double strength, std::uint64_t seed = 1) { re
 
 TEST_CASE("degradations parse as KIND:STRENGTH with the range of their table entry", "[degrade]") {
   const Degradation d = parse_degradation("blur:2.5", "--degrade");
-  CHECK(d.kind == DegradeKind::blur);
+  CHECK(d.kind == DegradeKind::kBlur);
   CHECK(d.strength == 2.5);
   CHECK(degradation_label(d) == "blur:2.5");
   CHECK(parse_degradation("brightness:-0.6", "--degrade").strength == -0.6);
@@ -42,8 +42,8 @@ TEST_CASE("degradations parse as KIND:STRENGTH with the range of their table ent
   CHECK_THROWS_AS(parse_degradation("jpeg:0", "--degrade"), InputError);
   // Every kind has exactly one entry in the table, named as the kind.
   const ParamSet specs = degrade_param_specs();
-  for (auto k : {DegradeKind::blur, DegradeKind::noise, DegradeKind::brightness, DegradeKind::jpeg, DegradeKind::drop,
-                 DegradeKind::occlusion})
+  for (auto k : {DegradeKind::kBlur, DegradeKind::kNoise, DegradeKind::kBrightness, DegradeKind::kJpeg,
+                 DegradeKind::kDrop, DegradeKind::kOcclusion})
     CHECK(specs.index_of(degrade_kind_name(k)) >= 0);
   CHECK(specs.size() == 6);
 }
@@ -54,26 +54,26 @@ TEST_CASE("noise has the requested sigma and is the same for the same seed and f
   // the estimate's relative standard error is 1/sqrt(2N) = 0.15 %; tolerance 2 %.
   constexpr double kSigma = 10, kRelTol = 0.02;
   const cv::Mat clean = grey_frame(128);
-  const cv::Mat a = degrade_frame(clean, make(DegradeKind::noise, kSigma, 7), 3, 10);
+  const cv::Mat a = degrade_frame(clean, make(DegradeKind::kNoise, kSigma, 7), 3, 10);
   cv::Mat diff;
   cv::subtract(a, clean, diff, cv::noArray(), CV_32F);
   cv::Scalar mean, stddev;
   cv::meanStdDev(diff.reshape(1), mean, stddev);
   CHECK(stddev[0] == Approx(std::sqrt(kSigma * kSigma + 1.0 / 12)).epsilon(kRelTol));
   CHECK(std::abs(mean[0]) < 0.1);
-  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::noise, kSigma, 7), 3, 10), cv::NORM_INF) == 0);
-  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::noise, kSigma, 8), 3, 10), cv::NORM_INF) > 0);
-  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::noise, kSigma, 7), 4, 10), cv::NORM_INF) > 0);
+  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::kNoise, kSigma, 7), 3, 10), cv::NORM_INF) == 0);
+  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::kNoise, kSigma, 8), 3, 10), cv::NORM_INF) > 0);
+  CHECK(cv::norm(a, degrade_frame(clean, make(DegradeKind::kNoise, kSigma, 7), 4, 10), cv::NORM_INF) > 0);
 }
 
 TEST_CASE("a brightness drift ramps the gain from 1 to 1 + strength over the clip", "[degrade]") {
   // gain(i) = 1 + s * i / (n - 1): with s = -0.5 and n = 11, frame 0 keeps 200, frame 10 gives 100,
   // frame 5 gives 200 * 0.75 = 150. With s = +1 the last frame saturates at 255.
   const cv::Mat clean = grey_frame(200);
-  CHECK(degrade_frame(clean, make(DegradeKind::brightness, -0.5), 0, 11).at<cv::Vec3b>(5, 5)[0] == 200);
-  CHECK(degrade_frame(clean, make(DegradeKind::brightness, -0.5), 5, 11).at<cv::Vec3b>(5, 5)[0] == 150);
-  CHECK(degrade_frame(clean, make(DegradeKind::brightness, -0.5), 10, 11).at<cv::Vec3b>(5, 5)[0] == 100);
-  CHECK(degrade_frame(clean, make(DegradeKind::brightness, 1.0), 10, 11).at<cv::Vec3b>(5, 5)[0] == 255);
+  CHECK(degrade_frame(clean, make(DegradeKind::kBrightness, -0.5), 0, 11).at<cv::Vec3b>(5, 5)[0] == 200);
+  CHECK(degrade_frame(clean, make(DegradeKind::kBrightness, -0.5), 5, 11).at<cv::Vec3b>(5, 5)[0] == 150);
+  CHECK(degrade_frame(clean, make(DegradeKind::kBrightness, -0.5), 10, 11).at<cv::Vec3b>(5, 5)[0] == 100);
+  CHECK(degrade_frame(clean, make(DegradeKind::kBrightness, 1.0), 10, 11).at<cv::Vec3b>(5, 5)[0] == 255);
 }
 
 TEST_CASE("blur is a Gaussian of the requested sigma", "[degrade]") {
@@ -83,7 +83,7 @@ TEST_CASE("blur is a Gaussian of the requested sigma", "[degrade]") {
   constexpr double kSigma = 4, kTolGrey = 1.5;
   cv::Mat step = grey_frame(0);
   step(cv::Rect(160, 0, kW - 160, kH)).setTo(cv::Scalar(255, 255, 255));
-  const cv::Mat b = degrade_frame(step, make(DegradeKind::blur, kSigma), 0, 1);
+  const cv::Mat b = degrade_frame(step, make(DegradeKind::kBlur, kSigma), 0, 1);
   // x = 163.5 lies between pixels 163 and 164: average them.
   const double at_one_sigma = 0.5 * (b.at<cv::Vec3b>(120, 163)[1] + b.at<cv::Vec3b>(120, 164)[1]);
   CHECK(at_one_sigma == Approx(255 * 0.841345).margin(kTolGrey));
@@ -100,7 +100,7 @@ TEST_CASE("JPEG re-encoding loses more at lower quality", "[degrade]") {
   for (int y = 20; y < kH; y += 30)
     for (int x = 20; x < kW; x += 30) cv::circle(img, {x, y}, 5, cv::Scalar(40, 40, 40), cv::FILLED);
   auto loss = [&](double q) {
-    return cv::norm(img, degrade_frame(img, make(DegradeKind::jpeg, q), 0, 1), cv::NORM_L1) / img.total();
+    return cv::norm(img, degrade_frame(img, make(DegradeKind::kJpeg, q), 0, 1), cv::NORM_L1) / img.total();
   };
   const double l95 = loss(95), l50 = loss(50), l5 = loss(5);
   CHECK(l95 < l50);
@@ -122,7 +122,7 @@ TEST_CASE("dropped frames: the rest window is kept, the count is the fraction, t
 
   std::vector<cv::Mat> frames;
   for (int i = 0; i < 20; ++i) frames.push_back(grey_frame(i));
-  const DegradedClip clip = degrade_clip(frames, make(DegradeKind::drop, 0.5), 3);
+  const DegradedClip clip = degrade_clip(frames, make(DegradeKind::kDrop, 0.5), 3);
   REQUIRE(clip.frames.size() == clip.source_frame.size());
   CHECK(clip.frames.size() == 20 - 9);  // round(0.5 * 17) = 9 dropped
   for (std::size_t k = 0; k < clip.frames.size(); ++k)
@@ -142,7 +142,7 @@ TEST_CASE("the occluder covers the requested area and crosses the image after th
   CHECK(mid.v == Approx(119.5));
   auto changed = [&](int index) {
     cv::Mat d;
-    cv::absdiff(img, degrade_frame(img, make(DegradeKind::occlusion, kF), index, 21), d);
+    cv::absdiff(img, degrade_frame(img, make(DegradeKind::kOcclusion, kF), index, 21), d);
     cv::cvtColor(d, d, cv::COLOR_BGR2GRAY);
     return cv::countNonZero(d);
   };

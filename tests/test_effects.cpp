@@ -707,7 +707,7 @@ TEST_CASE("skin_indentation: pins under a pressed sphere go in along the dome's 
   s->gel.thickness_m = 0.025;
   s->gel.markers_depth_m = L;
   s->gel_sdf = make_spherical_cap_sdf(R, R, 0.025);
-  s->camera.model = CameraModel::Pinhole;
+  s->camera.model = CameraModel::kPinhole;
   s->camera.focal_px = 400.0;
   s->camera.distance_m = 0.05;
   s->camera.principal_px = Vec2(200.0, 200.0);

@@ -20,7 +20,7 @@ constexpr double kRadiusPx = 60;  // the indenter's footprint: a marker inside a
 
 sb::Sensor pinhole_sensor() {
   sb::Sensor s = evidence_sensor();
-  s.camera.model = sb::CameraModel::Pinhole;
+  s.camera.model = sb::CameraModel::kPinhole;
   return s;
 }
 

@@ -222,7 +222,7 @@ TEST_CASE("a robust loss keeps the fit on the inliers", "[fit]") {
   for (auto& s : samples)
     for (auto& row : s.meas_px) row[0] += Vec2(50, 0);
   sb::FitOptions o;
-  o.robust = sb::RobustLoss::Cauchy;
+  o.robust = sb::RobustLoss::kCauchy;
   o.robust_scale_px = 0.5;
   const auto robust = toy_fit(samples, ParamSet(ToyModel::specs()), o);
   CHECK(rel_err(robust.params.get("lambda"), truth.get("lambda")) < kRecoveryRelTol);

@@ -40,7 +40,7 @@ TEST_CASE("a fit on the worker thread finishes with a result no worse than its s
   job.start(tacsl_request());
   job.wait();
   const sb::FitJobStatus s = job.status();
-  REQUIRE(s.phase == sb::FitJobStatus::Phase::Done);
+  REQUIRE(s.phase == sb::FitJobStatus::Phase::kDone);
   REQUIRE(s.result.has_value());
   CHECK_FALSE(s.losses.empty());
   CHECK(s.calibration_rmse_after_px <= s.calibration_rmse_before_px + kRmseSlackPx);
@@ -57,7 +57,7 @@ TEST_CASE("the fit panel's dataset field takes a data: path", "[fit_job]") {
   job.wait();
   const sb::FitJobStatus s = job.status();
   INFO(s.error);
-  CHECK(s.phase == sb::FitJobStatus::Phase::Done);
+  CHECK(s.phase == sb::FitJobStatus::Phase::kDone);
 }
 
 TEST_CASE("a cancelled fit says so and a bad dataset fails with its path", "[fit_job]") {
@@ -67,14 +67,14 @@ TEST_CASE("a cancelled fit says so and a bad dataset fails with its path", "[fit
   job.wait();
   const auto phase = job.status().phase;
   // Cancelled before or during the first stage; the fit never reports Done after a cancel.
-  CHECK(phase == sb::FitJobStatus::Phase::Cancelled);
+  CHECK(phase == sb::FitJobStatus::Phase::kCancelled);
 
   sb::FitJobRequest bad = tacsl_request();
   bad.dataset_dir = "/nonexistent/dataset";
   job.start(bad);
   job.wait();
   const sb::FitJobStatus s = job.status();
-  CHECK(s.phase == sb::FitJobStatus::Phase::Failed);
+  CHECK(s.phase == sb::FitJobStatus::Phase::kFailed);
   CHECK_THAT(s.error, Catch::Contains("/nonexistent/dataset"));
 }
 

@@ -107,7 +107,7 @@ TEST_CASE("HydroShear: stick grows linearly, slip plateaus at mu * depth", "[mod
     step(box_pose(kBox, s, 0, -h));
     for (const auto& q : batch.tracked(0)) {
       CHECK(q.u_E.x() == Approx(-s).margin(kTol));
-      CHECK(q.state == PointState::Stick);
+      CHECK(q.state == PointState::kStick);
     }
     CHECK(disp[marker_at(0, 0)].x() == Approx(centre_shear_x(anchors, h * s, ks, ls)).epsilon(1e-10));
     centre.push_back(disp[marker_at(0, 0)].x());
@@ -118,7 +118,7 @@ TEST_CASE("HydroShear: stick grows linearly, slip plateaus at mu * depth", "[mod
     step(box_pose(kBox, s, 0, -h));
     for (const auto& q : batch.tracked(0)) {
       CHECK(q.u_E.x() == Approx(-mu * h).margin(kTol));
-      CHECK(q.state == PointState::Slip);
+      CHECK(q.state == PointState::kSlip);
     }
     std::vector<Vec3> slid;
     for (const Vec3& a : anchors) slid.push_back(a + Vec3(s - mu * h, 0, 0));
@@ -145,7 +145,7 @@ TEST_CASE("HydroShear: crossing fraction alpha and the reset on leaving", "[mode
     CHECK(q.u_n == Approx(0.3e-3).margin(kTol));
     // mu = 2: |u_t| = 0.3 <= 0.6 mm, stick; mu = 0.5: clipped to 0.15 mm, slip.
     CHECK(q.u_E.x() == Approx(mu == 2.0 ? -0.3e-3 : -0.15e-3).margin(kTol));
-    CHECK(q.state == (mu == 2.0 ? PointState::Stick : PointState::Slip));
+    CHECK(q.state == (mu == 2.0 ? PointState::kStick : PointState::kSlip));
     // In -> in (alpha = 1): a further 0.1 mm down adds exactly 0.1 mm.
     step(box_pose(2e-3, 0.4e-3, 0, -0.4e-3));
     CHECK(batch.tracked(0)[0].u_n == Approx(0.4e-3).margin(kTol));

@@ -41,7 +41,7 @@ TEST_CASE("model families: every family's ids resolve, once", "[model_family]") 
   for (const sb::ModelFamily& family : sb::model_families()) {
     CHECK(&sb::model_family(family.id) == &family);
     REQUIRE_FALSE(family.forms.empty());
-    CHECK(family.base().kind == sb::FormKind::Published);
+    CHECK(family.base().kind == sb::FormKind::kPublished);
     for (const sb::ModelForm& form : family.forms) {
       INFO(form.id);
       CHECK(seen.insert(form.id).second);  // no form in two families

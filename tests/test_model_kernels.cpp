@@ -351,10 +351,10 @@ struct RefFots {
 
 void check_fots(FotsVariant variant) {
   const Workload& w = workload();
-  const std::string id = variant == FotsVariant::Original ? "fots" : "fots-reimpl";
+  const std::string id = variant == FotsVariant::kOriginal ? "fots" : "fots-reimpl";
   FotsBatch batch(variant, w.sensor, w.peg, w.slots, default_params(id));
   std::vector<RefFots> ref(w.slots,
-                           RefFots{variant == FotsVariant::Original, w.sensor.get(), w.peg.get(), default_params(id)});
+                           RefFots{variant == FotsVariant::kOriginal, w.sensor.get(), w.peg.get(), default_params(id)});
   std::vector<Vec2> disp(static_cast<std::size_t>(w.slots) * kMiniMarkers);
   double seen = 0;
   for (int k = 0; k < kBenchMaxSteps; ++k) {
@@ -420,8 +420,8 @@ void check_tacsl(bool normalized) {
 }  // namespace
 
 TEST_CASE("FOTS kernels equal the reference loops on the workload", "[bench][models]") {
-  check_fots(FotsVariant::Original);
-  check_fots(FotsVariant::Reimpl);
+  check_fots(FotsVariant::kOriginal);
+  check_fots(FotsVariant::kReimpl);
 }
 
 TEST_CASE("TacSL kernels equal the reference loops on the workload", "[bench][models]") {

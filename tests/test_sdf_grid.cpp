@@ -22,7 +22,7 @@ TEST_CASE("grid SDF: node layout follows pytorch_volumetric (round(extent / voxe
   // Region z from -0.3 mm to 4.1 mm, voxel 1 mm: round(4.4) = 4 cells, 5 nodes at -0.3, 0.7, ..., 3.7 mm;
   // the box's max side moves to -0.3 + 4 = 3.7 mm.
   const Eigen::AlignedBox3d region(Vec3(0, 0, -0.3) * mm, Vec3(4, 4, 4.1) * mm);
-  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::Nearest);
+  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::kNearest);
   CHECK(grid->bounds().min().z() == Approx(-0.3 * mm).margin(1e-15));
   CHECK(grid->bounds().max().z() == Approx(3.7 * mm).margin(1e-15));
   CHECK(grid->bounds().max().x() == Approx(4 * mm).margin(1e-15));
@@ -31,7 +31,7 @@ TEST_CASE("grid SDF: node layout follows pytorch_volumetric (round(extent / voxe
 TEST_CASE("grid SDF trilinear lookup reproduces a half-space exactly", "[sdf]") {
   // phi = z is linear, and trilinear interpolation of a linear function is the function itself.
   const Eigen::AlignedBox3d region(Vec3(0, 0, -0.3) * mm, Vec3(4, 4, 4.1) * mm);
-  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::Trilinear);
+  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::kTrilinear);
   for (const Vec3& p : {Vec3(1.3, 2.7, 2.45), Vec3(0.01, 3.99, -0.29), Vec3(3.5, 0.5, 3.7), Vec3(2, 2, 0.7)}) {
     Vec3 g;
     const double v = grid->value_and_gradient(p * mm, &g);
@@ -45,7 +45,7 @@ TEST_CASE("grid SDF nearest lookup returns the value at the rounded node", "[sdf
   // Nodes at z = -0.3 + k mm. Query z = 2.45 mm: (2.45 + 0.3) / 1 = 2.75 rounds to k = 3, node z = 2.7 mm.
   // Query z = 2.15 mm: 2.45 rounds to k = 2, node z = 1.7 mm. x and y do not matter for phi = z.
   const Eigen::AlignedBox3d region(Vec3(0, 0, -0.3) * mm, Vec3(4, 4, 4.1) * mm);
-  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::Nearest);
+  const auto grid = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::kNearest);
   Vec3 g;
   CHECK(grid->value_and_gradient(Vec3(1.3, 2.7, 2.45) * mm, &g) == Approx(2.7 * mm).margin(kFloatStorage));
   CHECK(g == Vec3::UnitZ());
@@ -58,12 +58,12 @@ TEST_CASE("grid SDF out of range falls back to the source field", "[sdf]") {
   // The covered box is z in [-0.3, 3.7] mm. Nearest: z = 4.1 mm gives index (4.1 + 0.3) = 4.4 -> 4, still the
   // last node (3.7 mm); z = 4.3 mm gives 4.6 -> 5, outside: the source answers exactly, 4.3 mm.
   const Eigen::AlignedBox3d region(Vec3(0, 0, -0.3) * mm, Vec3(4, 4, 4.1) * mm);
-  const auto nearest = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::Nearest);
+  const auto nearest = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::kNearest);
   CHECK(nearest->value(Vec3(1, 1, 4.1) * mm) == Approx(3.7 * mm).margin(kFloatStorage));
   CHECK(nearest->value(Vec3(1, 1, 4.3) * mm) == 4.3 * mm);
   CHECK(nearest->value(Vec3(-7, 1, 1) * mm) == 1 * mm);
   // Trilinear: anything outside the box goes to the source.
-  const auto tri = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::Trilinear);
+  const auto tri = sb::make_grid_sdf(sb::make_halfspace_sdf(), region, 1 * mm, sb::GridLookup::kTrilinear);
   CHECK(tri->value(Vec3(1, 1, 25) * mm) == 25 * mm);
 }
 
@@ -74,7 +74,7 @@ TEST_CASE("grid SDF trilinear error on a sphere is within the curvature bound", 
   const double kCurvatureBound = 3 * h * h / (8 * rho_min) + kFloatStorage;
   const auto sphere = sb::make_sphere_sdf(R);
   const Eigen::AlignedBox3d region(Vec3::Constant(-6 * mm), Vec3::Constant(6 * mm));
-  const auto grid = sb::make_grid_sdf(sphere, region, h, sb::GridLookup::Trilinear);
+  const auto grid = sb::make_grid_sdf(sphere, region, h, sb::GridLookup::kTrilinear);
   double worst = 0;
   for (int i = 0; i < 500; ++i) {
     // A deterministic spiral of directions at radii from 2 to 6 mm.

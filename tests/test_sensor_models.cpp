@@ -30,7 +30,7 @@ constexpr double kExactMetres = 1e-12;  // m: a round trip through the camera an
 // f = 500 px, principal point (320, 240), camera D = 50 mm below the apex.
 Camera pinhole_camera(double k1) {
   Camera c;
-  c.model = CameraModel::Pinhole;
+  c.model = CameraModel::kPinhole;
   c.focal_px = 500.0;
   c.principal_px = Vec2(320.0, 240.0);
   c.width_px = 640;

@@ -30,7 +30,7 @@ struct Truth {
   double R = 0.020, depth = 0.003, theta = 8.0 * kDeg, phi0 = 0.1;
   Camera camera;
   Truth() {
-    camera.model = CameraModel::Pinhole;
+    camera.model = CameraModel::kPinhole;
     camera.width_px = camera.height_px = 420;
     camera.focal_px = 400.0;
     camera.distance_m = 0.054;
@@ -219,7 +219,7 @@ std::vector<Vec2> reference_pins() {
 // deg, D such that the pin sphere's equator is seen at 210 px, k1 = 0.
 TactipGeometryFitOptions import_start() {
   TactipGeometryFitOptions o;
-  o.initial.model = CameraModel::Pinhole;
+  o.initial.model = CameraModel::kPinhole;
   o.initial.width_px = o.initial.height_px = 420;
   o.initial.focal_px = 210.0 / std::tan(M_PI / 6.0);
   o.initial.distance_m = 0.020 + o.initial.focal_px * 0.017 / 210.0;

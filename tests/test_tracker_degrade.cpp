@@ -103,7 +103,7 @@ TEST_CASE("an occluder sliding over moving dots: hidden markers are lost, visibl
   constexpr int kFrames = 40;
   const auto rest = grid_7x9();
   std::mt19937 rng(5);
-  const Degradation occlusion{DegradeKind::occlusion, kFraction, 1};
+  const Degradation occlusion{DegradeKind::kOcclusion, kFraction, 1};
   auto drift = [&](int t) { return Vec2(kDriftPxPerFrame * std::max(0, t - 2), 0); };
   std::vector<cv::Mat> frames;
   for (int t = 0; t < kFrames; ++t) {

@@ -320,7 +320,7 @@ TEST_CASE("tsd: a pinhole camera, a spherical-cap gel and pins at depth round-tr
   CHECK_FALSE(classic.contains("markers_depth_m"));
   CHECK(classic["gel"].size() == 3);
 
-  ds.camera.model = CameraModel::Pinhole;
+  ds.camera.model = CameraModel::kPinhole;
   ds.camera.focal_px = 1.0 / 3.0 * 1000;
   ds.camera.distance_m = 0.03;
   ds.camera.k1 = -0.1 - 0.2;

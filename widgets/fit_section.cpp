@@ -20,7 +20,7 @@ void FitSection::draw(const AppSnapshot& snap, AppState& state, const std::strin
   const FitJobStatus st = job_.status();
   draw_run_row(snap, st);
   if (!st.losses.empty()) draw_loss_plot(st.losses);
-  if (st.phase == FitJobStatus::Phase::Failed) {
+  if (st.phase == FitJobStatus::Phase::kFailed) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.4f, 0.4f, 1));
     ImGui::TextWrapped("%s", st.error.c_str());
     ImGui::PopStyleColor();
@@ -51,7 +51,7 @@ void FitSection::draw_run_row(const AppSnapshot& snap, const FitJobStatus& st) {
     const float frac = std::min(1.0f, static_cast<float>(st.iteration) / static_cast<float>(std::max(1, iterations_)));
     char label[96];
     std::snprintf(label, sizeof label, "%s  %s  iter %d",
-                  st.phase == FitJobStatus::Phase::Loading ? "loading" : "fitting", st.stage.c_str(), st.iteration);
+                  st.phase == FitJobStatus::Phase::kLoading ? "loading" : "fitting", st.stage.c_str(), st.iteration);
     ImGui::ProgressBar(frac, ImVec2(-70, 0), label);
     ImGui::SameLine();
     if (ImGui::SmallButton("Cancel##fit")) job_.cancel();
@@ -76,7 +76,7 @@ void FitSection::start(const AppSnapshot& snap) {
 
 // The parameters the fit changed (start and fitted value), then Apply or Discard.
 void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const FitJobStatus& st) {
-  const bool cancelled = st.phase == FitJobStatus::Phase::Cancelled;
+  const bool cancelled = st.phase == FitJobStatus::Phase::kCancelled;
   ImGui::Text("%s: calibration RMSE %.3f -> %.3f px", cancelled ? "cancelled (completed stages)" : "done",
               st.calibration_rmse_before_px, st.calibration_rmse_after_px);
   const ParamSet& after = st.result->params;

@@ -330,10 +330,10 @@ void show_tracked_points(const FieldOutput* out, PointCloud& tracked, PointCloud
   vtkNew<vtkCellArray> link_lines;
   if (out != nullptr) {
     for (std::size_t i = 0; i < out->p_EP.size(); ++i) {
-      const PointState st = i < out->point_state.size() ? out->point_state[i] : PointState::Free;
-      const auto& rgb = st == PointState::Stick ? kStickRgb : st == PointState::Slip ? kSlipRgb : kFreeRgb;
+      const PointState st = i < out->point_state.size() ? out->point_state[i] : PointState::kFree;
+      const auto& rgb = st == PointState::kStick ? kStickRgb : st == PointState::kSlip ? kSlipRgb : kFreeRgb;
       tracked.add(out->p_EP[i] * kMmPerM, rgb);
-      if (st != PointState::Free && i < out->anchor_EP.size()) {
+      if (st != PointState::kFree && i < out->anchor_EP.size()) {
         anchors.add(out->anchor_EP[i] * kMmPerM, kAnchorRgb);
         const Vec3 a = out->anchor_EP[i] * kMmPerM, b = out->p_EP[i] * kMmPerM;
         const vtkIdType ia = link_pts->InsertNextPoint(a.data());

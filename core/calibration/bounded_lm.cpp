@@ -182,9 +182,9 @@ void check(const BoundedLmProblem& pr, const std::vector<double>& x0) {
 
 std::string to_string(LmTermination t) {
   switch (t) {
-    case LmTermination::Convergence: return "CONVERGENCE";
-    case LmTermination::NoConvergence: return "NO_CONVERGENCE";
-    case LmTermination::Aborted: return "USER_FAILURE";
+    case LmTermination::kConvergence: return "CONVERGENCE";
+    case LmTermination::kNoConvergence: return "NO_CONVERGENCE";
+    case LmTermination::kAborted: return "USER_FAILURE";
   }
   return "?";
 }
@@ -199,7 +199,7 @@ struct Trial {
   double cost = 0, predicted = 0, scaled_length = 0;
 };
 
-enum class TrialRun { Evaluated, TooShort, Aborted };
+enum class TrialRun { kEvaluated, kTooShort, kAborted };
 
 // Evaluates the step unless its scaled length is at most min_length (a wider region that changes nothing).
 TrialRun try_step(const StepContext& c, double radius, Trial* t, double min_length = -1) {
@@ -209,11 +209,11 @@ TrialRun try_step(const StepContext& c, double radius, Trial* t, double min_leng
   for (Eigen::Index k = 0; k < P; ++k) t->step[k] = t->x[k] - c.x[k];
   t->predicted = c.lm.predicted_decrease(t->step);
   t->scaled_length = scaled_norm(t->step, c.D);
-  if (t->scaled_length <= min_length) return TrialRun::TooShort;
+  if (t->scaled_length <= min_length) return TrialRun::kTooShort;
   t->r.resize(static_cast<std::size_t>(c.pr.num_residuals));
-  if (!c.pr.residuals(t->x, &t->r)) return TrialRun::Aborted;
+  if (!c.pr.residuals(t->x, &t->r)) return TrialRun::kAborted;
   t->cost = half_squared_norm(t->r);
-  return TrialRun::Evaluated;
+  return TrialRun::kEvaluated;
 }
 
 void trace(const BoundedLmResult& res, const Trial& t, double radius, const char* what) {
@@ -233,8 +233,8 @@ bool widen(const StepContext& c, double* radius, Trial* t, BoundedLmResult* res)
   for (int e = 0; e < kMaxExpansions; ++e) {
     Trial wider;
     const TrialRun run = try_step(c, kExpansion * *radius, &wider, kMinWidening * t->scaled_length);
-    if (run == TrialRun::Aborted) return false;
-    if (run == TrialRun::TooShort) break;
+    if (run == TrialRun::kAborted) return false;
+    if (run == TrialRun::kTooShort) break;
     ++res->iterations;
     const bool better = wider.cost < t->cost;
     trace(*res, wider, kExpansion * *radius, better ? "wider: taken" : "wider: kept the last");
@@ -258,9 +258,9 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
     res.termination = t;
     return res;
   };
-  if (!pr.residuals(res.x, &r)) return finish(LmTermination::Aborted);
+  if (!pr.residuals(res.x, &r)) return finish(LmTermination::kAborted);
   res.cost = half_squared_norm(r);
-  if (o.on_iteration && !o.on_iteration(0, res.cost)) return finish(LmTermination::Aborted);
+  if (o.on_iteration && !o.on_iteration(0, res.cost)) return finish(LmTermination::kAborted);
   Eigen::VectorXd D = Eigen::VectorXd::Zero(P);  // the columns' norms at x (Ceres's; MINPACK's never-decreasing
                                                  // ones re-tried one Gauss-Newton step: docs/performance.md)
   double radius = 0;
@@ -268,22 +268,22 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
   int failures_in_a_row = 0;
   while (res.accepted < o.max_iterations && failures_in_a_row < kMaxFailuresInARow) {
     if (!lm) {  // at the start and after an accepted step; a rejected one keeps x and its model
-      if (!pr.jacobian(res.x, r, &J)) return finish(LmTermination::Aborted);
+      if (!pr.jacobian(res.x, r, &J)) return finish(LmTermination::kAborted);
       lm = std::make_unique<LocalModel>(J, r, P);
       D = lm->A.diagonal().cwiseMax(kMinDiagonal).cwiseSqrt();
       if (radius == 0) {
         const double xn = scaled_norm(Eigen::Map<const Eigen::VectorXd>(res.x.data(), P), D);
         radius = xn > 0 ? kRadiusFactor * xn : kRadiusFactor;
       }
-      if (projected_gradient_norm(res.x, pr, lm->g) <= o.gradient_tolerance) return finish(LmTermination::Convergence);
+      if (projected_gradient_norm(res.x, pr, lm->g) <= o.gradient_tolerance) return finish(LmTermination::kConvergence);
     }
     const StepContext c(res.x, pr, *lm, D);
     Trial t;
-    if (try_step(c, radius, &t) == TrialRun::Aborted) return finish(LmTermination::Aborted);
+    if (try_step(c, radius, &t) == TrialRun::kAborted) return finish(LmTermination::kAborted);
     ++res.iterations;
     const double x_norm = Eigen::Map<const Eigen::VectorXd>(res.x.data(), P).norm();
     if (t.step.norm() <= o.parameter_tolerance * (x_norm + o.parameter_tolerance))
-      return finish(LmTermination::Convergence);
+      return finish(LmTermination::kConvergence);
     const double actual = res.cost - t.cost;
     const double rho = t.predicted > 0 ? actual / t.predicted : -1;
     const bool accepted = rho > kMinRatio;
@@ -298,7 +298,7 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
     }
     trace(res, t, radius, accepted ? "accepted" : "rejected");
     if (accepted && rho > 0.75 && t.scaled_length >= (1 - kRadiusBand) * radius / 2 && !widen(c, &radius, &t, &res))
-      return finish(LmTermination::Aborted);
+      return finish(LmTermination::kAborted);
     if (accepted) {
       res.x = t.x;
       res.cost = t.cost;
@@ -309,10 +309,10 @@ BoundedLmResult minimize_bounded_lm(const BoundedLmProblem& pr, const std::vecto
     } else {
       ++failures_in_a_row;
     }
-    if (o.on_iteration && !o.on_iteration(res.iterations, res.cost)) return finish(LmTermination::Aborted);
-    if (converged || radius < kMinRadius) return finish(LmTermination::Convergence);
+    if (o.on_iteration && !o.on_iteration(res.iterations, res.cost)) return finish(LmTermination::kAborted);
+    if (converged || radius < kMinRadius) return finish(LmTermination::kConvergence);
   }
-  return finish(failures_in_a_row < kMaxFailuresInARow ? LmTermination::NoConvergence : LmTermination::Convergence);
+  return finish(failures_in_a_row < kMaxFailuresInARow ? LmTermination::kNoConvergence : LmTermination::kConvergence);
 }
 
 }  // namespace sb

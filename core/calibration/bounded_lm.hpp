@@ -53,7 +53,7 @@ struct BoundedLmOptions {
   std::function<bool(int, double)> on_iteration;
 };
 
-enum class LmTermination { Convergence, NoConvergence, Aborted };
+enum class LmTermination { kConvergence, kNoConvergence, kAborted };
 // Ceres's words ("CONVERGENCE", "NO_CONVERGENCE", "USER_FAILURE"), which fit reports have always carried.
 std::string to_string(LmTermination t);
 
@@ -62,7 +62,7 @@ struct BoundedLmResult {
   double cost = 0;        // 1/2 |r(x)|^2
   int iterations = 0;     // trial steps, accepted or not: one evaluation each
   int accepted = 0;       // steps taken: one Jacobian each (after the start's)
-  LmTermination termination = LmTermination::NoConvergence;
+  LmTermination termination = LmTermination::kNoConvergence;
 };
 
 // Starts from x0 projected onto the box.

@@ -64,7 +64,7 @@ FitStage joint_stage(const std::string& model_id, bool px_scale);
 // no parameters is dropped.
 void hold_after_first_stage(const std::vector<std::string>& hold, std::vector<FitStage>* stages);
 
-enum class RobustLoss { None, Huber, Cauchy };
+enum class RobustLoss { kNone, kHuber, kCauchy };
 // "none" | "huber" | "cauchy"; throws std::invalid_argument otherwise.
 RobustLoss parse_robust_loss(const std::string& name);
 std::string to_string(RobustLoss loss);
@@ -87,7 +87,7 @@ struct FitOptions {
   // them (a stage left with none is skipped). E.g. {lambda_d, kappa_d}: the dilation kernel as the presses
   // fit it, not moved to serve the shear frames.
   std::vector<std::string> hold;
-  RobustLoss robust = RobustLoss::None;
+  RobustLoss robust = RobustLoss::kNone;
   double robust_scale_px = 1.0;  // where the robust loss bends
   int max_iterations = 50;       // per stage
   bool coarse_scan = true;

@@ -122,11 +122,11 @@ struct ParamMap {
 
 // sqrt(rho(q) / q) for a squared error q: scaling the 2-vector error by it makes its squared norm rho(q).
 double robust_factor(RobustLoss loss, double a, double q) {
-  if (loss == RobustLoss::None || q <= 0) return 1.0;
+  if (loss == RobustLoss::kNone || q <= 0) return 1.0;
   const double a2 = a * a;
   double rho = q;
-  if (loss == RobustLoss::Huber) rho = q <= a2 ? q : 2 * a * std::sqrt(q) - a2;
-  if (loss == RobustLoss::Cauchy) rho = a2 * std::log1p(q / a2);
+  if (loss == RobustLoss::kHuber) rho = q <= a2 ? q : 2 * a * std::sqrt(q) - a2;
+  if (loss == RobustLoss::kCauchy) rho = a2 * std::log1p(q / a2);
   return std::sqrt(rho / q);
 }
 
@@ -171,16 +171,16 @@ class StageEvaluator {
 
   // How a run starts: from reset, keeping a copy of each model just before its first scored frame (Central),
   // or not (Full); or from that copy (FromScored: only a field-only parameter differs from the Central run).
-  enum class Run { Central, Full, FromScored };
+  enum class Run { kCentral, kFull, kFromScored };
 
   // Residuals (2 per scored marker-frame) at x; false when cancelled. sse: raw sum |s pred - meas|^2.
   bool residuals(const double* x, double* r, double* scale_out = nullptr, double* sse_out = nullptr,
-                 Run run = Run::Full) {
+                 Run run = Run::kFull) {
     if (cancelled()) return false;
     ParamSet p = base_;
     map_.apply(x, &p);
     in_double(map_.precision_switch, &p);
-    if (run == Run::Central) scored_start_.resize(slots_.size());
+    if (run == Run::kCentral) scored_start_.resize(slots_.size());
     std::atomic<bool> stop{false};
     tbb::parallel_for(0, static_cast<int>(slots_.size()), [&](int i) {
       if (cancelled()) {
@@ -191,7 +191,7 @@ class StageEvaluator {
       const int m = static_cast<int>(s.sample->meas_px.front().size());
       const std::size_t first_scored = static_cast<std::size_t>(s.active->front() / m);
       std::vector<std::vector<Vec2>> pred(s.sample->X_EI.size());
-      if (run == Run::FromScored) {
+      if (run == Run::kFromScored) {
         auto model = scored_start_[i]->clone();
         model->set_params(p);
         simulate_frames(*model, *s.sample, first_scored, &pred);
@@ -199,7 +199,7 @@ class StageEvaluator {
         s.model->set_params(p);
         s.model->reset();
         const auto keep = [&](std::size_t k) {
-          if (run == Run::Central && k == first_scored) scored_start_[i] = s.model->clone();
+          if (run == Run::kCentral && k == first_scored) scored_start_[i] = s.model->clone();
         };
         simulate_frames(*s.model, *s.sample, 0, &pred, keep);
       }
@@ -246,6 +246,8 @@ class StageEvaluator {
   }
 
   std::vector<SampleSlot> slots_;
+  // Aliased: the base parameters, the map and the cancel flag belong to the fit that runs this evaluator
+  // (run_stage) and outlive it.
   const ParamSet& base_;
   const ParamMap& map_;
   bool rescale_;
@@ -271,7 +273,7 @@ class StageCost {
   // field-only parameter start from. False when cancelled.
   bool residuals(const std::vector<double>& x, std::vector<double>* r) {
     last_x_.clear();
-    if (!ev_->residuals(x.data(), r->data(), nullptr, nullptr, StageEvaluator::Run::Central)) return false;
+    if (!ev_->residuals(x.data(), r->data(), nullptr, nullptr, StageEvaluator::Run::kCentral)) return false;
     last_x_ = x;
     return true;
   }
@@ -291,8 +293,8 @@ class StageCost {
       // Forward, or backward where the forward step would leave the bounds (HydroShear's mu sits at its upper
       // bound on the TacTip); zero where the range is narrower than the step.
       xs[k] = x[k] + h <= map_->hi[k] ? x[k] + h : std::max(x[k] - h, map_->lo[k]);
-      const auto run = map_->field_only[k] && !map_->after_base[k] ? StageEvaluator::Run::FromScored
-                                                                   : StageEvaluator::Run::Full;
+      const auto run = map_->field_only[k] && !map_->after_base[k] ? StageEvaluator::Run::kFromScored
+                                                                   : StageEvaluator::Run::kFull;
       const double dx = xs[k] - x[k];
       if (dx != 0 && !ev_->residuals(xs.data(), rs.data(), nullptr, nullptr, run)) return false;
       if (dx != 0)
@@ -303,7 +305,7 @@ class StageCost {
   }
 
  private:
-  StageEvaluator* ev_;
+  StageEvaluator* ev_;  // aliased with the map: both belong to the stage being minimised and outlive this problem
   const ParamMap* map_;
   std::vector<double> last_x_;  // the last Central run's point
 };
@@ -392,14 +394,14 @@ std::vector<int> active_marker_frames(const std::vector<std::vector<Vec2>>& meas
 }
 
 RobustLoss parse_robust_loss(const std::string& name) {
-  if (name == "none" || name.empty()) return RobustLoss::None;
-  if (name == "huber") return RobustLoss::Huber;
-  if (name == "cauchy") return RobustLoss::Cauchy;
+  if (name == "none" || name.empty()) return RobustLoss::kNone;
+  if (name == "huber") return RobustLoss::kHuber;
+  if (name == "cauchy") return RobustLoss::kCauchy;
   throw std::invalid_argument("unknown robust loss '" + name + "' (none, huber, cauchy)");
 }
 
 std::string to_string(RobustLoss loss) {
-  return loss == RobustLoss::Huber ? "huber" : loss == RobustLoss::Cauchy ? "cauchy" : "none";
+  return loss == RobustLoss::kHuber ? "huber" : loss == RobustLoss::kCauchy ? "cauchy" : "none";
 }
 
 void require_calibration_split(const std::vector<FitSample>& samples) {
@@ -540,7 +542,7 @@ CalibrationResult run_fit_stages_per_sample(const std::string& model_id, const F
 
     StageCost stage_cost(&ev, &map);
     const BoundedLmResult lm = minimize_stage(&stage_cost, map, x, stage.name, o);
-    if (ev.cancelled() || lm.termination == LmTermination::Aborted) {  // discard the partial stage
+    if (ev.cancelled() || lm.termination == LmTermination::kAborted) {  // discard the partial stage
       result.cancelled = true;
       break;
     }

@@ -11,7 +11,7 @@ namespace sb {
 
 void FitJob::start(FitJobRequest request) {
   FitJobStatus loading;
-  loading.phase = FitJobStatus::Phase::Loading;
+  loading.phase = FitJobStatus::Phase::kLoading;
   job_.start(std::move(loading),
              [req = std::move(request)](const std::atomic<bool>& cancel, Job& job) { run(req, cancel, job); });
 }
@@ -23,7 +23,7 @@ void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job&
     const std::string dir = resolve_path(req.dataset_dir, req.data_root, "");
     const Dataset ds = read_dataset(std::filesystem::absolute(dir).string(), &warnings);
     const FitData data = load_calibration_data(ds, req.data_root, &warnings);
-    job.update([](FitJobStatus& s) { s.phase = FitJobStatus::Phase::Fitting; });
+    job.update([](FitJobStatus& s) { s.phase = FitJobStatus::Phase::kFitting; });
     FitOptions o;
     o.stages = req.stages;
     o.joint = req.joint;
@@ -40,14 +40,14 @@ void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job&
     CalibrationResult r = fit_model(req.model_id, data.sensor, data.samples, req.start, o);
     const double after = r.cancelled ? before : fit_rmse_px(req.model_id, data.sensor, data.samples, r.params);
     job.update([&](FitJobStatus& s) {
-      s.phase = r.cancelled ? FitJobStatus::Phase::Cancelled : FitJobStatus::Phase::Done;
+      s.phase = r.cancelled ? FitJobStatus::Phase::kCancelled : FitJobStatus::Phase::kDone;
       s.calibration_rmse_before_px = before;
       s.calibration_rmse_after_px = after;
       s.result = std::move(r);
     });
   } catch (const std::exception& e) {
     job.update([&](FitJobStatus& s) {
-      s.phase = FitJobStatus::Phase::Failed;
+      s.phase = FitJobStatus::Phase::kFailed;
       s.error = e.what();
     });
   }

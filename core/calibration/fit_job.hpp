@@ -23,14 +23,14 @@ struct FitJobRequest {
 };
 
 struct FitJobStatus {
-  enum class Phase { Idle, Loading, Fitting, Done, Cancelled, Failed } phase = Phase::Idle;
+  enum class Phase { kIdle, kLoading, kFitting, kDone, kCancelled, kFailed } phase = Phase::kIdle;
   std::string stage;  // current stage
   int iteration = 0;
   std::vector<float> losses;                // Ceres cost after every iteration reported, all stages
   std::string error;                        // Failed: why
   std::optional<CalibrationResult> result;  // Done (and Cancelled: the completed stages)
   double calibration_rmse_before_px = 0, calibration_rmse_after_px = 0;  // RMSE over the calibration split
-  bool running() const { return phase == Phase::Loading || phase == Phase::Fitting; }
+  bool running() const { return phase == Phase::kLoading || phase == Phase::kFitting; }
 };
 
 class FitJob {

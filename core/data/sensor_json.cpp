@@ -14,14 +14,14 @@ void parse_camera_model(const nlohmann::json& cam, const std::string& file, cons
   const auto* m = jsonin::find(cam, "model");
   const std::string model = m ? jsonin::string(*m, file, child(ptr, "model")) : "orthographic";
   if (model == "orthographic") {
-    camera->model = CameraModel::Orthographic;
+    camera->model = CameraModel::kOrthographic;
     for (const char* key : {"focal_px", "distance_m", "k1"})
       if (jsonin::find(cam, key)) jsonin::fail(file, child(ptr, key), "only a pinhole camera has this key");
     return;
   }
   if (model != "pinhole")
     jsonin::fail(file, child(ptr, "model"), "unknown camera model '" + model + "' (expected orthographic or pinhole)");
-  camera->model = CameraModel::Pinhole;
+  camera->model = CameraModel::kPinhole;
   camera->focal_px = jsonin::positive_number(jsonin::member(cam, "focal_px", file, ptr), file, child(ptr, "focal_px"));
   camera->distance_m =
       jsonin::positive_number(jsonin::member(cam, "distance_m", file, ptr), file, child(ptr, "distance_m"));

@@ -168,13 +168,13 @@ class DomeSway final : public TypedEffect<DomeSwayParams> {
     cached_for_ = &s;
   }
 
-  const Sensor* cached_for_ = nullptr;
-  std::vector<Vec3> tips_E_;        // pin tips, L below the surface along the rest normal
-  std::vector<double> weights_;     // cos(pi/2 theta / theta_rim)
-  Vec2 travel_E_ = Vec2::Zero();    // the slide in contact, |travel| <= stick length
-  std::optional<Vec2> last_xy_E_;   // the indenter's xy at the last step in contact
-  double turn_rad_ = 0.0;           // the indenter's turn about z_E in contact
-  std::optional<double> last_yaw_;  // the indenter's yaw about z_E at the last step in contact
+  const Sensor* cached_for_ = nullptr;  // only compared, never read: the sensor the cache was computed for
+  std::vector<Vec3> tips_E_;            // pin tips, L below the surface along the rest normal
+  std::vector<double> weights_;         // cos(pi/2 theta / theta_rim)
+  Vec2 travel_E_ = Vec2::Zero();        // the slide in contact, |travel| <= stick length
+  std::optional<Vec2> last_xy_E_;       // the indenter's xy at the last step in contact
+  double turn_rad_ = 0.0;               // the indenter's turn about z_E in contact
+  std::optional<double> last_yaw_;      // the indenter's yaw about z_E at the last step in contact
 };
 
 }  // namespace

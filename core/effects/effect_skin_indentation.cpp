@@ -99,10 +99,10 @@ class SkinIndentation final : public TypedEffect<SkinIndentationParams> {
     return w;
   }
 
-  const Sensor* cached_for_ = nullptr;
-  std::vector<Vec3> tips_E_;     // pin tips, L below the surface along the rest normal
-  std::vector<Vec3> normals_E_;  // the skin's outward rest normal at each pin
-  std::vector<double> kernel_;   // n x n, row-major; empty without spreading
+  const Sensor* cached_for_ = nullptr;  // only compared, never read: the sensor the cache was computed for
+  std::vector<Vec3> tips_E_;            // pin tips, L below the surface along the rest normal
+  std::vector<Vec3> normals_E_;         // the skin's outward rest normal at each pin
+  std::vector<double> kernel_;          // n x n, row-major; empty without spreading
   double kernel_for_spread_m_ = -1.0;
 };
 

@@ -103,7 +103,7 @@ class TypedEffect : public Effect {
 
  private:
   void params_changed() final { read_params(*fields_, params_, values_); }
-  const ParamFields<Values>* fields_;
+  const ParamFields<Values>* fields_;  // a function-local static table (the effect's fields()): lives forever
   Values values_{};
 };
 

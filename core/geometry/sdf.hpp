@@ -57,8 +57,8 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
 
 // ---- a dense cache of any field on a regular grid (fast path; optional nearest-voxel lookup that
 // reproduces pytorch_volumetric.CachedSDF, the lookup the HydroShear authors' code uses)
-enum class GridLookup { Trilinear, Nearest };
+enum class GridLookup { kTrilinear, kNearest };
 SdfPtr make_grid_sdf(SdfPtr source, const Eigen::AlignedBox3d& region, double voxel_size,
-                     GridLookup lookup = GridLookup::Trilinear);
+                     GridLookup lookup = GridLookup::kTrilinear);
 
 }  // namespace sb

@@ -45,16 +45,16 @@ class GridSdf final : public Sdf {
   }
 
   double value(const Vec3& p) const override {
-    return lookup_ == GridLookup::Nearest ? nearest(p, nullptr) : trilinear(p, nullptr);
+    return lookup_ == GridLookup::kNearest ? nearest(p, nullptr) : trilinear(p, nullptr);
   }
   double value_and_gradient(const Vec3& p, Vec3* g) const override {
-    return lookup_ == GridLookup::Nearest ? nearest(p, g) : trilinear(p, g);
+    return lookup_ == GridLookup::kNearest ? nearest(p, g) : trilinear(p, g);
   }
   Eigen::AlignedBox3d bounds() const override { return {origin_, node(n_[0] - 1, n_[1] - 1, n_[2] - 1)}; }
   std::string describe() const override {
     std::ostringstream s;
     s << "grid cache " << n_[0] << " x " << n_[1] << " x " << n_[2] << " nodes at " << voxel_ * 1e3 << " mm, "
-      << (lookup_ == GridLookup::Nearest ? "nearest-node" : "trilinear") << " lookup of [" << source_->describe()
+      << (lookup_ == GridLookup::kNearest ? "nearest-node" : "trilinear") << " lookup of [" << source_->describe()
       << "]";
     return s.str();
   }
@@ -68,7 +68,7 @@ class GridSdf final : public Sdf {
   void fill() {
     const std::size_t total = static_cast<std::size_t>(n_[0]) * n_[1] * n_[2];
     phi_.resize(total);
-    if (lookup_ == GridLookup::Nearest) gradient_.resize(total);
+    if (lookup_ == GridLookup::kNearest) gradient_.resize(total);
     tbb::parallel_for(tbb::blocked_range2d<int>(0, n_[2], 0, n_[1]), [&](const tbb::blocked_range2d<int>& r) {
       std::vector<Vec3> row(static_cast<std::size_t>(n_[0]));
       std::vector<double> phi(row.size());
@@ -76,14 +76,14 @@ class GridSdf final : public Sdf {
       for (int k = r.rows().begin(); k < r.rows().end(); ++k)
         for (int j = r.cols().begin(); j < r.cols().end(); ++j) {
           for (int i = 0; i < n_[0]; ++i) row[static_cast<std::size_t>(i)] = node(i, j, k);
-          if (lookup_ == GridLookup::Nearest)
+          if (lookup_ == GridLookup::kNearest)
             source_->values_and_gradients(row, phi, grad);
           else
             source_->values(row, phi);
           const std::size_t base = index(0, j, k);
           for (std::size_t i = 0; i < row.size(); ++i) {
             phi_[base + i] = static_cast<float>(phi[i]);
-            if (lookup_ == GridLookup::Nearest) gradient_[base + i] = grad[i].cast<float>();
+            if (lookup_ == GridLookup::kNearest) gradient_[base + i] = grad[i].cast<float>();
           }
         }
     });

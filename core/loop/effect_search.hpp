@@ -107,6 +107,7 @@ class EffectSearch {
                    const std::optional<FingerprintCheck>& fp, EffectFit* ef) const;
   void progress(const std::string& what) const;
 
+  // Aliased, not copied: the inputs and options given to the constructor must outlive the search.
   const ResidualInputs& in_;
   const ResidualOptions& o_;
   FitOptions fo_;

@@ -14,8 +14,8 @@ namespace {
 std::string evidence_num(double v) { return format_number(v, "%.3g", "nan"); }
 
 std::string describe(const SplitReading& r, const EffectEvidence& e) {
-  return evidence_num(r.estimate * e.unit_scale) + " ± " + evidence_num(r.std_error * e.unit_scale) + " " + e.unit + " (" +
-         evidence_num(r.samples) + " samples" + (r.detail.empty() ? "" : "; " + r.detail) + ")";
+  return evidence_num(r.estimate * e.unit_scale) + " ± " + evidence_num(r.std_error * e.unit_scale) + " " + e.unit +
+         " (" + evidence_num(r.samples) + " samples" + (r.detail.empty() ? "" : "; " + r.detail) + ")";
 }
 
 // Why one split does not show the effect ("" when it does).
@@ -73,7 +73,8 @@ void conclude_evidence(EffectEvidence* e, const EvidenceRules& rules) {
     const double a = e->calibration.estimate, b = e->validation.estimate;
     const double ratio = std::max(std::abs(a), std::abs(b)) / std::min(std::abs(a), std::abs(b));
     if (a * b <= 0 || !(ratio <= rules.agreement))
-      why = "the splits disagree (ratio " + evidence_num(ratio) + ", allowed " + evidence_num(rules.agreement) + " with one sign)";
+      why = "the splits disagree (ratio " + evidence_num(ratio) + ", allowed " + evidence_num(rules.agreement) +
+            " with one sign)";
     else if (std::isfinite(e->fitted) && e->fitted != 0 && a * e->fitted < 0)
       why = "the evidence has the opposite sign of the fitted value (" + evidence_num(e->fitted * e->unit_scale) + " " +
             e->unit + ")";

@@ -98,7 +98,7 @@ class CreepEvidence {
   }
 
  private:
-  const FingerprintSample& s_;
+  const FingerprintSample& s_;       // aliased: the sample must outlive this reader (creep_fingerprint's loop)
   std::vector<std::uint8_t> moved_;  // markers the load moved >= kMotionThresholdPx while in contact
   mutable std::vector<Vec2> x_, last_, run_start_, release_start_;  // scratch
   mutable std::vector<std::uint8_t> start_active_;

@@ -184,6 +184,7 @@ class ResidualLoop {
   EffectFit fit_variant_alone(const std::string& v, const EffectFit& base) const;
   EffectFit fit_variant(const std::string& v, const EffectFit& base, const std::vector<std::string>& hold) const;
 
+  // Aliased, not copied: the inputs and options given to the constructor must outlive the loop.
   const ResidualInputs& in_;
   const ResidualOptions& o_;
   std::vector<std::string> candidates_;

@@ -150,7 +150,7 @@ LoadingState loading_state(const Penetration& now, double previous_depth_m) {
   if (!now.penetrating) return LoadingState::kNoContact;
   if (now.depth_m > previous_depth_m + kHeldStillM) return LoadingState::kLoading;
   if (now.depth_m < previous_depth_m - kHeldStillM) return LoadingState::kUnloading;
-  return LoadingState::kHeld;
+  return LoadingState::kDepthHeld;
 }
 
 ContactPhase contact_phase(LoadingState load, bool moved) {
@@ -158,7 +158,7 @@ ContactPhase contact_phase(LoadingState load, bool moved) {
     case LoadingState::kNoContact: return ContactPhase::kNoContact;
     case LoadingState::kLoading: return ContactPhase::kLoading;
     case LoadingState::kUnloading: return ContactPhase::kUnloading;
-    case LoadingState::kHeld: return moved ? ContactPhase::kSlide : ContactPhase::kHold;
+    case LoadingState::kDepthHeld: return moved ? ContactPhase::kSlide : ContactPhase::kStill;
   }
   return ContactPhase::kNoContact;
 }

@@ -11,10 +11,10 @@
 
 namespace sb {
 
-// Whether the indenter's penetration grows, holds or shrinks at a frame (held: changes below kHeldStillM).
-enum class LoadingState { kLoading, kHeld, kUnloading, kNoContact };
-// The contact's phase at a frame: held and moving tangentially (held_still) is a slide.
-enum class ContactPhase { kLoading, kHold, kSlide, kUnloading, kNoContact };
+// Whether the indenter's penetration grows, holds or shrinks at a frame (depth held: changes below kHeldStillM).
+enum class LoadingState { kLoading, kDepthHeld, kUnloading, kNoContact };
+// The contact's phase at a frame: with the depth held, still, or moving tangentially (a slide).
+enum class ContactPhase { kLoading, kStill, kSlide, kUnloading, kNoContact };
 
 // RMS of |residual| (px) per bin of one covariate.
 struct CovariateTable {

@@ -175,7 +175,7 @@ FotsBatch::FotsBatch(FotsVariant variant, std::shared_ptr<const Sensor> sensor,
 
 void FotsBatch::set_params(const ParamSet& p) {
   params_ = p;
-  k_ = read_params(variant_ == FotsVariant::Original ? original_fields() : reimpl_fields(), p);
+  k_ = read_params(variant_ == FotsVariant::kOriginal ? original_fields() : reimpl_fields(), p);
   const auto& M = sensor_->p_EM;
   const int n = static_cast<int>(M.size());
   std::vector<double> dil_x(static_cast<std::size_t>(n) * n), dil_y(dil_x.size());
@@ -183,7 +183,7 @@ void FotsBatch::set_params(const ParamSet& p) {
     dil_x[static_cast<std::size_t>(k) * n + j] = w * d.x();
     dil_y[static_cast<std::size_t>(k) * n + j] = w * d.y();
   };
-  if (variant_ == FotsVariant::Original) {
+  if (variant_ == FotsVariant::kOriginal) {
     twist_clip_rad_ = k_.twist_clip_deg * std::numbers::pi / 180;
     // Markers in image pixels at px_per_mm about the principal point (the camera's own scale by default).
     m_px_.resize(n);
@@ -209,7 +209,7 @@ void FotsBatch::step(std::span<const Pose> X_EI, double /*dt*/, std::span<Vec2> 
                      std::span<FieldOutput> diagnostics) {
   const int n = slots();
   const std::size_t nm = sensor_->p_EM.size();
-  const char* id = variant_ == FotsVariant::Original ? "fots" : "fots-reimpl";
+  const char* id = variant_ == FotsVariant::kOriginal ? "fots" : "fots-reimpl";
   if (static_cast<int>(X_EI.size()) != n || disp_px.size() != n * nm)
     throw std::invalid_argument(std::string(id) + ": step needs one pose and markers() displacements per slot");
   if (!diagnostics.empty() && static_cast<int>(diagnostics.size()) != n)
@@ -219,7 +219,7 @@ void FotsBatch::step(std::span<const Pose> X_EI, double /*dt*/, std::span<Vec2> 
     PhaseClock clock(profile_);
     for (int i = r.begin(); i < r.end(); ++i) {
       Vec2* d = &disp_px[i * nm];
-      if (variant_ == FotsVariant::Original)
+      if (variant_ == FotsVariant::kOriginal)
         step_original(slots_[i], X_EI[i], d, scratch_[i], clock);
       else
         step_reimpl(slots_[i], X_EI[i], d, scratch_[i], clock);
@@ -237,9 +237,9 @@ void FotsBatch::markers_in_indenter(const Pose& X_EI, Scratch& sc, PhaseClock& c
   const Mat3 Rt = X_EI.linear().transpose();
   const Vec3 t = X_EI.translation();
   for (std::size_t j = 0; j < nm; ++j) sc.m_I[j] = Rt * (M[j] - t);
-  clock.lap(Phase::TransformCull);
+  clock.lap(Phase::kTransformCull);
   indenter_->sdf->values(sc.m_I, sc.phi_I);
-  clock.lap(Phase::Sdf);
+  clock.lap(Phase::kSdf);
 }
 
 void FotsBatch::add_dilation(const Scratch& sc, double g, Vec2* disp) const {
@@ -261,19 +261,19 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
   for (int j = 0; j < nm; ++j) disp[j] = Vec2::Zero();
   if (!any) {  // contact lost: the trajectory history starts again at the next contact
     slot.in_contact = false;
-    clock.lap(Phase::State);
+    clock.lap(Phase::kState);
     return;
   }
   if (!slot.in_contact) {
     slot.in_contact = true;
     slot.X_ref = X_EI;
   }
-  clock.lap(Phase::State);
+  clock.lap(Phase::kState);
   // Dilate: x' = x + sum_C h_i (x - c_i) exp(-lambda_d |x - c_i|^2), h_i the marker's depth in mm.
   sc.x_px.assign(m_px_.begin(), m_px_.end());
   Vec2* xd = sc.x_px.data();
   add_dilation(sc, 1e3, xd);
-  clock.lap(Phase::Dilation);
+  clock.lap(Phase::kDilation);
   // Shear from the planar translation of the indenter origin since first contact (integer px as FOTS).
   const double px_per_m = k_.px_per_mm * 1e3;
   const Vec3 t0 = slot.X_ref.translation(), t1 = X_EI.translation();
@@ -300,7 +300,7 @@ void FotsBatch::step_original(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch&
     xd[j] += (rotate(d, ct, st) - d) * sc.args[j];
   }
   for (int j = 0; j < nm; ++j) disp[j] = xd[j] - m_px_[j];
-  clock.lap(Phase::Shear);
+  clock.lap(Phase::kShear);
 }
 
 namespace {
@@ -334,7 +334,7 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
     slot.in_contact = false;
     slot.have_prev = true;
     slot.X_prev = X_EI;
-    clock.lap(Phase::State);
+    clock.lap(Phase::kState);
     return;
   }
   auto se2_of = [&](const Pose& X, Quat* q_io, bool continuity) {
@@ -373,7 +373,7 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
   const Vec2 G = slot.se2_ref.head<2>();
   slot.X_prev = X_EI;
   slot.have_prev = true;
-  clock.lap(Phase::State);
+  clock.lap(Phase::kState);
   const double ct = std::cos(dtheta), st = std::sin(dtheta);
   // Both kernels' exps in one vectorised batch (exp_in_place; exponents below -700 are clamped, which
   // changes a weight of < 1e-304 by less than itself).
@@ -388,9 +388,9 @@ void FotsBatch::step_reimpl(Slot& slot, const Pose& X_EI, Vec2* disp, Scratch& s
     const Vec2 d = M[j].head<2>() - G;
     disp[j] = k_.kappa_s * dxy * sc.args[2 * j] + k_.kappa_t * (rotate(d, ct, st) - d) * sc.args[2 * j + 1];
   }
-  clock.lap(Phase::Shear);
+  clock.lap(Phase::kShear);
   add_dilation(sc, k_.kappa_d, disp);
-  clock.lap(Phase::Dilation);
+  clock.lap(Phase::kDilation);
 }
 
 }  // namespace sb

@@ -25,7 +25,7 @@
 
 namespace sb {
 
-enum class FotsVariant { Original, Reimpl };
+enum class FotsVariant { kOriginal, kReimpl };
 
 // FOTS's parameters, typed (core/base/typed_params.hpp): each field one entry of a variant's table (the names
 // are the JSON keys); a field the variant lacks keeps its value here.

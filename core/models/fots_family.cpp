@@ -40,12 +40,12 @@ ModelFamily fots_family() {
                  .params = fots_param_specs(),
                  .fit_stages = fots_stages(false),
                  .px_scale_params = {"px_per_mm"},  // the re-implementation's px/m gains are stage parameters
-                 .make = fots_factories(FotsVariant::Original)},
+                 .make = fots_factories(FotsVariant::kOriginal)},
                 {.id = "fots-reimpl",
                  .label = "FOTS (reimpl)",
                  .params = fots_reimpl_param_specs(),
                  .fit_stages = fots_stages(true),
-                 .make = fots_factories(FotsVariant::Reimpl)}},
+                 .make = fots_factories(FotsVariant::kReimpl)}},
   };
 }
 

@@ -468,9 +468,9 @@ void hydroshear::marker_field(const HydroShearModel& m, const Pose& X_EI, const 
   sc.m_I.resize(nm);
   const Mat3 Rt = R.transpose();
   for (int j = 0; j < nm; ++j) sc.m_I[j] = Rt * (M[j] - t);
-  clock.lap(Phase::Dilation);
+  clock.lap(Phase::kDilation);
   m.indenter->sdf->values(sc.m_I, sc.phi_I);
-  clock.lap(Phase::Sdf);
+  clock.lap(Phase::kSdf);
   // The markers inside (h > 0), then their kernel rows summed per axis and scaled once.
   sc.dil_k.clear();
   sc.dil_h.clear();
@@ -518,7 +518,7 @@ std::vector<HydroShearPoint> HydroShearBatch::tracked(int slot) const {
     const Vec3 u(c.ux[i], c.uy[i], c.uz[i]);
     const Vec3 n_hat = m.k.normal_indenter ? Vec3(-(X.linear() * m.table->n_I[pos])) : Vec3::UnitZ();
     out[i] = {m.table->perm[pos], m.phi_E(X * m.table->p_I[pos]), u, std::max(u.dot(n_hat), 0.0),
-              c.slip[i] ? PointState::Slip : PointState::Stick};
+              c.slip[i] ? PointState::kSlip : PointState::kStick};
   }
   return out;
 }
@@ -539,7 +539,7 @@ void write_diagnostics(const Vec2* disp, int nm, const hydroshear::DilationBuffe
   for (int i = 0; i < F.size(); ++i) {
     diag.p_EP[i] = Vec3(f.x[i], f.y[i], f.z[i]);
     diag.anchor_EP[i] = diag.p_EP[i] + Vec3(F.ux[i], F.uy[i], F.uz[i]);
-    diag.point_state[i] = F.slip[i] ? PointState::Slip : PointState::Stick;
+    diag.point_state[i] = F.slip[i] ? PointState::kSlip : PointState::kStick;
   }
 }
 
@@ -547,15 +547,15 @@ void write_diagnostics(const Vec2* disp, int nm, const hydroshear::DilationBuffe
 void step_slot(const HydroShearModel& m, Slot& slot, const Pose& X_EI, Vec2* disp, FieldOutput* diag,
                hydroshear::StepBuffers& sc, PhaseClock& clock) {
   const hydroshear::Candidates& candidates = hydroshear::gather_candidates(m, X_EI, sc.candidates);
-  clock.lap(Phase::TransformCull);
+  clock.lap(Phase::kTransformCull);
   hydroshear::FieldPoints field = hydroshear::commit_state(m, candidates, X_EI, slot, sc.state);
   if (m.k.g_aug > 0) field = hydroshear::augmented_state(m, candidates, X_EI, slot, sc.state);
-  clock.lap(Phase::State);
+  clock.lap(Phase::kState);
   if (disp == nullptr) return;  // the state advances; no field is wanted at this step
   const hydroshear::ShearSums& shear = hydroshear::shear_sum(m, field, sc.shear);
-  clock.lap(Phase::Shear);
+  clock.lap(Phase::kShear);
   hydroshear::marker_field(m, X_EI, shear, disp, sc.dilation, clock);
-  clock.lap(Phase::Dilation);
+  clock.lap(Phase::kDilation);
   if (diag) write_diagnostics(disp, m.markers(), sc.dilation, field, *diag);
 }
 

@@ -45,7 +45,7 @@ ModelForm hydroshear_form(std::string id, std::string label, bool layer, bool st
   const bool correction = layer || stick || contact;
   return {.id = std::move(id),
           .label = std::move(label),
-          .kind = correction ? FormKind::Correction : FormKind::Published,
+          .kind = correction ? FormKind::kCorrection : FormKind::kPublished,
           .params = hydroshear_param_specs(layer, stick, contact),
           .fit_stages = hydroshear_stages(layer, stick, contact),
           .make = factories_of<HydroShearBatch>(

@@ -10,7 +10,7 @@ const std::vector<std::string>& model_ids() {
   // The published forms of every family first, then the corrections: "--model all" and the help texts list them so.
   static const std::vector<std::string> ids = [] {
     std::vector<std::string> out;
-    for (const FormKind kind : {FormKind::Published, FormKind::Correction})
+    for (const FormKind kind : {FormKind::kPublished, FormKind::kCorrection})
       for (const ModelFamily& family : model_families())
         for (const ModelForm& form : family.forms)
           if (form.kind == kind) out.push_back(form.id);

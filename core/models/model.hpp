@@ -13,7 +13,7 @@
 
 namespace sb {
 
-enum class PointState : std::uint8_t { Free = 0, Stick = 1, Slip = 2 };
+enum class PointState : std::uint8_t { kFree = 0, kStick = 1, kSlip = 2 };
 
 // One sensor's output for one step. Diagnostics are filled by models that have them (HydroShear's
 // tracked points); others leave them empty.

@@ -10,7 +10,7 @@ namespace sb {
 std::vector<std::string> ModelFamily::correction_ids() const {
   std::vector<std::string> ids;
   for (const ModelForm& f : forms)
-    if (f.kind == FormKind::Correction) ids.push_back(f.id);
+    if (f.kind == FormKind::kCorrection) ids.push_back(f.id);
   return ids;
 }
 

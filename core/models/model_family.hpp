@@ -38,13 +38,13 @@ struct FormFactories {
 
 // Whether a form is a published model or a model-form correction of its family's base form (ours, not published:
 // the residual loop tries these against the base, docs/effects.md).
-enum class FormKind { Published, Correction };
+enum class FormKind { kPublished, kCorrection };
 
 // One model form: a model id with its parameter table, fit stages and factories.
 struct ModelForm {
   std::string id;     // "tacsl-normalized": --model, JSON keys of parameter tables, session files
   std::string label;  // "TacSL (normalized)": panel titles and legends
-  FormKind kind = FormKind::Published;
+  FormKind kind = FormKind::kPublished;
   std::vector<ParamSpec> params;  // the default table (names are the JSON keys)
   std::vector<FitStage> fit_stages;
   // Added to the joint refinement when a fit also fits the image scale (FitOptions::fit_px_scale).

@@ -4,11 +4,11 @@ namespace sb {
 
 const char* phase_name(Phase phase) {
   switch (phase) {
-    case Phase::TransformCull: return "transform+cull";
-    case Phase::Sdf: return "sdf";
-    case Phase::State: return "state step";
-    case Phase::Shear: return "shear sum";
-    case Phase::Dilation: return "dilation";
+    case Phase::kTransformCull: return "transform+cull";
+    case Phase::kSdf: return "sdf";
+    case Phase::kState: return "state step";
+    case Phase::kShear: return "shear sum";
+    case Phase::kDilation: return "dilation";
   }
   return "?";
 }

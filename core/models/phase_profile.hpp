@@ -15,7 +15,7 @@ namespace sb {
 //   State          the state step (HydroShear tracker, FOTS anchors and SE(2), TacSL velocities)
 //   Shear          the shear (and twist) sum over the markers
 //   Dilation       the dilation sum and the output write
-enum class Phase : int { TransformCull = 0, Sdf, State, Shear, Dilation };
+enum class Phase : int { kTransformCull = 0, kSdf, kState, kShear, kDilation };
 inline constexpr int kPhaseCount = 5;
 const char* phase_name(Phase phase);
 

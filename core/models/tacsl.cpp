@@ -137,9 +137,9 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, 
   const Vec3 t = X_EI.translation();
   const Mat3 Rt = R.transpose();
   for (std::size_t j = 0; j < nm; ++j) slot.p_I[j] = Rt * (M[j] - t);
-  clock.lap(Phase::TransformCull);
+  clock.lap(Phase::kTransformCull);
   indenter_->sdf->values_and_gradients(slot.p_I, slot.phi_I, slot.grad_I);
-  clock.lap(Phase::Sdf);
+  clock.lap(Phase::kSdf);
   const bool moving = slot.have_prev && dt > 0;
   for (std::size_t j = 0; j < nm; ++j) {
     const double d = std::max(-slot.phi_I[j], 0.0);
@@ -159,7 +159,7 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, 
     const Vec3 F = k_.include_normal ? Vec3(k_.kn * d * n_E + f_t) : f_t;
     slot.shear[j] = F.head<2>();
   }
-  clock.lap(Phase::State);
+  clock.lap(Phase::kState);
   for (std::size_t j = 0; j < nm; ++j) {
     const Vec2& s = slot.shear[j];
     if (normalized_)
@@ -169,7 +169,7 @@ void TacslBatch::step_slot(Slot& slot, const Pose& X_EI, double dt, Vec2* disp, 
   }
   slot.X_prev = X_EI;
   slot.have_prev = true;
-  clock.lap(Phase::Shear);
+  clock.lap(Phase::kShear);
 }
 
 }  // namespace sb

@@ -15,10 +15,10 @@
 
 namespace sb {
 
-enum class CameraModel { Orthographic, Pinhole };
+enum class CameraModel { kOrthographic, kPinhole };
 
 struct Camera {
-  CameraModel model = CameraModel::Orthographic;
+  CameraModel model = CameraModel::kOrthographic;
   double mm_per_px = 0.0634;  // orthographic scale (unused by the pinhole model)
   Vec2 principal_px{159.5, 119.5};
   int width_px = 320;
@@ -27,7 +27,7 @@ struct Camera {
   double distance_m = 0.0;  // pinhole only: camera centre below the skin apex
   double k1 = 0.0;          // pinhole only: radial distortion on normalised coordinates
 
-  bool pinhole() const { return model == CameraModel::Pinhole; }
+  bool pinhole() const { return model == CameraModel::kPinhole; }
   // The scale of the principal ray at the apex (z = 0): mm_per_px for the orthographic camera, D / f for the
   // pinhole. The 2D maps below are the orthographic camera, or the pinhole's linearisation at the apex.
   double metres_per_px() const { return pinhole() ? distance_m / focal_px : mm_per_px * 1e-3; }

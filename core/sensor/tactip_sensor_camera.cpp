@@ -17,7 +17,7 @@ constexpr double kDeg = M_PI / 180.0;
 // sphere's equator is seen at the image's half-width.
 Camera tactip_start_camera(int width_px, int height_px, const TactipSensor& s, double ring1_px) {
   Camera c;
-  c.model = CameraModel::Pinhole;
+  c.model = CameraModel::kPinhole;
   c.width_px = width_px;
   c.height_px = height_px;
   c.principal_px = Vec2((width_px - 1) / 2.0, (height_px - 1) / 2.0);

@@ -14,8 +14,8 @@
 namespace sb {
 namespace {
 
-constexpr DegradeKind kKinds[] = {DegradeKind::blur, DegradeKind::noise, DegradeKind::brightness,
-                                  DegradeKind::jpeg, DegradeKind::drop,  DegradeKind::occlusion};
+constexpr DegradeKind kKinds[] = {DegradeKind::kBlur, DegradeKind::kNoise, DegradeKind::kBrightness,
+                                  DegradeKind::kJpeg, DegradeKind::kDrop,  DegradeKind::kOcclusion};
 
 // splitmix64: a well-mixed 64-bit stream per (seed, frame), so frame k's noise does not depend on
 // how many frames came before it (a dropped or subsampled frame changes nothing else).
@@ -77,12 +77,12 @@ ParamSet degrade_param_specs() {
 
 const char* degrade_kind_name(DegradeKind kind) {
   switch (kind) {
-    case DegradeKind::blur: return "blur";
-    case DegradeKind::noise: return "noise";
-    case DegradeKind::brightness: return "brightness";
-    case DegradeKind::jpeg: return "jpeg";
-    case DegradeKind::drop: return "drop";
-    case DegradeKind::occlusion: return "occlusion";
+    case DegradeKind::kBlur: return "blur";
+    case DegradeKind::kNoise: return "noise";
+    case DegradeKind::kBrightness: return "brightness";
+    case DegradeKind::kJpeg: return "jpeg";
+    case DegradeKind::kDrop: return "drop";
+    case DegradeKind::kOcclusion: return "occlusion";
   }
   return "?";
 }
@@ -132,19 +132,19 @@ Disc occluder(int width, int height, double area_fraction, int index, int frames
 cv::Mat degrade_frame(const cv::Mat& frame, const Degradation& d, int index, int frames) {
   cv::Mat out;
   switch (d.kind) {
-    case DegradeKind::blur:
+    case DegradeKind::kBlur:
       if (d.strength <= 0) return frame.clone();
       cv::GaussianBlur(frame, out, {0, 0}, d.strength);
       return out;
-    case DegradeKind::noise: return d.strength > 0 ? add_noise(frame, d.strength, d.seed, index) : frame.clone();
-    case DegradeKind::brightness: {
+    case DegradeKind::kNoise: return d.strength > 0 ? add_noise(frame, d.strength, d.seed, index) : frame.clone();
+    case DegradeKind::kBrightness: {
       const double gain = 1.0 + d.strength * (frames > 1 ? double(index) / double(frames - 1) : 0.0);
       frame.convertTo(out, -1, gain, 0.0);  // saturates at 255: a brightening drift clips the background
       return out;
     }
-    case DegradeKind::jpeg: return reencode_jpeg(frame, d.strength);
-    case DegradeKind::drop: return frame.clone();
-    case DegradeKind::occlusion: return d.strength > 0 ? occlude(frame, d.strength, index, frames) : frame.clone();
+    case DegradeKind::kJpeg: return reencode_jpeg(frame, d.strength);
+    case DegradeKind::kDrop: return frame.clone();
+    case DegradeKind::kOcclusion: return d.strength > 0 ? occlude(frame, d.strength, index, frames) : frame.clone();
   }
   return frame.clone();
 }
@@ -172,7 +172,7 @@ std::vector<int> kept_frames(int frames, double fraction, std::uint64_t seed, in
 DegradedClip degrade_clip(const std::vector<cv::Mat>& frames, const Degradation& d, int protected_frames) {
   const int n = static_cast<int>(frames.size());
   DegradedClip clip;
-  if (d.kind == DegradeKind::drop) {
+  if (d.kind == DegradeKind::kDrop) {
     clip.source_frame = kept_frames(n, d.strength, d.seed, protected_frames);
   } else {
     clip.source_frame.resize(n);

@@ -13,10 +13,10 @@
 
 namespace sb {
 
-enum class DegradeKind { blur, noise, brightness, jpeg, drop, occlusion };
+enum class DegradeKind { kBlur, kNoise, kBrightness, kJpeg, kDrop, kOcclusion };
 
 struct Degradation {
-  DegradeKind kind = DegradeKind::blur;
+  DegradeKind kind = DegradeKind::kBlur;
   double strength = 0;  // in the unit of the kind's entry in degrade_param_specs()
   std::uint64_t seed = 1;
 };
