@@ -145,6 +145,8 @@ void GlWindow::feed(const InputEvent& e) {
 }
 
 void GlWindow::apply_fed_mouse_state() const {
+  // With nothing left queued the live state is the fed one (and, for a cursor outside the window, the newer).
+  if (input_.empty()) return;
   ImGuiIO& io = ImGui::GetIO();
   for (int b = 0; b < kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b) io.MouseDown[b] = button_down_[b];
   // -FLT_MAX: the backend found the cursor outside an unfocused window; that stands.

@@ -65,7 +65,7 @@ class GlWindow {
   // To ImGui's backend and the shortcut and double-click recorders (widgets/keys.hpp), once, in order.
   void feed(const InputEvent& event);
   // ImGui's backend reads the live cursor and buttons at NewFrame, which are already those after the whole
-  // queue; a frame sees those after its own events instead.
+  // queue; while events are still queued, a frame sees those after its own events instead.
   void apply_fed_mouse_state() const;
 
   GLFWwindow* window_ = nullptr;
