@@ -12,6 +12,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
 
+#include <cfloat>
 #include <cstdlib>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
@@ -70,9 +71,14 @@ GlWindow::GlWindow(const WindowOptions& options) {
   style.FrameRounding = 2;
   style.WindowBorderSize = 1;
   ImGui_ImplGlfw_InitForOpenGL(window_, true);
-  // After ImGui's callbacks are installed: ours forwards to them and records presses for the shortcuts.
+  // After ImGui's callbacks are installed: ours queue the events and feed() forwards them to ImGui's, a frame's
+  // worth at a time, and records presses for the shortcuts. ImGui 1.86 has no cursor callback (it reads the
+  // cursor at NewFrame): ours tracks the position each frame's events leave.
   imgui_key_callback_ = glfwSetKeyCallback(window_, &GlWindow::on_key);
   imgui_mouse_button_callback_ = glfwSetMouseButtonCallback(window_, &GlWindow::on_mouse_button);
+  imgui_char_callback_ = glfwSetCharCallback(window_, &GlWindow::on_char);
+  imgui_scroll_callback_ = glfwSetScrollCallback(window_, &GlWindow::on_scroll);
+  glfwSetCursorPosCallback(window_, &GlWindow::on_cursor_pos);
   glfwSetWindowUserPointer(window_, this);
   ImGui_ImplOpenGL3_Init("#version 150");
 }
@@ -88,34 +94,79 @@ GlWindow::~GlWindow() {
 bool GlWindow::should_close() const { return glfwWindowShouldClose(window_); }
 void GlWindow::request_close() { glfwSetWindowShouldClose(window_, GLFW_TRUE); }
 
-void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
+static_assert(InputEvent::kRelease == GLFW_RELEASE && InputEvent::kPress == GLFW_PRESS &&
+              InputEvent::kRepeat == GLFW_REPEAT);
+static_assert(GLFW_MOUSE_BUTTON_LAST + 1 == 8);
+
+void GlWindow::queue(GLFWwindow* window, InputEvent event) {
   auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
-  if (self != nullptr && self->imgui_key_callback_ != nullptr)
-    self->imgui_key_callback_(window, key, scancode, action, mods);
-  record_key_event(key, action, mods);
+  if (self == nullptr) return;
+  event.t_s = glfwGetTime();
+  self->input_.push(event);
 }
 
+void GlWindow::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
+  queue(window, InputEvent::key(key, scancode, action, mods));
+}
 void GlWindow::on_mouse_button(GLFWwindow* window, int button, int action, int mods) {
-  auto* self = static_cast<GlWindow*>(glfwGetWindowUserPointer(window));
-  if (self != nullptr && self->imgui_mouse_button_callback_ != nullptr)
-    self->imgui_mouse_button_callback_(window, button, action, mods);
-  if (button == GLFW_MOUSE_BUTTON_LEFT && action == GLFW_PRESS) {
-    double x = 0, y = 0;
-    glfwGetCursorPos(window, &x, &y);
-    record_left_press(glfwGetTime(), x, y);
+  queue(window, InputEvent::mouse_button(button, action, mods));
+}
+void GlWindow::on_char(GLFWwindow* window, unsigned int codepoint) { queue(window, InputEvent::character(codepoint)); }
+void GlWindow::on_cursor_pos(GLFWwindow* window, double x, double y) { queue(window, InputEvent::cursor(x, y)); }
+void GlWindow::on_scroll(GLFWwindow* window, double dx, double dy) { queue(window, InputEvent::scroll(dx, dy)); }
+
+void GlWindow::feed(const InputEvent& e) {
+  switch (e.kind) {
+    case InputEvent::Kind::Key:
+      if (imgui_key_callback_ != nullptr) imgui_key_callback_(window_, e.code, e.scancode, e.action, e.mods);
+      record_key_event(e.code, e.action, e.mods);
+      break;
+    case InputEvent::Kind::MouseButton:
+      if (imgui_mouse_button_callback_ != nullptr) imgui_mouse_button_callback_(window_, e.code, e.action, e.mods);
+      if (e.code >= 0 && e.code < kButtons) button_down_[e.code] = e.action != GLFW_RELEASE;
+      if (e.code == GLFW_MOUSE_BUTTON_LEFT && e.action == GLFW_PRESS) {
+        double x = cursor_x_, y = cursor_y_;
+        if (!cursor_fed_) glfwGetCursorPos(window_, &x, &y);
+        record_left_press(e.t_s, x, y);
+      }
+      break;
+    case InputEvent::Kind::Char:
+      if (imgui_char_callback_ != nullptr) imgui_char_callback_(window_, static_cast<unsigned>(e.code));
+      break;
+    case InputEvent::Kind::CursorPos:
+      cursor_fed_ = true;
+      cursor_x_ = e.x;
+      cursor_y_ = e.y;
+      break;
+    case InputEvent::Kind::Scroll:
+      if (imgui_scroll_callback_ != nullptr) imgui_scroll_callback_(window_, e.x, e.y);
+      break;
   }
+}
+
+void GlWindow::apply_fed_mouse_state() const {
+  // With nothing left queued the live state is the fed one (and, for a cursor outside the window, the newer).
+  if (input_.empty()) return;
+  ImGuiIO& io = ImGui::GetIO();
+  for (int b = 0; b < kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b) io.MouseDown[b] = button_down_[b];
+  // -FLT_MAX: the backend found the cursor outside an unfocused window; that stands.
+  if (cursor_fed_ && io.MousePos.x > -FLT_MAX / 2)
+    io.MousePos = ImVec2(static_cast<float>(cursor_x_), static_cast<float>(cursor_y_));
 }
 
 void GlWindow::begin_frame(double wait_s) {
   clear_key_presses();  // presses of a frame that did not ask for them are not replayed later
   begin_mouse_poll(last_poll_s_ > 0 ? glfwGetTime() - last_poll_s_ : 0.0);
-  if (wait_s > 0)
+  // Events still queued are the next frames' input: no waiting while they are.
+  if (wait_s > 0 && input_.empty())
     glfwWaitEventsTimeout(wait_s);
   else
     glfwPollEvents();
   last_poll_s_ = glfwGetTime();
+  for (const InputEvent& e : input_.take_frame()) feed(e);
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
+  apply_fed_mouse_state();
   ImGui::NewFrame();
 }
 
