@@ -6,7 +6,7 @@
 // (about 45 s) is kept in $TMPDIR/shearbench_bench_tactip and reused.
 // Run: ./build/shearbench_bench --benchmark_filter=Tactip
 //      ./build/shearbench_bench --benchmark_filter='Tactip(Fit|Evaluate)' --benchmark_min_time=1x   (minutes)
-//      ./build/shearbench_bench --benchmark_filter=TactipLoop   (11.4 min by the CLI in session 30)
+//      ./build/shearbench_bench --benchmark_filter=TactipLoop   (11.4 min by the CLI on two idle cores)
 
 #include <benchmark/benchmark.h>
 
@@ -116,8 +116,8 @@ BENCHMARK_CAPTURE(BM_TactipFit, fots_reimpl, std::string("fots-reimpl"))
     ->UseRealTime()
     ->Iterations(1);
 BENCHMARK_CAPTURE(BM_TactipFit, tacsl, std::string("tacsl"))->Unit(benchmark::kSecond)->UseRealTime()->Iterations(1);
-// The model the loop answers with on this set (docs/residuals/real_tactip_full_hydroshear, session 30), from its
-// defaults: the pose effects' columns rerun HydroShear, the field effects' replay its remembered field
+// The model the loop answers with on this set (docs/residuals/real_tactip_full_hydroshear, the same effects in another
+// order), from its defaults: the pose effects' columns rerun HydroShear, the field effects' replay its remembered field
 // (BaseFieldMemo).
 BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_skin_indentation_dome_sway_tool_frame,
                   std::string("hydroshear+skin_indentation+dome_sway+tool_frame"))
@@ -128,7 +128,7 @@ BENCHMARK_CAPTURE(BM_TactipFit, hydroshear_skin_indentation_dome_sway_tool_frame
 // The whole residual loop as `shearbench residual --dataset <import> --model hydroshear --max-effects 3
 // --max-iterations 10` runs it: HydroShear fitted from the shipped set's values, its model-form round, the default
 // candidates in greedy rounds (the fits that rerun the form on 250 of the 1000 calibration samples:
-// ResidualOptions::search_samples), the final joint refit on all, the residual structure. Goal (issue 32): 20 min.
+// ResidualOptions::search_samples), the final joint refit on all, the residual structure. Goal: 20 min.
 void BM_TactipLoop(benchmark::State& state) {
   sb::ResidualInputs in;
   in.dataset = "tactip_shear";
