@@ -27,11 +27,11 @@ InputEvent up(int button) { return InputEvent::mouse_button(button, InputEvent::
 std::string describe(const InputEvent& e) {
   const char* act = e.action == InputEvent::kPress ? "+" : e.action == InputEvent::kRelease ? "-" : "r";
   switch (e.kind) {
-    case InputEvent::Kind::Key: return "k" + std::string(act) + std::to_string(e.code);
-    case InputEvent::Kind::MouseButton: return "b" + std::string(act) + std::to_string(e.code);
-    case InputEvent::Kind::Char: return "c'" + std::string(1, static_cast<char>(e.code)) + "'";
-    case InputEvent::Kind::CursorPos: return "m";
-    case InputEvent::Kind::Scroll: return "s";
+    case InputEvent::Kind::kKey: return "k" + std::string(act) + std::to_string(e.code);
+    case InputEvent::Kind::kMouseButton: return "b" + std::string(act) + std::to_string(e.code);
+    case InputEvent::Kind::kChar: return "c'" + std::string(1, static_cast<char>(e.code)) + "'";
+    case InputEvent::Kind::kCursorPos: return "m";
+    case InputEvent::Kind::kScroll: return "s";
   }
   return "?";
 }

@@ -117,11 +117,11 @@ void GlWindow::on_scroll(GLFWwindow* window, double dx, double dy) { queue(windo
 
 void GlWindow::feed(const InputEvent& e) {
   switch (e.kind) {
-    case InputEvent::Kind::Key:
+    case InputEvent::Kind::kKey:
       if (imgui_key_callback_ != nullptr) imgui_key_callback_(window_, e.code, e.scancode, e.action, e.mods);
       record_key_event(e.code, e.action, e.mods);
       break;
-    case InputEvent::Kind::MouseButton:
+    case InputEvent::Kind::kMouseButton:
       if (imgui_mouse_button_callback_ != nullptr) imgui_mouse_button_callback_(window_, e.code, e.action, e.mods);
       if (e.code >= 0 && e.code < kButtons) button_down_[e.code] = e.action != GLFW_RELEASE;
       if (e.code == GLFW_MOUSE_BUTTON_LEFT && e.action == GLFW_PRESS) {
@@ -130,15 +130,15 @@ void GlWindow::feed(const InputEvent& e) {
         record_left_press(e.t_s, x, y);
       }
       break;
-    case InputEvent::Kind::Char:
+    case InputEvent::Kind::kChar:
       if (imgui_char_callback_ != nullptr) imgui_char_callback_(window_, static_cast<unsigned>(e.code));
       break;
-    case InputEvent::Kind::CursorPos:
+    case InputEvent::Kind::kCursorPos:
       cursor_fed_ = true;
       cursor_x_ = e.x;
       cursor_y_ = e.y;
       break;
-    case InputEvent::Kind::Scroll:
+    case InputEvent::Kind::kScroll:
       if (imgui_scroll_callback_ != nullptr) imgui_scroll_callback_(window_, e.x, e.y);
       break;
   }

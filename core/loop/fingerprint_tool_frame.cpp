@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "core/base/format.hpp"
 
@@ -166,35 +167,37 @@ SplitReading tool_frame_reading(const EvidenceSplit& split) {
   return r;
 }
 
-EffectEvidence press_offset_evidence(const EvidenceSplit& calibration, const EvidenceSplit& validation,
-                                     const FittedParam& fitted) {
+// One of tool_frame's two parameters: its two splits' readings and the finding, in millimetres.
+EffectEvidence parameter_evidence(const std::string& looked_at, const std::string& quantity, double fitted,
+                                  SplitReading calibration, SplitReading validation) {
   EffectEvidence e;
   e.effect = "tool_frame";
-  e.looked_at = "where the measured field departs from the tracker noise against the recorded contact, in presses";
-  e.quantity = "press before the recorded contact at which the gel moves";
+  e.looked_at = looked_at;
+  e.quantity = quantity;
   e.unit = "mm";
   e.unit_scale = 1e3;
-  e.fitted = fitted("press_offset_m");
-  e.calibration = tool_frame_reading(calibration);
-  e.validation = tool_frame_reading(validation);
+  e.fitted = fitted;
+  e.calibration = std::move(calibration);
+  e.validation = std::move(validation);
   conclude_evidence(&e);
   return e;
 }
 
+EffectEvidence press_offset_evidence(const EvidenceSplit& calibration, const EvidenceSplit& validation,
+                                     const FittedParam& fitted) {
+  return parameter_evidence(
+      "where the measured field departs from the tracker noise against the recorded contact, in presses",
+      "press before the recorded contact at which the gel moves", fitted("press_offset_m"),
+      tool_frame_reading(calibration), tool_frame_reading(validation));
+}
+
 EffectEvidence pivot_evidence(const Sensor& sensor, const EvidenceSplit& calibration, const EvidenceSplit& validation,
                               const FittedParam& fitted) {
-  EffectEvidence e;
-  e.effect = "tool_frame";
-  e.looked_at = "where the measured field sits against the model's in presses tilted in place";
-  e.quantity = "pivot depth below the apex that moves the contact so";
-  e.unit = "mm";
-  e.unit_scale = 1e3;
-  e.fitted = fitted("pivot_depth_m");
   const std::string what = "with " + std::to_string(kMinPivotFrames) + " frames of a press tilted by >= 2 deg in place";
-  e.calibration = split_reading(calibration, pivot_depths_m(sensor, calibration), what);
-  e.validation = split_reading(validation, pivot_depths_m(sensor, validation), what);
-  conclude_evidence(&e);
-  return e;
+  return parameter_evidence("where the measured field sits against the model's in presses tilted in place",
+                            "pivot depth below the apex that moves the contact so", fitted("pivot_depth_m"),
+                            split_reading(calibration, pivot_depths_m(sensor, calibration), what),
+                            split_reading(validation, pivot_depths_m(sensor, validation), what));
 }
 
 }  // namespace

@@ -6,7 +6,7 @@ namespace sb {
 
 InputEvent InputEvent::key(int key, int scancode, int action, int mods) {
   InputEvent e;
-  e.kind = Kind::Key;
+  e.kind = Kind::kKey;
   e.code = key;
   e.scancode = scancode;
   e.action = action;
@@ -16,7 +16,7 @@ InputEvent InputEvent::key(int key, int scancode, int action, int mods) {
 
 InputEvent InputEvent::mouse_button(int button, int action, int mods) {
   InputEvent e;
-  e.kind = Kind::MouseButton;
+  e.kind = Kind::kMouseButton;
   e.code = button;
   e.action = action;
   e.mods = mods;
@@ -25,14 +25,14 @@ InputEvent InputEvent::mouse_button(int button, int action, int mods) {
 
 InputEvent InputEvent::character(unsigned codepoint) {
   InputEvent e;
-  e.kind = Kind::Char;
+  e.kind = Kind::kChar;
   e.code = static_cast<int>(codepoint);
   return e;
 }
 
 InputEvent InputEvent::cursor(double x_px, double y_px) {
   InputEvent e;
-  e.kind = Kind::CursorPos;
+  e.kind = Kind::kCursorPos;
   e.x = x_px;
   e.y = y_px;
   return e;
@@ -40,7 +40,7 @@ InputEvent InputEvent::cursor(double x_px, double y_px) {
 
 InputEvent InputEvent::scroll(double dx, double dy) {
   InputEvent e;
-  e.kind = Kind::Scroll;
+  e.kind = Kind::kScroll;
   e.x = dx;
   e.y = dy;
   return e;
@@ -57,25 +57,25 @@ struct TrickleFrame {
   bool take(const InputEvent& e) {
     const bool changes = e.action != InputEvent::kRepeat;
     switch (e.kind) {
-      case InputEvent::Kind::Key:
+      case InputEvent::Kind::kKey:
         if (!changes) return true;
         if (keys_changed.count(e.code) != 0 || !buttons_changed.empty() || typed) return false;
         keys_changed.insert(e.code);
         return true;
-      case InputEvent::Kind::MouseButton:
+      case InputEvent::Kind::kMouseButton:
         if (!changes) return true;
         if (buttons_changed.count(e.code) != 0 || moved || wheeled) return false;
         buttons_changed.insert(e.code);
         return true;
-      case InputEvent::Kind::Char:
+      case InputEvent::Kind::kChar:
         if (!keys_changed.empty() || !buttons_changed.empty() || moved || wheeled) return false;
         typed = true;
         return true;
-      case InputEvent::Kind::CursorPos:
+      case InputEvent::Kind::kCursorPos:
         if (!keys_changed.empty() || !buttons_changed.empty() || wheeled || typed) return false;
         moved = true;
         return true;
-      case InputEvent::Kind::Scroll:
+      case InputEvent::Kind::kScroll:
         if (moved || !buttons_changed.empty()) return false;
         wheeled = true;
         return true;

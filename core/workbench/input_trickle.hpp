@@ -11,11 +11,11 @@
 namespace sb {
 
 struct InputEvent {
-  enum class Kind { Key, MouseButton, Char, CursorPos, Scroll };
+  enum class Kind { kKey, kMouseButton, kChar, kCursorPos, kScroll };
   // As GLFW's actions (GLFW_RELEASE, GLFW_PRESS, GLFW_REPEAT); the window checks they agree.
   enum Action { kRelease = 0, kPress = 1, kRepeat = 2 };
 
-  Kind kind = Kind::Key;
+  Kind kind = Kind::kKey;
   int code = 0;      // Key: the key code; MouseButton: the button; Char: the Unicode code point
   int scancode = 0;  // Key only
   int action = kPress;
