@@ -36,6 +36,7 @@ struct ResidualArgs {
   std::size_t max_effects = SelectionOptions{}.max_effects;
   std::size_t joint_refits = ResidualOptions{}.joint_refits_per_round;
   std::size_t search_samples = ResidualOptions{}.search_samples;
+  std::size_t structure_samples = ResidualOptions{}.structure_samples;
   bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
@@ -95,6 +96,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   o.selection.max_effects = a.max_effects;
   o.joint_refits_per_round = a.joint_refits;
   o.search_samples = a.search_samples;
+  o.structure_samples = a.structure_samples;
   o.candidates = a.effects;
   o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
@@ -174,6 +176,11 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
                  "calibration samples (evenly spaced) the fits that rerun the form see during the search; 0: all. "
                  "Scores use every sample, and the answer is refitted on all")
       ->check(CLI::Range(0, 1000000));
+  sub.add_option("--structure-samples", a.structure_samples,
+                 "samples of both splits (evenly spaced) the residual structure describes; 0: all. The errors before "
+                 "and after use every sample")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
   sub.add_flag(
       "--no-model-forms", a.no_model_forms,
       "skip the model-form round (hydroshear: its layer, stick, layer+stick and contact variants fitted and scored "

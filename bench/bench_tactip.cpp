@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 
+#include "bench/tactip_data.hpp"
 #include "core/base/data_root.hpp"
 #include "core/calibration/fit.hpp"
 #include "core/calibration/fit_data.hpp"
@@ -27,46 +28,9 @@
 namespace {
 
 namespace fs = std::filesystem;
-
-// The import of raw/tactip_shear (made once, kept in $TMPDIR).
-const sb::Dataset& tactip_dataset() {
-  static std::once_flag once;
-  static std::unique_ptr<sb::Dataset> ds;
-  std::call_once(once, [] {
-    const std::string root = sb::resolve_data_root();
-    const fs::path dir = fs::temp_directory_path() / "shearbench_bench_tactip";
-    if (!fs::exists(dir / "dataset.json")) {
-      fs::remove_all(dir);
-      sb::import_tactip_shear((fs::path(root) / "raw" / "tactip_shear").string(), dir.string());
-    }
-    ds = std::make_unique<sb::Dataset>(sb::read_dataset(dir.string()));
-  });
-  return *ds;
-}
-
-// Its calibration split, loaded once per process.
-const sb::FitData& tactip_calibration() {
-  static std::once_flag once;
-  static std::unique_ptr<sb::FitData> data;
-  std::call_once(once, [] {
-    data = std::make_unique<sb::FitData>(sb::load_calibration_data(tactip_dataset(), sb::resolve_data_root()));
-  });
-  return *data;
-}
-
-// Its validation split (999 samples), loaded once per process.
-const std::vector<sb::FitSample>& tactip_validation() {
-  static std::once_flag once;
-  static std::vector<sb::FitSample> samples;
-  std::call_once(once, [] {
-    const sb::Dataset& ds = tactip_dataset();
-    const auto indenters = sb::dataset_indenters(ds, sb::resolve_data_root(), "validation");
-    for (const auto& info : ds.samples)
-      if (info.split == "validation")
-        samples.push_back(sb::to_fit_sample(info, sb::read_sample(ds, info.id), indenters.at(info.indenter)));
-  });
-  return samples;
-}
+using shearbench_bench::tactip_calibration;
+using shearbench_bench::tactip_dataset;
+using shearbench_bench::tactip_validation;
 
 // One sample's whole path (frames 0..11: above, pressed, the slide; only the last is scored) under HydroShear.
 void BM_TactipSamplePath(benchmark::State& state) {

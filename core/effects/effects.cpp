@@ -1,5 +1,7 @@
 #include "core/effects/effects.hpp"
 
+#include "core/effects/penetration_cache.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -287,7 +289,7 @@ const Penetration& EffectModel::penetration_at(std::size_t step, const Pose& X_E
   if (step < penetration_cache_.size() && penetration_cache_[step].first.matrix() == X_EI.matrix())
     return penetration_cache_[step].second;
   if (step >= penetration_cache_.size()) penetration_cache_.resize(step + 1);
-  penetration_cache_[step] = {X_EI, indenter_penetration(*sensor_->gel_sdf, *indenter_, X_EI)};
+  penetration_cache_[step] = {X_EI, cached_penetration(sensor_, indenter_, X_EI)};
   return penetration_cache_[step].second;
 }
 

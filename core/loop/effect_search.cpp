@@ -134,13 +134,17 @@ EffectSearch::Start EffectSearch::start_of(const std::vector<std::string>& ids) 
 const EffectSearch::Recording& EffectSearch::recording(const std::vector<std::string>& ids) {
   const std::string key = effect_set_key(ids);
   if (auto it = recordings_.find(key); it != recordings_.end()) return it->second;
+  // A round replays the recording of its warm start only, and no factory outlives the fit or score that made it:
+  // one recording is kept at a time (each is the form's field on every sample of both splits).
+  recordings_.clear();
   const ParamSet& p = fits_.at(key).fit.params;
   std::vector<std::string> pose_effects;
   std::copy_if(ids.begin(), ids.end(), std::back_inserter(pose_effects),
                [](const std::string& id) { return any_acts_on_pose({id}); });
   const std::string recorded = ModelSpec{form_, pose_effects}.id();
   Recording r{record_field(recorded, p, in_.sensor, in_.calibration),
-              record_field(recorded, p, in_.sensor, in_.validation)};
+              record_field(recorded, p, in_.sensor, in_.validation),
+              subsampled() ? record_field(recorded, p, in_.sensor, subset_.calibration) : std::vector<RecordedField>{}};
   return recordings_.emplace(key, std::move(r)).first->second;  // map nodes are stable: factories keep pointers
 }
 
@@ -157,9 +161,9 @@ std::optional<FingerprintCheck> EffectSearch::fingerprint_of(const std::string& 
   const std::string key = effect_set_key(warm);
   const Recording& rec = recording(warm);
   const ParamSet& p = fits_.at(key).fit.params;
-  return fingerprint_check(candidate, *in_.sensor,
-                           with_model_field(fp_cal_, replay(warm, key, rec.cal), p, in_.calibration),
-                           with_model_field(fp_val_, replay(warm, key, rec.val), p, in_.validation));
+  const ModelFieldScope cal(&fp_cal_, replay(warm, key, rec.cal), p, in_.calibration);
+  const ModelFieldScope val(&fp_val_, replay(warm, key, rec.val), p, in_.validation);
+  return fingerprint_check(candidate, *in_.sensor, fp_cal_, fp_val_);
 }
 
 std::vector<std::string> EffectSearch::hold_fingerprint(const std::string& candidate, const FingerprintCheck& fp,
@@ -227,20 +231,21 @@ EffectFit EffectSearch::fit_alone(const std::vector<std::string>& ids, const Sta
   std::copy_if(ids.begin(), ids.end(), std::back_inserter(added), [&](const std::string& id) {
     return std::find(start.warm.begin(), start.warm.end(), id) == start.warm.end();
   });
-  SampleModelFactory make_cal, make_val;
-  const std::vector<FitSample>* fit_on = &in_.calibration;
+  // Every alone fit sees the search's subset; its scores see every sample.
+  SampleModelFactory make_cal, make_val, make_fit;
   if (any_acts_on_pose(added)) {
-    make_cal = make_val = spec_model_factory(ModelSpec{form_, ids}.id(), in_.sensor);
-    fit_on = &subset_.calibration;  // the factory ignores the sample's index: any subset will do
+    make_cal = make_val = make_fit = spec_model_factory(ModelSpec{form_, ids}.id(), in_.sensor);
   } else {
     const Recording& rec = recording(start.warm);
     make_cal = replay(ids, warm_key, rec.cal);
     make_val = replay(ids, warm_key, rec.val);
+    make_fit = subsampled() ? replay(ids, warm_key, rec.subset) : make_cal;
   }
   ParamSet from = start.params;
   if (any_acts_on_pose(added) && !stages.empty()) from = grid_start(ModelSpec{form_, ids}.id(), stages, from);
   CalibrationResult r{form_ + "+" + key, from, {}, false, 0};
-  if (!stages.empty()) r = run_fit_stages_per_sample(form_ + "+" + key, make_cal, stages, *fit_on, from, fo_);
+  if (!stages.empty())
+    r = run_fit_stages_per_sample(form_ + "+" + key, make_fit, stages, subset_.calibration, from, fo_);
   throw_if_cancelled(r, o_.progress);
   std::size_t free_count = 0;
   for (const auto& st : stages) free_count += st.params.size();

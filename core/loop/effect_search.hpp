@@ -1,7 +1,7 @@
 #pragma once
 // Step 3 of the residual loop (residual.hpp): the catalogued effects on top of a fitted form, searched
 // greedily by select_effects. EffectSearch owns what the search accumulates: each effect set's fit, the
-// form's recorded field per fitted parameter set (an effect-only fit replays it instead of rerunning the
+// form's recorded field at the round's warm start (an effect-only fit replays it instead of rerunning the
 // form), and the effect parameters a fingerprint settled. See docs/effects.md, "The loop, step by step".
 #include <map>
 #include <optional>
@@ -39,8 +39,8 @@ class EffectSearch {
  public:
   // `form_fit` is the form as fitted (the search's reference, key ""); `fo` the fits' options.
   // `candidates` are select_effects' candidates: a round's sets are the selection so far plus each of the rest.
-  // A fit that reruns the form on every run (a pose effect's alone fit and grid start, a joint refit) sees
-  // `subset`'s samples; one that replays the form's recorded field sees all, and every score uses all.
+  // Every fit of the search (a candidate alone, over the recorded field or rerunning the form for a pose effect,
+  // a pose effect's grid start, a joint refit) sees `subset`'s samples; every score uses all of both splits.
   EffectSearch(const ResidualInputs& in, const ResidualOptions& o, const FitOptions& fo, std::string form,
                const EffectFit& form_fit, std::vector<std::string> candidates, SearchSubset subset);
 
@@ -53,8 +53,10 @@ class EffectSearch {
   std::optional<EffectFit> final_refit(const std::vector<std::string>& selected, std::string* why);
 
  private:
+  // The form's field on every sample of both splits (scores replay these), and on the search's subset when it is
+  // smaller than the calibration split (alone fits replay that: fitting a candidate is screening, scoring is not).
   struct Recording {
-    std::vector<RecordedField> cal, val;
+    std::vector<RecordedField> cal, val, subset;
   };
   // The start of a set's fit and the fitted set it is warm-started from (the set without its last effect).
   struct Start {
@@ -116,8 +118,8 @@ class EffectSearch {
   std::vector<std::string> candidates_;
   SearchSubset subset_;
   std::map<std::string, EffectFit> fits_;
-  std::map<std::string, Alone> alone_;  // this round's alone phases, by set key, until finished
-  std::map<std::string, Recording> recordings_;
+  std::map<std::string, Alone> alone_;           // this round's alone phases, by set key, until finished
+  std::map<std::string, Recording> recordings_;  // the current warm start's only (recording())
   std::vector<FingerprintSample> fp_cal_, fp_val_;
   std::map<std::string, std::vector<std::string>> held_by_effect_;  // parameters a fingerprint settled (full names)
 };

@@ -131,9 +131,13 @@ std::vector<RecordedField> record_field(const std::string& model_id, const Param
     for (std::size_t k = 0; k < samples[i].X_EI.size(); ++k) {
       FieldOutput& f = (*frames)[k];
       model->step(samples[i].X_EI[k], k == 0 ? 0.0 : samples[i].dt_s, &f);
-      f.p_EP.clear();
-      f.anchor_EP.clear();
-      f.point_state.clear();
+      // Only the field is replayed: the tracked points' storage goes, capacity included (clear() keeps it, and
+      // on the TacTip it was most of a recording's memory).
+      std::vector<Vec3>().swap(f.p_EP);
+      std::vector<Vec3>().swap(f.anchor_EP);
+      std::vector<PointState>().swap(f.point_state);
+      f.disp_px.shrink_to_fit();
+      f.marker_in_contact.shrink_to_fit();
     }
     out[i] = std::move(frames);
   });
@@ -174,14 +178,18 @@ std::vector<FingerprintSample> fingerprint_samples(const Sensor& sensor, const s
   return out;
 }
 
-std::vector<FingerprintSample> with_model_field(std::vector<FingerprintSample> fs, const SampleModelFactory& make,
-                                                const ParamSet& params, const std::vector<FitSample>& samples) {
+ModelFieldScope::ModelFieldScope(std::vector<FingerprintSample>* fs, const SampleModelFactory& make,
+                                 const ParamSet& params, const std::vector<FitSample>& samples)
+    : fs_(fs) {
   tbb::parallel_for(0, static_cast<int>(samples.size()), [&](int i) {
     auto model = make(samples[i], static_cast<std::size_t>(i));
     model->set_params(params);
-    fs[i].pred_px = simulate_sample(*model, samples[i]);
+    (*fs_)[i].pred_px = simulate_sample(*model, samples[i]);
   });
-  return fs;
+}
+
+ModelFieldScope::~ModelFieldScope() {
+  for (FingerprintSample& f : *fs_) std::vector<std::vector<Vec2>>().swap(f.pred_px);
 }
 
 void throw_if_cancelled(const CalibrationResult& r, const Progress& progress) {

@@ -75,6 +75,18 @@ std::string effect_set_key(const std::vector<std::string>& ids) {
 
 namespace {
 
+// ResidualOptions::structure_samples of both splits: each split's share of `cap`, evenly spaced (evenly_spaced).
+std::vector<const FitSample*> structure_subset(const ResidualInputs& in, std::size_t cap) {
+  const std::size_t all = in.calibration.size() + in.validation.size();
+  std::vector<const FitSample*> out;
+  for (const auto* split : {&in.calibration, &in.validation}) {
+    const std::size_t share = cap == 0 || cap >= all ? split->size()
+                                                     : std::max<std::size_t>(1, cap * split->size() / all);
+    for (std::size_t i : evenly_spaced(split->size(), share)) out.push_back(&(*split)[i]);
+  }
+  return out;
+}
+
 // True when some pose turns the indenter's approach axis (+z) away from E's (Effect::needs_tilt).
 bool any_tilt(const ResidualInputs& in) {
   constexpr double kTiltRad = 1e-6;
@@ -103,7 +115,8 @@ ResidualLoop::ResidualLoop(const ResidualInputs& in, const ResidualOptions& opti
     : in_(in),
       o_(options),
       candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates),
-      search_cal_(subset(in.calibration, evenly_spaced(in.calibration.size(), options.search_samples))) {
+      search_cal_(subset(in.calibration, evenly_spaced(in.calibration.size(), options.search_samples))),
+      structure_samples_(structure_subset(in, options.structure_samples)) {
   if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
   if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
   default_params(in.model_id);                         // an unknown model fails before any work
@@ -258,11 +271,9 @@ FinalModel ResidualLoop::final_fit(const EffectRounds& rounds) const {
           rounds.fits.at(effect_set_key(rounds.selection.selected))};
 }
 
-// Step 5: the residual structure of a model over every sample (calibration + validation).
+// Step 5: the residual structure of a model over both splits (at most ResidualOptions::structure_samples).
 ResidualStructure ResidualLoop::score(const std::string& model_id, const EffectFit& fit) const {
-  std::vector<FitSample> everything = in_.calibration;
-  everything.insert(everything.end(), in_.validation.begin(), in_.validation.end());
-  return analyse_residual(model_id, fit.fit.params, in_.sensor, everything, o_.bins);
+  return analyse_residual(model_id, fit.fit.params, in_.sensor, structure_samples_, o_.bins);
 }
 
 // Step 5 too: the responses of the measured field and of the model to the known inputs. The response
@@ -296,6 +307,8 @@ ResidualReport ResidualLoop::run() const {
   rep.fit_base = o_.fit_base;
   rep.search_samples = search_cal_.size();
   rep.calibration_samples = in_.calibration.size();
+  rep.structure_samples = structure_samples_.size();
+  rep.all_samples = in_.calibration.size() + in_.validation.size();
   rep.sensor = in_.sensor;
   rep.before = fit_base();
   rep.model_form = model_form_round(rep.before);

@@ -57,12 +57,17 @@ struct ResidualOptions {
   // Of a round's candidates that pass that screen, only this many, the best alone, get the joint refit (those
   // whose fingerprint was found or that explain the held drift always do); the rest are reported as screened.
   std::size_t joint_refits_per_round = 3;
-  // Every fit after the base's that reruns the form on each run (a model-form variant's, a pose effect's alone
-  // fit and its grid start, a joint refit) sees at most this many calibration samples, evenly spaced
-  // (evenly_spaced; 0: all of them). Their scores (the BIC's calibration error, validation) use every sample of
-  // both splits, and the answer is refitted on the whole calibration split (EffectSearch::final_refit). On the
-  // real TacTip a run of HydroShear over its 1000 calibration samples costs ~0.5 s and a joint refit hundreds.
+  // The subset rule. Every fit after the base's (a model-form variant's, each candidate effect's alone fit and
+  // grid start, each joint refit) sees at most this many calibration samples, evenly spaced (evenly_spaced; 0: all
+  // of them): they screen and rank. Every score the selection rule and the report use (the BIC's calibration error,
+  // validation, the bootstrap) uses every sample of both splits, and the answer is refitted on the whole calibration
+  // split (EffectSearch::final_refit). On the real TacTip a run of HydroShear over its 1000 calibration samples
+  // costs ~0.5 s and a joint refit hundreds.
   std::size_t search_samples = 250;
+  // The residual structure (step 5: covariate tables, principal components, binned mean fields) is a description
+  // of the residual, not a score: it sees at most this many samples of both splits together, evenly spaced over
+  // each split in proportion to its size (0: all). The shipped TacTip set (1999 samples) is seen whole.
+  std::size_t structure_samples = 2000;
   int bins = 6;  // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;
@@ -119,6 +124,8 @@ struct ResidualReport {
   bool fit_base = true;
   // Calibration samples the search's form-rerunning fits saw (ResidualOptions::search_samples) and the split's.
   std::size_t search_samples = 0, calibration_samples = 0;
+  // Samples the residual structure saw (ResidualOptions::structure_samples) and the two splits' together.
+  std::size_t structure_samples = 0, all_samples = 0;
   std::shared_ptr<const Sensor> sensor;
   EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
@@ -189,6 +196,7 @@ class ResidualLoop {
   const ResidualOptions& o_;
   std::vector<std::string> candidates_;
   std::vector<FitSample> search_cal_;  // the calibration samples the search's costly fits see (search_samples)
+  std::vector<const FitSample*> structure_samples_;  // the samples step 5's structure sees (structure_samples)
 };
 
 // The whole loop: ResidualLoop(in, options).run().

@@ -54,11 +54,17 @@ std::string final_refit_note(const EffectRounds& e) {
 
 // The search's costly fits on a subset of the calibration split (ResidualOptions::search_samples).
 std::string search_subset_note(const ResidualReport& r) {
-  if (r.search_samples >= r.calibration_samples) return "";
-  return "The search's fits that rerun the form on every run (model-form variants, pose effects, joint refits) saw " +
-         std::to_string(r.search_samples) + " of the " + std::to_string(r.calibration_samples) +
-         " calibration samples, evenly spaced; every score uses all samples of both splits, and the answer is "
-         "refitted on the whole calibration split.\n\n";
+  std::string s;
+  if (r.search_samples < r.calibration_samples)
+    s = "The search's fits that rerun the form on every run (model-form variants, pose effects, joint refits) saw " +
+        std::to_string(r.search_samples) + " of the " + std::to_string(r.calibration_samples) +
+        " calibration samples, evenly spaced; every score uses all samples of both splits, and the answer is "
+        "refitted on the whole calibration split.\n\n";
+  if (r.structure_samples < r.all_samples)
+    s += "The residual structure below (its tables, components and binned fields) describes " +
+         std::to_string(r.structure_samples) + " of the " + std::to_string(r.all_samples) +
+         " samples, evenly spaced over each split; the errors before and after are over all of them.\n\n";
+  return s;
 }
 
 // Which of the answer's effects are found by their evidence and which are corrections of unshown cause.

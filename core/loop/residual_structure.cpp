@@ -361,9 +361,18 @@ FieldSummary summarise_field(const std::vector<Vec2>& field_px) {
 ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
                                    std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples,
                                    int bins) {
+  std::vector<const FitSample*> pointers;
+  pointers.reserve(samples.size());
+  for (const FitSample& s : samples) pointers.push_back(&s);
+  return analyse_residual(model_id, params, std::move(sensor), pointers, bins);
+}
+
+ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
+                                   std::shared_ptr<const Sensor> sensor, const std::vector<const FitSample*>& samples,
+                                   int bins) {
   std::vector<SampleResidual> per_sample(samples.size());
   tbb::parallel_for(0, static_cast<int>(samples.size()),
-                    [&](int i) { per_sample[i] = sample_residual(model_id, params, sensor, samples[i]); });
+                    [&](int i) { per_sample[i] = sample_residual(model_id, params, sensor, *samples[i]); });
   std::vector<Point> all;
   std::vector<Eigen::VectorXd> rows;
   std::vector<FrameKey> keys;

@@ -67,5 +67,9 @@ struct ResidualStructure {
 ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
                                    std::shared_ptr<const Sensor> sensor, const std::vector<FitSample>& samples,
                                    int bins);
+// The same over the samples pointed to (a subset of several splits, without copying them). @pre no null pointer.
+ResidualStructure analyse_residual(const std::string& model_id, const ParamSet& params,
+                                   std::shared_ptr<const Sensor> sensor, const std::vector<const FitSample*>& samples,
+                                   int bins);
 
 }  // namespace sb

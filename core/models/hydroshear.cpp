@@ -6,13 +6,13 @@
 #include "core/models/hydroshear_step.hpp"
 
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <numeric>
@@ -269,13 +269,40 @@ HydroShearParams HydroShearParams::from(const ParamSet& p) {
   return k;
 }
 
-struct HydroShearBatch::ScratchPool {
-  tbb::enumerable_thread_specific<hydroshear::StepBuffers> local;
-};
+namespace {
+
+// One set of step buffers per thread for every batch: the loop's fits hold a model per sample (10,000 on a large
+// set), and a set per model and thread was most of their memory. A step never waits on other tasks (step_slot has
+// no nested parallelism), so one thread's buffers never serve two steps at once.
+hydroshear::StepBuffers& thread_step_buffers() {
+  thread_local hydroshear::StepBuffers buffers;
+  return buffers;
+}
+
+// The point table of `indenter`, built once while some batch over that indenter lives and shared by all of them
+// (a fit builds a model per sample, each with the same indenter). Keyed by the indenter's address, checked
+// against a weak pointer to it so that a new indenter at a freed one's address gets its own table.
+std::shared_ptr<const hydroshear::PointTable> shared_point_table(const std::shared_ptr<const Indenter>& indenter) {
+  struct Entry {
+    std::weak_ptr<const Indenter> indenter;
+    std::weak_ptr<const hydroshear::PointTable> table;
+  };
+  static std::mutex mutex;
+  static std::map<const Indenter*, Entry> tables;
+  const std::lock_guard<std::mutex> lock(mutex);
+  std::erase_if(tables, [](const auto& e) { return e.second.indenter.expired() || e.second.table.expired(); });
+  Entry& e = tables[indenter.get()];
+  if (auto table = e.table.lock(); table && e.indenter.lock() == indenter) return table;
+  auto table = hydroshear::make_point_table(*indenter);
+  e = {indenter, table};
+  return table;
+}
+
+}  // namespace
 
 HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const Indenter> indenter,
                                  int slots, const ParamSet& params)
-    : model_(std::make_unique<HydroShearModel>()), slots_(std::max(slots, 0)), pool_(std::make_unique<ScratchPool>()) {
+    : model_(std::make_unique<HydroShearModel>()), slots_(std::max(slots, 0)) {
   if (!sensor || !sensor->gel_sdf) throw std::invalid_argument("hydroshear: sensor with a gel SDF required");
   if (!indenter || !indenter->sdf) throw std::invalid_argument("hydroshear: indenter with an SDF required");
   if (indenter->samples.p_IS.empty()) throw std::invalid_argument("hydroshear: indenter has no surface samples");
@@ -291,7 +318,7 @@ HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shar
     m.marker_z_max = std::max(m.marker_z_max, p.z());
   }
   if (!sensor->gel_mesh.empty()) m.gel_mesh_bounds = sensor->gel_mesh.bounds();
-  m.table = hydroshear::make_point_table(*indenter);
+  m.table = shared_point_table(indenter);
   m.sensor = std::move(sensor);
   m.indenter = std::move(indenter);
   set_params(params);
@@ -300,11 +327,7 @@ HydroShearBatch::HydroShearBatch(std::shared_ptr<const Sensor> sensor, std::shar
 HydroShearBatch::~HydroShearBatch() = default;
 HydroShearBatch::HydroShearBatch(HydroShearBatch&&) noexcept = default;
 HydroShearBatch::HydroShearBatch(const HydroShearBatch& o)
-    : params_(o.params_),
-      model_(std::make_unique<HydroShearModel>(*o.model_)),
-      slots_(o.slots_),
-      pool_(std::make_unique<ScratchPool>()),
-      profile_(nullptr) {}
+    : params_(o.params_), model_(std::make_unique<HydroShearModel>(*o.model_)), slots_(o.slots_), profile_(nullptr) {}
 
 int HydroShearBatch::slots() const { return static_cast<int>(slots_.size()); }
 int HydroShearBatch::markers() const { return model_->markers(); }
@@ -573,7 +596,7 @@ void HydroShearBatch::step(std::span<const Pose> X_EI, double /*dt: quasi-static
   for (const Pose& X : X_EI) require_finite_pose(X, "hydroshear");
   const HydroShearModel& m = *model_;
   auto body = [&](const tbb::blocked_range<int>& r) {
-    hydroshear::StepBuffers& scratch = pool_->local.local();
+    hydroshear::StepBuffers& scratch = thread_step_buffers();
     PhaseClock clock(profile_);
     for (int i = r.begin(); i < r.end(); ++i)
       step_slot(m, slots_[i], X_EI[i], field ? &disp_px[i * nm] : nullptr,

@@ -121,11 +121,9 @@ class HydroShearBatch {
   void set_profile(PhaseProfile* profile) { profile_ = profile; }
 
  private:
-  struct ScratchPool;
   ParamSet params_;
   std::unique_ptr<hydroshear::HydroShearModel> model_;
   std::vector<hydroshear::Slot> slots_;
-  std::unique_ptr<ScratchPool> pool_;
   PhaseProfile* profile_ = nullptr;
 };
 
