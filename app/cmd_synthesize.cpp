@@ -53,7 +53,8 @@ int run_synthesize(const SynthesizeArgs& args, const GlobalOptions& g) {
   const std::string root = resolve_data_root(g.data_root_flag);
   Dataset ds = read_dataset(resolve_path(args.dataset, root, ""));
   const fs::path out = fs::absolute(args.out);
-  if (fs::exists(out)) throw InputError(args.out, "already exists: synthesize writes a new folder and never overwrites");
+  if (fs::exists(out))
+    throw InputError(args.out, "already exists: synthesize writes a new folder and never overwrites");
   if (args.set.samples < ds.samples.size())
     throw InputError("--samples", std::to_string(args.set.samples) + " is fewer than the source's " +
                                       std::to_string(ds.samples.size()) + " samples");
@@ -104,8 +105,7 @@ int run_synthesize(const SynthesizeArgs& args, const GlobalOptions& g) {
 
 void add_flags(CLI::App& sub, SynthesizeArgs& a) {
   add_dataset_flag(sub, a.dataset);
-  sub.add_option("--model", a.model, "the model whose field the copies carry (a form with effects allowed)")
-      ->required();
+  sub.add_option("--model", a.model, "the model whose field the copies carry (a form with effects allowed)")->required();
   add_params_flag(sub, a.params, "its parameters (e.g. a residual report's _params.json)");
   add_param_set_flag(sub, a.param_set);
   sub.add_option("--samples", a.set.samples, "samples in the new set (at least the source's)")->capture_default_str();

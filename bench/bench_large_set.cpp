@@ -33,8 +33,8 @@ double peak_rss_gb() {
 }
 
 sb::ParamSet answer_params() {
-  const std::string file =
-      std::string(SHEARBENCH_SOURCE_DIR) + "/docs/residuals/real_tactip_full_hydroshear/report_params.json";
+  const std::string file = std::string(SHEARBENCH_SOURCE_DIR) +
+                           "/docs/residuals/real_tactip_full_hydroshear/report_params.json";
   sb::ParamSet p = sb::load_param_set("tactip_shear").params(kAnswer);
   p.update_from_json(sb::jsonin::load_file(file).at(kAnswer), file);
   return p;

@@ -18,7 +18,10 @@ using sb::Vec3;
 
 constexpr std::size_t kMarkers = 3;
 
-ParamSet gain_table() { return ParamSet({sb::ParamSpec{.name = "gain", .unit = "", .default_value = 2.0, .min = 0, .max = 10, .help = "px per mm"}}); }
+ParamSet gain_table() {
+  return ParamSet(
+      {sb::ParamSpec{.name = "gain", .unit = "", .default_value = 2.0, .min = 0, .max = 10, .help = "px per mm"}});
+}
 
 class PositionModel final : public sb::ShearModel {
  public:
@@ -80,7 +83,8 @@ TEST_CASE("synthetic set: the first copy is the source, later copies carry the f
   for (std::size_t i = 0; i < 2; ++i)
     for (std::size_t f = 0; f < 2; ++f)
       for (std::size_t m = 0; m < kMarkers; ++m)
-        if (source[i].meas_px[f][m].allFinite()) CHECK((made[i].meas_px[f][m] - source[i].meas_px[f][m]).norm() < kExact);
+        if (source[i].meas_px[f][m].allFinite())
+          CHECK((made[i].meas_px[f][m] - source[i].meas_px[f][m]).norm() < kExact);
   CHECK(!made[1].meas_px[1][1].allFinite());
   CHECK(!made[3].meas_px[1][1].allFinite());  // unmeasured stays unmeasured in every copy
   // k >= n: X' = J X. The field is linear in the position, so meas' - meas = 2000 (p' - p)_xy, p' = J p.
