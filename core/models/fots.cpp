@@ -13,7 +13,9 @@ namespace sb {
 
 namespace {
 
-const double kCameraPxPerMetre = Camera{}.px_per_metre();  // GelSight Mini 1/0.0634 mm
+// GelSight Mini 1/0.0634 mm. A function, not a global: the parameter specs may be built by another file's static
+// initialiser before this file's globals are set.
+double camera_px_per_metre() { return Camera{}.px_per_metre(); }
 constexpr int kFotsSlotGrain = 32;                         // slots per parallel task (a slot costs about a microsecond)
 
 // Python's int(): truncation toward zero.
@@ -70,7 +72,7 @@ const ParamFields<FotsParams>& original_fields() {
        &F::lambda_t},
       {{.name = "px_per_mm",
         .unit = "px/mm",
-        .default_value = kCameraPxPerMetre * 1e-3,
+        .default_value = camera_px_per_metre() * 1e-3,
         .min = 1,
         .max = 100,
         .help = "image scale; default the GelSight Mini camera 1/0.0634 (FOTS repo: 19.58 for its own sensor)"},
@@ -122,7 +124,7 @@ const ParamFields<FotsParams>& reimpl_fields() {
        &F::lambda_t},
       {{.name = "kappa_d",
         .unit = "px/m",
-        .default_value = 2.5 * kCameraPxPerMetre,
+        .default_value = 2.5 * camera_px_per_metre(),
         .min = 1,
         .max = 1e9,
         .help = "dilation scale: 2.5 x camera px/m (authors 2.5 x 1/0.065 mm = 38461.5)",
@@ -130,7 +132,7 @@ const ParamFields<FotsParams>& reimpl_fields() {
        &F::kappa_d},
       {{.name = "kappa_s",
         .unit = "px/m",
-        .default_value = kCameraPxPerMetre,
+        .default_value = camera_px_per_metre(),
         .min = 1,
         .max = 1e9,
         .help = "shear scale: camera px/m (authors 15384.6)",
@@ -138,7 +140,7 @@ const ParamFields<FotsParams>& reimpl_fields() {
        &F::kappa_s},
       {{.name = "kappa_t",
         .unit = "px/m",
-        .default_value = kCameraPxPerMetre,
+        .default_value = camera_px_per_metre(),
         .min = 1,
         .max = 1e9,
         .help = "twist scale: camera px/m (authors 15384.6)",

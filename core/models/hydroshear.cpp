@@ -37,7 +37,9 @@ constexpr int kClusterGroup = 8;  // clusters per group of the two-level cull
 constexpr double kGelBoxMargin = 1e-3;
 // Tasks of the slot loop: slots per task (a slot costs a few microseconds).
 constexpr int kHydroShearSlotGrain = 16;
-const double kDefaultPxPerMetre = Camera{}.px_per_metre();  // 1 / 0.0634 mm = 15772.9 px/m
+// 1 / 0.0634 mm = 15772.9 px/m. A function, not a global: the parameter specs are built by static initialisers
+// elsewhere (a benchmark's registration reads the model registry), which may run before this file's globals.
+double default_px_per_metre() { return Camera{}.px_per_metre(); }
 
 }  // namespace
 
@@ -71,7 +73,7 @@ ParamFields<HydroShearParams> authors_fields() {
        &P::mu},
       {{.name = "kappa_d",
         .unit = "px/m",
-        .default_value = kDefaultPxPerMetre,
+        .default_value = default_px_per_metre(),
         .min = 1,
         .max = 1e9,
         .help = "dilation scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)",
@@ -79,7 +81,7 @@ ParamFields<HydroShearParams> authors_fields() {
        &P::kappa_d},
       {{.name = "kappa_s",
         .unit = "px/m",
-        .default_value = kDefaultPxPerMetre,
+        .default_value = default_px_per_metre(),
         .min = 1,
         .max = 1e9,
         .help = "shear scale; default the GelSight Mini camera 1/0.0634 mm (authors: 1/0.065 mm = 15384.6)",
