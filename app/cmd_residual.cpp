@@ -37,6 +37,7 @@ struct ResidualArgs {
   std::size_t joint_refits = ResidualOptions{}.joint_refits_per_round;
   std::size_t search_samples = ResidualOptions{}.search_samples;
   std::size_t structure_samples = ResidualOptions{}.structure_samples;
+  std::size_t search_set = ResidualOptions{}.search_set;
   bool no_model_forms = false;
   std::string json_out;
   std::string report_out;
@@ -97,6 +98,7 @@ int run_residual(const ResidualArgs& a, const GlobalOptions& g) {
   o.joint_refits_per_round = a.joint_refits;
   o.search_samples = a.search_samples;
   o.structure_samples = a.structure_samples;
+  o.search_set = a.search_set;
   o.candidates = a.effects;
   o.model_forms = !a.no_model_forms;
   if (!a.params.empty()) {
@@ -176,6 +178,12 @@ void add_flags(CLI::App& sub, ResidualArgs& a) {
                  "calibration samples (evenly spaced) the fits that rerun the form see during the search; 0: all. "
                  "Scores use every sample, and the answer is refitted on all")
       ->check(CLI::Range(0, 1000000));
+  sub.add_option("--search-set", a.search_set,
+                 "samples of both splits (evenly spaced) the search sees: its fits, scores, fingerprints and "
+                 "bootstraps; 0: all. The base and the answer are then refitted on every calibration sample and "
+                 "scored on every sample")
+      ->check(CLI::Range(0, 100000000))
+      ->capture_default_str();
   sub.add_option("--structure-samples", a.structure_samples,
                  "samples of both splits (evenly spaced) the residual structure describes; 0: all. The errors before "
                  "and after use every sample")

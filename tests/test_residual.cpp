@@ -484,4 +484,50 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
   CHECK(n_trail > 0);
 }
 
+// The search sees a search set of both splits (ResidualOptions::search_set); what is reported of the base and the
+// answer is refitted and scored on every sample.
+TEST_CASE("residual loop: the search on a search set, the base and the answer refitted and scored on all samples",
+          "[residual]") {
+  sb::ResidualInputs in;
+  in.dataset = "synthetic:tracker_bias";
+  in.model_id = kBase;
+  in.sensor = setup().sensor;
+  in.base_params = sb::default_params(kBase);
+  in.calibration = trajectories("calibration");
+  in.validation = trajectories("validation");
+  const Truths truth = {{"tracker_bias", {{"bias_x_px", 0.3}, {"bias_y_px", -0.2}}}};
+  simulate(&in.calibration, truth, in.sensor, 11);
+  simulate(&in.validation, truth, in.sensor, 23);
+  sb::ResidualOptions o;
+  o.max_iterations = 15;
+  o.model_forms = false;
+  o.candidates = {"tracker_bias"};
+  // 6 of the 8 samples: each split's share 6 * 4 / 8 = 3, evenly spaced (evenly_spaced(4, 3) = 0, 1, 2).
+  o.search_set = 6;
+  constexpr std::size_t kSearchedPerSplit = 3;
+  const auto r = sb::run_residual_loop(in, o);
+  const auto j = sb::residual_to_json(r);
+  INFO(j["candidates"].dump(1));
+  CHECK(r.search_set_samples == 2 * kSearchedPerSplit);
+  CHECK(j["search_set_samples"]["searched"] == 2 * kSearchedPerSplit);
+  CHECK(j["search_set_samples"]["of"] == 8);
+  REQUIRE(r.effects.selection.selected == std::vector<std::string>{"tracker_bias"});
+  // The search's scores are the search set's: one validation error per searched validation sample.
+  CHECK(r.effects.fits.at("tracker_bias").fit.validation.sq_err_px2.size() == kSearchedPerSplit);
+  CHECK(r.effects.fits.at("").fit.validation.sq_err_px2.size() == kSearchedPerSplit);
+  // The base and the answer are every sample's: refitted on all 4 calibration presses, scored on all 4 held out.
+  CHECK(r.before.fit.validation.sq_err_px2.size() == in.validation.size());
+  CHECK(r.after.fit.validation.sq_err_px2.size() == in.validation.size());
+  REQUIRE(r.effects.final_refit.has_value());
+  CHECK(r.effects.final_refit_why == "the search fitted it on 3 of the 4 calibration samples");
+  CHECK(std::abs(r.after.fit.params.get("tracker_bias.bias_x_px") - 0.3) <= kParamRelTol * 0.3);
+  CHECK(sb::residual_to_markdown(r, {}).find("saw 6 of the 8 samples") != std::string::npos);
+
+  // A search set as large as the set is the set: nothing refitted for it.
+  o.search_set = 8;
+  const auto whole = sb::run_residual_loop(in, o);
+  CHECK(whole.search_set_samples == 8);
+  CHECK_FALSE(whole.effects.final_refit.has_value());
+}
+
 }  // namespace test_residual

@@ -90,6 +90,8 @@ struct FitOptions {
   RobustLoss robust = RobustLoss::kNone;
   double robust_scale_px = 1.0;  // where the robust loss bends
   int max_iterations = 50;       // per stage
+  // A stage stops when a step changes the cost by less than this fraction of it (BoundedLmOptions).
+  double function_tolerance = 1e-6;
   bool coarse_scan = true;
   std::function<void(const FitProgress&)> progress;
   // Checked between iterations (and between model runs); a cancelled stage is discarded, so the

@@ -38,7 +38,6 @@ constexpr int kScanPoints1d = 9;
 constexpr int kScanPoints2d = 5;
 // A stage stops when a step changes the cost by less than this fraction (the RMSE by half of it): 1e-10 had every
 // stage run its iteration cap, e.g. friction on the TacTip five iterations at the same cost to six digits.
-constexpr double kFunctionTolerance = 1e-6;
 // Below this <pred, pred> a rescale stage keeps s = 1 (the model predicts nothing to scale).
 constexpr double kRescaleMinNorm2 = 1e-12;
 
@@ -325,7 +324,7 @@ BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, const std::
   };
   BoundedLmOptions lo;
   lo.max_iterations = o.max_iterations;
-  lo.function_tolerance = kFunctionTolerance;
+  lo.function_tolerance = o.function_tolerance;
   lo.on_iteration = [&](int iteration, double c) {
     if (o.progress) o.progress({stage, iteration, c});
     return !(o.cancel && o.cancel->load());

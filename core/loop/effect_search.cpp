@@ -272,13 +272,14 @@ bool EffectSearch::promising(const EffectFit& alone, const std::string& warm_key
 }
 
 EffectFit EffectSearch::joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
-                                    const ParamSet& from, const std::vector<FitSample>& samples) {
+                                    const ParamSet& from, const std::vector<FitSample>& fit_on,
+                                    const ResidualInputs& score_on, const FitOptions& fo) {
   const std::string model = ModelSpec{form_, ids}.id();
   const std::vector<FitStage> stage{{"joint", joint, tsd_motions(), false, {}}};
-  const CalibrationResult r = run_fit_stages(model, spec_fit_factory(model, in_.sensor), stage, samples, from, fo_);
+  const CalibrationResult r = run_fit_stages(model, spec_fit_factory(model, in_.sensor), stage, fit_on, from, fo);
   throw_if_cancelled(r, o_.progress);
   const SampleModelFactory full = spec_model_factory(model, in_.sensor);
-  return score_fit(in_, ids, r.params, joint.size(), full, full);
+  return score_fit(score_on, ids, r.params, joint.size(), full, full);
 }
 
 // A bound or a band verdict on the candidate's fitted parameters (docs/effects.md, "Model-form symptoms").
@@ -312,10 +313,12 @@ std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string
   const std::vector<std::string> warm(selected.begin(), selected.end() - (selected.empty() ? 0 : 1));
   const bool held = !selected.empty() && !shaping_held(warm).empty();
   // With the form fitted, every selected set was refitted jointly (on the subset); without, a pose effect was.
-  const bool on_subset = subsampled() && (subset_.form_fitted_on_it ||
-                                          (!selected.empty() && (!form_free_.empty() || any_acts_on_pose(selected))));
+  const bool searched_on_part = subset_.all != nullptr;
+  const bool on_subset = searched_on_part ||
+                         (subsampled() && (subset_.form_fitted_on_it ||
+                                           (!selected.empty() && (!form_free_.empty() || any_acts_on_pose(selected)))));
   if (!held && !on_subset) return std::nullopt;
-  const std::size_t n = subset_.calibration.size(), all = in_.calibration.size();
+  const std::size_t n = subset_.calibration.size(), all = whole().calibration.size();
   *why = held ? "the rounds held the form's state and the pose effect's parameters after its round" : "";
   if (on_subset)
     *why += (why->empty() ? "" : "; ") + std::string("the search fitted it on ") + std::to_string(n) + " of the " +
@@ -329,7 +332,9 @@ std::optional<EffectFit> EffectSearch::final_refit(const std::vector<std::string
   }
   if (joint.empty()) return std::nullopt;
   progress("final joint refit " + ModelSpec{form_, selected}.id());
-  EffectFit ef = joint_refit(selected, joint, rounds_fit.fit.params, in_.calibration);
+  FitOptions fo = fo_;
+  if (subset_.all != nullptr) fo.function_tolerance = o_.refit_on_all_tolerance;  // from the search's optimum
+  EffectFit ef = joint_refit(selected, joint, rounds_fit.fit.params, whole().calibration, whole(), fo);
   ef.fit.fingerprint = rounds_fit.fit.fingerprint;
   ef.time_s = seconds_since(t0);
   return ef;
@@ -402,7 +407,7 @@ EffectFit EffectSearch::finish(const std::vector<std::string>& ids, Alone a) {
   EffectFit ef = std::move(a.fit);
   if (a.promising && a.joint.size() > a.free_count) {
     progress("joint refit " + form_ + "+" + effect_set_key(ids));
-    ef = joint_refit(ids, a.joint, ef.fit.params, subset_.calibration);
+    ef = joint_refit(ids, a.joint, ef.fit.params, subset_.calibration, in_, fo_);
     ef.fit.free_params += a.shaping.size();  // fitted all the same, in an earlier round
   } else if (a.joint.size() > a.free_count && !a.fp)
     ef.fit.veto = a.screen_note;

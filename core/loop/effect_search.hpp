@@ -24,10 +24,13 @@ std::vector<std::size_t> joint_refit_ranks(const std::vector<double>& alone_rmse
                                            const std::vector<bool>& in_ranking);
 
 // The calibration samples the search's costly fits see (ResidualOptions::search_samples), and whether the form's
-// own fit saw only them (a model-form variant's does; the base's saw every sample).
+// own fit saw only them (a model-form variant's does; the base's saw every sample of the search's inputs).
+// `all`: the whole set the answer is refitted and scored on when the search's inputs are its search set
+// (ResidualOptions::search_set); nullptr when they are the whole set.
 struct SearchSubset {
   const std::vector<FitSample>& calibration;
   bool form_fitted_on_it = false;
+  const ResidualInputs* all = nullptr;
 };
 
 // Why a candidate (an effect, or a model-form variant) got no joint refit: it gains `gain_pct` alone over the
@@ -47,9 +50,10 @@ class EffectSearch {
   // select_effects' FitAndScore: the set `ids` fitted on top of the form and scored (cached by set).
   FitResult fit_and_score(const std::vector<std::string>& ids);
   std::map<std::string, EffectFit> take_fits() { return std::move(fits_); }
-  // The selected set fitted once more on every calibration sample with every parameter free (the form's and all
-  // effects' but those a fingerprint settled) when its rounds held what shapes the form's field (shaping_held)
-  // or fitted it on the subset; `why` says which. nullopt otherwise: the set's own fit already is the answer.
+  // The selected set fitted once more on every calibration sample (of SearchSubset::all when given) with every
+  // parameter free (the form's and all effects' but those a fingerprint settled) when its rounds held what shapes
+  // the form's field (shaping_held) or fitted it on a subset, and scored there; `why` says which. nullopt
+  // otherwise: the set's own fit already is the answer.
   std::optional<EffectFit> final_refit(const std::vector<std::string>& selected, std::string* why);
 
  private:
@@ -101,8 +105,12 @@ class EffectSearch {
   EffectFit fit_alone(const std::vector<std::string>& ids, const Start& start, const std::vector<FitStage>& stages);
   bool promising(const EffectFit& alone, const std::string& warm_key, const std::optional<FingerprintCheck>& fp,
                  std::string* screen_note, bool* by_evidence) const;
+  // Fitted on `fit_on`'s calibration split (the search's subset, or the whole set) and scored on `score_on`.
   EffectFit joint_refit(const std::vector<std::string>& ids, const std::vector<std::string>& joint,
-                        const ParamSet& from, const std::vector<FitSample>& samples);
+                        const ParamSet& from, const std::vector<FitSample>& fit_on, const ResidualInputs& score_on,
+                        const FitOptions& fo);
+  // The inputs the answer is refitted and scored on: SearchSubset::all, else the search's.
+  const ResidualInputs& whole() const { return subset_.all != nullptr ? *subset_.all : in_; }
   // True when the search's costly fits saw fewer samples than the calibration split.
   bool subsampled() const { return subset_.calibration.size() < in_.calibration.size(); }
   void add_verdict(const std::string& candidate, const std::vector<std::string>& held_now,

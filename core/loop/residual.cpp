@@ -87,6 +87,23 @@ std::vector<const FitSample*> structure_subset(const ResidualInputs& in, std::si
   return out;
 }
 
+// ResidualOptions::search_set's samples of both splits (evenly spaced shares), or nullopt when that is all of them.
+std::optional<ResidualInputs> search_set_of(const ResidualInputs& in, std::size_t cap) {
+  const std::size_t all = in.calibration.size() + in.validation.size();
+  if (cap == 0 || cap >= all) return std::nullopt;
+  ResidualInputs s;
+  s.dataset = in.dataset;
+  s.model_id = in.model_id;
+  s.sensor = in.sensor;
+  s.base_params = in.base_params;
+  const auto share = [&](const std::vector<FitSample>& split) {
+    return subset(split, evenly_spaced(split.size(), std::max<std::size_t>(1, cap * split.size() / all)));
+  };
+  s.calibration = share(in.calibration);
+  s.validation = share(in.validation);
+  return s;
+}
+
 // True when some pose turns the indenter's approach axis (+z) away from E's (Effect::needs_tilt).
 bool any_tilt(const ResidualInputs& in) {
   constexpr double kTiltRad = 1e-6;
@@ -115,7 +132,9 @@ ResidualLoop::ResidualLoop(const ResidualInputs& in, const ResidualOptions& opti
     : in_(in),
       o_(options),
       candidates_(options.candidates.empty() ? default_candidates(in) : options.candidates),
-      search_cal_(subset(in.calibration, evenly_spaced(in.calibration.size(), options.search_samples))),
+      search_set_(search_set_of(in, options.search_set)),
+      search_cal_(
+          subset(search_in().calibration, evenly_spaced(search_in().calibration.size(), options.search_samples))),
       structure_samples_(structure_subset(in, options.structure_samples)) {
   if (in.calibration.empty()) throw std::invalid_argument("residual: no calibration samples");
   if (in.validation.empty()) throw std::invalid_argument("residual: no validation samples");
@@ -134,7 +153,30 @@ FitOptions ResidualLoop::fit_options() const {
 EffectFit ResidualLoop::scored(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
                                std::size_t free_params) const {
   const SampleModelFactory make = spec_model_factory(model_id, in_.sensor);
+  return score_fit(search_in(), std::move(effects), params, free_params, make, make);
+}
+
+EffectFit ResidualLoop::scored_on_all(const std::string& model_id, std::vector<std::string> effects,
+                                      const ParamSet& params, std::size_t free_params) const {
+  const SampleModelFactory make = spec_model_factory(model_id, in_.sensor);
   return score_fit(in_, std::move(effects), params, free_params, make, make);
+}
+
+EffectFit ResidualLoop::base_on_all(const EffectFit& searched) const {
+  const auto t0 = std::chrono::steady_clock::now();
+  ParamSet base = searched.fit.params;
+  if (o_.fit_base) {
+    o_.progress("base model refit on every calibration sample", 1.0);
+    FitOptions fo = fit_options();
+    fo.stages = {"joint"};
+    fo.function_tolerance = o_.refit_on_all_tolerance;
+    const CalibrationResult r = fit_model(in_.model_id, in_.sensor, in_.calibration, base, fo);
+    throw_if_cancelled(r, o_.progress);
+    base = r.params;
+  }
+  EffectFit ef = scored_on_all(in_.model_id, {}, base, searched.fit.free_params);
+  ef.time_s = searched.time_s + seconds_since(t0);
+  return ef;
 }
 
 // Step 1: the base model fitted (its stages, then jointly: fit.hpp) or as given.
@@ -143,7 +185,8 @@ EffectFit ResidualLoop::fit_base() const {
   ParamSet base = in_.base_params;
   if (o_.fit_base) {
     o_.progress("base model fit", 0.0);
-    const CalibrationResult r = fit_model(in_.model_id, in_.sensor, in_.calibration, in_.base_params, fit_options());
+    const CalibrationResult r =
+        fit_model(in_.model_id, in_.sensor, search_in().calibration, in_.base_params, fit_options());
     throw_if_cancelled(r, o_.progress);
     base = r.params;
   }
@@ -250,8 +293,9 @@ ModelFormRound ResidualLoop::model_form_round(const EffectFit& base) const {
 // Step 3: the catalogued effects on top of the form, greedily (residual_select.hpp, effect_search.hpp).
 // A selected model-form variant was fitted on the search's subset; the base on every sample.
 EffectRounds ResidualLoop::effect_rounds(const std::string& form, const EffectFit& form_fit) const {
-  const bool form_on_subset = form != in_.model_id && search_cal_.size() < in_.calibration.size();
-  EffectSearch search(in_, o_, fit_options(), form, form_fit, candidates_, {search_cal_, form_on_subset});
+  const bool form_on_subset = form != in_.model_id && search_cal_.size() < search_in().calibration.size();
+  EffectSearch search(search_in(), o_, fit_options(), form, form_fit, candidates_,
+                      {search_cal_, form_on_subset, searched_on_part() ? &in_ : nullptr});
   EffectRounds rounds;
   rounds.form = form;
   rounds.selection = select_effects(
@@ -280,8 +324,9 @@ ResidualStructure ResidualLoop::score(const std::string& model_id, const EffectF
 // surface's degree drops where the calibration split has too few frames for a cubic's 84 terms (3 frames a term).
 std::optional<InputResponseAnalysis> ResidualLoop::input_response(const std::string& model_id,
                                                                   const EffectFit& fit) const {
-  const auto cal = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.calibration);
-  const auto val = scored_input_frames(model_id, fit.fit.params, in_.sensor, in_.validation);
+  // A description of the responses, not a score: the search set's samples (all of them on a smaller set).
+  const auto cal = scored_input_frames(model_id, fit.fit.params, in_.sensor, search_in().calibration);
+  const auto val = scored_input_frames(model_id, fit.fit.params, in_.sensor, search_in().validation);
   constexpr std::size_t kFramesPerTerm = 3;
   const int degree = cal.size() >= 84 * kFramesPerTerm ? 3 : cal.size() >= 28 * kFramesPerTerm ? 2 : 1;
   if (cal.size() < 7 * kFramesPerTerm || val.empty()) return std::nullopt;
@@ -309,6 +354,7 @@ ResidualReport ResidualLoop::run() const {
   rep.calibration_samples = in_.calibration.size();
   rep.structure_samples = structure_samples_.size();
   rep.all_samples = in_.calibration.size() + in_.validation.size();
+  rep.search_set_samples = search_in().calibration.size() + search_in().validation.size();
   rep.sensor = in_.sensor;
   rep.before = fit_base();
   rep.model_form = model_form_round(rep.before);
@@ -318,6 +364,17 @@ ResidualReport ResidualLoop::run() const {
   FinalModel final_model = final_fit(rep.effects);
   rep.after_model = final_model.model_id;
   rep.after = std::move(final_model.fit);
+  if (searched_on_part()) {
+    // The search's scores are the search set's; what is reported of the base and the answer is every sample's.
+    rep.before = base_on_all(rep.before);
+    if (!rep.effects.final_refit) {
+      EffectFit all =
+          scored_on_all(rep.after_model, rep.after.effects, rep.after.fit.params, rep.after.fit.free_params);
+      all.fit.fingerprint = rep.after.fit.fingerprint;
+      all.time_s = rep.after.time_s;
+      rep.after = std::move(all);
+    }
+  }
   o_.progress("evidence of the answer's effects", 1.0);
   rep.evidence = answer_evidence(in_.sensor, rep.effects.form, rep.effects.selection.selected, rep.after.fit.params,
                                  in_.calibration, in_.validation);

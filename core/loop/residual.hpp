@@ -68,6 +68,18 @@ struct ResidualOptions {
   // of the residual, not a score: it sees at most this many samples of both splits together, evenly spaced over
   // each split in proportion to its size (0: all). The shipped TacTip set (1999 samples) is seen whole.
   std::size_t structure_samples = 2000;
+  // The search set: the search (the model-form round and the effect rounds: every fit, score, fingerprint and
+  // bootstrap by which candidates are ranked, accepted or refused) sees at most this many samples of both splits
+  // together, evenly spaced over each split in proportion to its size (0: all). When that is fewer than the set,
+  // the base and the answer are refitted jointly from the search's values on every calibration sample, and their
+  // scores and the answer's evidence use every sample; their responses to the inputs (a description, like the
+  // structure) the search set's.
+  // The shipped TacTip set (1999 samples) is searched whole.
+  std::size_t search_set = 2000;
+  // Those refits on every calibration sample start at the search's optimum and stop when a step gains less than
+  // this fraction of the cost: 1e-4 of the squared error is 0.005 % of the RMSE, far inside the selection rule's
+  // 1 % margin, and a refit of 5005 TacTip samples costs some 4 s a model run (20 a Jacobian).
+  double refit_on_all_tolerance = 1e-4;
   int bins = 6;  // per numeric covariate
   // Reports each fit as it starts; a set cancel flag ends the loop with sb::Cancelled (nothing returned).
   Progress progress;
@@ -126,6 +138,9 @@ struct ResidualReport {
   std::size_t search_samples = 0, calibration_samples = 0;
   // Samples the residual structure saw (ResidualOptions::structure_samples) and the two splits' together.
   std::size_t structure_samples = 0, all_samples = 0;
+  // Samples of both splits the search saw (ResidualOptions::search_set): the model-form round's and the effect
+  // rounds' scores are on these; `before` and `after` on all_samples.
+  std::size_t search_set_samples = 0;
   std::shared_ptr<const Sensor> sensor;
   EffectFit before;  // the base model as fitted
   ModelFormRound model_form;
@@ -184,8 +199,16 @@ class ResidualLoop {
 
  private:
   // One fitted model's scores on both splits (what `fit` of EffectFit needs besides the parameters).
+  // scored: on the search's inputs (search_in); scored_on_all: on every sample.
   EffectFit scored(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
                    std::size_t free_params) const;
+  EffectFit scored_on_all(const std::string& model_id, std::vector<std::string> effects, const ParamSet& params,
+                          std::size_t free_params) const;
+  // The inputs the search sees: the search set when ResidualOptions::search_set is smaller than the set, else all.
+  const ResidualInputs& search_in() const { return search_set_ ? *search_set_ : in_; }
+  bool searched_on_part() const { return search_set_.has_value(); }
+  // The base fitted on the search set, refitted (its joint stage, from those values) and scored on every sample.
+  EffectFit base_on_all(const EffectFit& searched) const;
   FitOptions fit_options() const;
   std::vector<std::string> answer_free_params(const ResidualReport& rep) const;
   EffectFit fit_variant_alone(const std::string& v, const EffectFit& base) const;
@@ -195,7 +218,8 @@ class ResidualLoop {
   const ResidualInputs& in_;
   const ResidualOptions& o_;
   std::vector<std::string> candidates_;
-  std::vector<FitSample> search_cal_;  // the calibration samples the search's costly fits see (search_samples)
+  std::optional<ResidualInputs> search_set_;  // ResidualOptions::search_set's samples, when fewer than the set's
+  std::vector<FitSample> search_cal_;         // the calibration samples the search's costly fits see (search_samples)
   std::vector<const FitSample*> structure_samples_;  // the samples step 5's structure sees (structure_samples)
 };
 

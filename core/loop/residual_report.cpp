@@ -204,6 +204,7 @@ nlohmann::ordered_json residual_to_json(const ResidualReport& r) {
   j["base_fitted"] = r.fit_base;
   j["search_calibration_samples"] = {{"fitted_on", r.search_samples}, {"of", r.calibration_samples}};
   j["structure_samples"] = {{"seen", r.structure_samples}, {"of", r.all_samples}};
+  j["search_set_samples"] = {{"searched", r.search_set_samples}, {"of", r.all_samples}};
   j["after_model"] = r.after_model;
   j["before"] = metrics_json(r.before);
   j["after"] = metrics_json(r.after);

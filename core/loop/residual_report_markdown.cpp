@@ -55,11 +55,19 @@ std::string final_refit_note(const EffectRounds& e) {
 // The search's costly fits on a subset of the calibration split (ResidualOptions::search_samples).
 std::string search_subset_note(const ResidualReport& r) {
   std::string s;
+  if (r.search_set_samples != 0 && r.search_set_samples < r.all_samples)
+    s = "The search (the model-form round and the effect rounds: their fits, scores, fingerprints and bootstraps) "
+        "saw " +
+        std::to_string(r.search_set_samples) + " of the " + std::to_string(r.all_samples) +
+        " samples, evenly spaced over each split; its tables' scores are on those, and so are the responses to "
+        "the inputs. The base and the answer were then refitted jointly on the whole calibration split; their "
+        "errors and the evidence below are over every sample.\n\n";
   if (r.search_samples < r.calibration_samples)
-    s = "The search's fits that rerun the form on every run (model-form variants, pose effects, joint refits) saw " +
-        std::to_string(r.search_samples) + " of the " + std::to_string(r.calibration_samples) +
-        " calibration samples, evenly spaced; every score uses all samples of both splits, and the answer is "
-        "refitted on the whole calibration split.\n\n";
+    s += "The search's fits that rerun the form on every run (model-form variants, pose effects, joint refits) saw " +
+         std::to_string(r.search_samples) + " of the " + std::to_string(r.calibration_samples) +
+         " calibration samples, evenly spaced; every score of the search uses all of " +
+         (s.empty() ? std::string("the samples of both splits") : std::string("its samples")) +
+         ", and the answer is refitted on the whole calibration split.\n\n";
   if (r.structure_samples < r.all_samples)
     s += "The residual structure below (its tables, components and binned fields) describes " +
          std::to_string(r.structure_samples) + " of the " + std::to_string(r.all_samples) +

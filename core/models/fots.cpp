@@ -16,7 +16,7 @@ namespace {
 // GelSight Mini 1/0.0634 mm. A function, not a global: the parameter specs may be built by another file's static
 // initialiser before this file's globals are set.
 double camera_px_per_metre() { return Camera{}.px_per_metre(); }
-constexpr int kFotsSlotGrain = 32;                         // slots per parallel task (a slot costs about a microsecond)
+constexpr int kFotsSlotGrain = 32;  // slots per parallel task (a slot costs about a microsecond)
 
 // Python's int(): truncation toward zero.
 double trunc_px(double v, bool integer) { return integer ? std::trunc(v) : v; }
