@@ -35,20 +35,20 @@ TEST_CASE("a pointer x seeks to the step whose column holds it, clamped at the e
   CHECK(p.step_at(100) == 0);
   CHECK(p.step_at(119.9f) == 0);
   CHECK(p.step_at(120) == 1);
-  CHECK(p.step_at(205) == 5);   // (205 - 100) / 20 = 5.25
+  CHECK(p.step_at(205) == 5);  // (205 - 100) / 20 = 5.25
   CHECK(p.step_at(299) == 9);
-  CHECK(p.step_at(40) == 0);    // dragged past the left edge
-  CHECK(p.step_at(900) == 9);   // past the right edge
+  CHECK(p.step_at(40) == 0);   // dragged past the left edge
+  CHECK(p.step_at(900) == 9);  // past the right edge
   for (int k = 0; k < 10; ++k) CHECK(p.step_at(p.x_of_step(k)) == k);
 }
 
 TEST_CASE("ticks are 1, 2 or 5 times a power of ten", "[timeline_plot]") {
-  CHECK(sb::nice_tick_step(0.9, 5) == Approx(0.2));   // 0.18 -> 0.2
+  CHECK(sb::nice_tick_step(0.9, 5) == Approx(0.2));  // 0.18 -> 0.2
   CHECK(sb::nice_tick_step(10, 5) == Approx(2));
-  CHECK(sb::nice_tick_step(37, 4) == Approx(10));     // 9.25 -> 10
+  CHECK(sb::nice_tick_step(37, 4) == Approx(10));  // 9.25 -> 10
   CHECK(sb::nice_tick_step(0.03, 3) == Approx(0.01));
-  CHECK(sb::nice_axis_max(3.3, 4) == Approx(4));      // step 1: up to 4
-  CHECK(sb::nice_axis_max(184, 4) == Approx(200));    // step 50: 200
+  CHECK(sb::nice_axis_max(3.3, 4) == Approx(4));    // step 1: up to 4
+  CHECK(sb::nice_axis_max(184, 4) == Approx(200));  // step 50: 200
   CHECK(sb::nice_axis_max(0, 4) == Approx(1));
   CHECK(sb::nice_axis_max(std::numeric_limits<double>::quiet_NaN(), 4) == Approx(1));
 }

@@ -44,7 +44,8 @@ void draw_axes(ImDrawList* dl, const TimelinePlot& plot) {
     const float w = ImGui::CalcTextSize(buf).x;
     dl->AddText(ImVec2(plot.left - 4 - w, std::clamp(t.px - font / 2, plot.top - 2, bottom - font)), kLabelColour, buf);
   }
-  dl->AddText(ImVec2(plot.left - kLeftMarginPx, plot.top - 2), kLabelColour, "px");
+  // The unit inside the plot, top left: beside the axis it would run into the top tick's label.
+  dl->AddText(ImVec2(plot.left + 3, plot.top - 2), kLabelColour, "px");
   for (const auto& t : plot.time_ticks(std::max(1, static_cast<int>(plot.width / 45)))) {
     dl->AddLine(ImVec2(t.px, bottom), ImVec2(t.px, bottom + 3), kAxisColour);
     std::snprintf(buf, sizeof buf, "%g", t.value);
