@@ -1,6 +1,8 @@
 #pragma once
 // The "RMSE over time" section: every model's RMSE against the measurement, frame by frame, computed on a
-// worker thread (core/calibration/rmse_series) whenever the models' parameters change.
+// worker thread (core/calibration/rmse_series) whenever the models' parameters change, drawn as one plot
+// (core/workbench/timeline_plot: axes in s and px, a legend in the models' colours); a click or drag in it
+// seeks the replay (AppState's queued seek) and its CSV button writes the plot beside the session file.
 #include <string>
 #include <vector>
 
@@ -24,7 +26,9 @@ class RmseSection {
   // Starts the series again when the models' parameters differ from those of the last request, once the
   // physics has applied them (no pending edits).
   void update(const AppSnapshot& snap, const AppState& state, const MeasuredData& measured);
-  void draw(const AppSnapshot& snap, const RmseRowOverride& replaced = {}) const;
+  // `csv_path`: where the CSV button writes; `message`: the status bar's line, set when it has written.
+  void draw(const AppSnapshot& snap, AppState& state, const std::string& csv_path, std::string& message,
+            const RmseRowOverride& replaced = {}) const;
   // Blocks until the series is done (headless renders are deterministic).
   void wait() const;
 

@@ -8,11 +8,13 @@
 #include <cfloat>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <thread>
 #include <utility>
 
+#include "core/workbench/unsaved_work.hpp"
 #include "widgets/keys.hpp"
 #include "widgets/replay_section.hpp"
 
@@ -159,13 +161,25 @@ RmseRowOverride Workbench::corrected_rmse_row() {
   return {slot, residual_.corrected_title(), rmse_of_fields(*series, measured_.disp_px)};
 }
 
+// The RMSE timeline's CSV goes beside the session file (the folder the workbench writes into, never the
+// working folder): rmse_<dataset>_<sample>.csv.
+std::string Workbench::rmse_csv_path() const {
+  const std::string session = session_.file().empty() ? default_session_path() : session_.file();
+  std::string name = "rmse";
+  const auto dataset = std::filesystem::path(replay_.dataset_dir).filename().string();
+  if (!dataset.empty()) name += "_" + dataset;
+  if (replay_.sample_index >= 0 && replay_.sample_index < static_cast<int>(replay_.samples.size()))
+    name += "_" + replay_.samples[replay_.sample_index];
+  return (std::filesystem::path(session).parent_path() / (name + ".csv")).string();
+}
+
 // The control column: every section under its header, in a fixed order.
 void Workbench::draw_controls(WorkbenchRequest& req) {
   ImGui::TextWrapped("%s", title_.c_str());
   ImGui::Separator();
   if (ImGui::CollapsingHeader("Replay", ImGuiTreeNodeFlags_DefaultOpen)) replay_section(snap_, replay_, *state_, req);
   if (!measured_.disp_px.empty() && ImGui::CollapsingHeader("RMSE over time", ImGuiTreeNodeFlags_DefaultOpen))
-    rmse_.draw(snap_, corrected_rmse_row());
+    rmse_.draw(snap_, *state_, rmse_csv_path(), message_, corrected_rmse_row());
   // Beside the RMSE plots: what the residual analysis says the model is missing.
   if (residual_.take_open_request()) ImGui::SetNextItemOpen(true);
   if (ImGui::CollapsingHeader("Residual")) residual_.draw(snap_, *state_, !measured_.poses.empty(), message_, req);

@@ -142,6 +142,7 @@ class Workbench {
   void update_background();
   void draw_controls(WorkbenchRequest& req);
   RmseRowOverride corrected_rmse_row();
+  std::string rmse_csv_path() const;
   void draw_fields(float width, float height);
   FieldGrid field_grid(float width, float height) const;
   FieldPanelInput panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual);

@@ -16,6 +16,8 @@ of the issue:
   4. the saved session reopens (on the worker: frames keep coming) with its camera (5, "the view is saved");
   5. a sample with no marker tracked says so (7);
   6. at 1280x800 a field panel is at least 300 px wide (8);
+  7. the RMSE timeline (issue 52): a click in its one plot seeks the replay to the step under the pointer, a drag
+     seeks to where it ends, and its CSV button writes step, time_s and one column per model beside the session;
 and that no file was written anywhere but the session path, the autosave beside it and this test's folder.
 """
 import argparse
@@ -34,6 +36,11 @@ POS_PARAM_SET_COMBO = (200, 604)    # its popup: published, real_fots_pair, ... 
 POS_SESSION_FIELD = (100, 529)
 POS_SESSION_OPEN = (230, 529)   # Parameters collapsed: no scrollbar, the column is 320 px
 POS_OPEN_FIELD = (100, 66)
+# The RMSE timeline for data:twin/twin_frames shr_00 (59 steps, 4 models: the plot is 4 x 38 - 4 = 148 px high
+# under its header at y 181). Its plot area spans x 38..294 (the column's content less the 30 px RMSE axis), so
+# step k's column is 38 + k * 256 / 59 .. (k + 1) * 256 / 59: the x below are mid-column.
+TIMELINE_X0, TIMELINE_W, TIMELINE_STEPS, TIMELINE_Y = 38, 256, 59, 250
+POS_TIMELINE_CSV = (18, 334)
 
 
 class Journeys:
@@ -294,6 +301,45 @@ class Journeys:
         self.wait_exit()
         self.kill()
 
+    def timeline_x(self, step):
+        return int(TIMELINE_X0 + (step + 0.5) * TIMELINE_W / TIMELINE_STEPS)
+
+    def saved_step(self):
+        t = time.time()
+        self.key("ctrl+s")
+        d = self.wait_saved(t)
+        return d.get("step") if d else None
+
+    def journey_timeline(self):
+        self.start("--dataset", os.path.join(self.root, "twin", "twin_frames"), "--sample", "shr_00")
+        self.wait_title("twin_frames / ", timeout=90)
+        time.sleep(4.0)   # the RMSE series (a worker) is done
+        self.click(self.timeline_x(14), TIMELINE_Y, settle=0.8)
+        step = self.saved_step()
+        self.check(step == 14, f"a click in the RMSE timeline at step 14's x seeks there (step {step})")
+        self.xdo("mousemove", "--window", self.wid, self.timeline_x(20), TIMELINE_Y)
+        time.sleep(0.2)
+        self.xdo("mousedown", 1)
+        for k in (25, 32, 40, 47):
+            time.sleep(0.15)
+            self.xdo("mousemove", "--window", self.wid, self.timeline_x(k), TIMELINE_Y + 3)
+        time.sleep(0.3)
+        self.xdo("mouseup", 1)
+        time.sleep(0.8)
+        step = self.saved_step()
+        self.check(step == 47, f"a drag in the RMSE timeline seeks to where it ends, step 47 (step {step})")
+        csv = os.path.join(self.state, "shearbench", "rmse_twin_frames_shr_00.csv")
+        self.click(*POS_TIMELINE_CSV, settle=1.0)
+        rows = open(csv).read().splitlines() if os.path.exists(csv) else []
+        head = rows[0].split(",") if rows else []
+        self.check(head[:2] == ["step", "time_s"] and len(head) == 6 and len(rows) == 1 + TIMELINE_STEPS,
+                   f"the timeline's CSV beside the session has step, time_s, 4 models and 59 rows: {head}, "
+                   f"{len(rows)} lines")
+        self.check(len(rows) > 11 and rows[11].startswith("10,0.2,"), "its row for step 10 is at t = 0.2 s")
+        self.shift_escape()
+        self.wait_exit()
+        self.kill()
+
     def panel_width(self):
         out = os.path.join(self.work, "hydroshear_panel.png")
         r = subprocess.run([self.exe, "--data", self.root, "render", "--size", "1280x800", "--no-timings", "--scene",
@@ -334,7 +380,7 @@ def main():
     j = Journeys(a)
     try:
         for journey in (j.journey_overwrite, j.journey_open_dataset, j.journey_reopen, j.journey_empty_sample,
-                        j.panel_width):
+                        j.panel_width, j.journey_timeline):
             j.say(f"--- {journey.__name__}")
             journey()
     finally:
