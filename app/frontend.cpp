@@ -182,7 +182,8 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
       name += "_" + file_slug(screenshot_region_);
     }
     ui::write_png_atomic(img, name + ".png");
-    workbench_.set_message("saved " + name + ".png");
+    // The name only: a whole path wrapped the status bar (the folder is in the Session field's tooltip).
+    workbench_.set_message("saved " + std::filesystem::path(name).filename().string() + ".png");
   }
   try {
     if (req.load_params) {

@@ -24,8 +24,8 @@ TEST_CASE("A report over another dataset or a scene is refused, naming both", "[
   // twin_sphere35's report over twin_frames replaced HydroShear's panel with its answer on the wrong data.
   const auto wrong = sb::check_report_dataset("residual.json", "twin_sphere35", "data:twin/twin_frames");
   CHECK_FALSE(wrong.load);
-  CHECK_THAT(wrong.message, Catch::Contains("twin_sphere35") && Catch::Contains("twin_frames") &&
-                                Catch::Contains("not loaded"));
+  CHECK_THAT(wrong.message,
+             Catch::Contains("twin_sphere35") && Catch::Contains("twin_frames") && Catch::Contains("not loaded"));
   const auto scene = sb::check_report_dataset("residual.json", "twin_sphere35", "");
   CHECK_FALSE(scene.load);
   CHECK_THAT(scene.message, Catch::Contains("scene"));
