@@ -21,6 +21,7 @@ struct GuiArgs {
   std::string headless_out;  // empty: default_headless_out (build/, not the repository; installed: the working folder)
   std::string session;
   double autosave_interval_s = 30.0;
+  std::string output_folder;  // empty: beside the session file (core/workbench/output_folder)
   std::string residual;
   std::string stats;
   double stats_interval_s = 10.0;
@@ -76,7 +77,9 @@ int run_headless(const GuiArgs& a, const GlobalOptions& g) {
   return 1;
 }
 
-int run_gui(const GuiArgs& a, const GlobalOptions& g) {
+int run_gui(const GuiArgs& args, const GlobalOptions& g) {
+  GuiArgs a = args;
+  if (a.session.empty()) open_report_dataset(a.open, a.residual, g.data_root_flag);  // a report opens its dataset
   if (!ui::display_available()) return run_headless(a, g);
   limit_malloc_arenas(1);  // before any thread starts: see core/base/free_memory.hpp
   const SessionOptions so{a.open, g.data_root_flag};
@@ -84,6 +87,7 @@ int run_gui(const GuiArgs& a, const GlobalOptions& g) {
   std::tie(fo.width, fo.height) = parse_size(a.size);
   fo.keep_work = a.profile == 0;
   fo.autosave_interval_s = a.autosave_interval_s;
+  fo.output_folder = a.output_folder;
   Frontend front(so, fo);
   if (a.profile > 0) {
     std::cout << "profile (" << fo.width << "x" << fo.height
@@ -117,6 +121,9 @@ void add_flags(CLI::App& sub, GuiArgs& a) {
       ->check(CLI::PositiveNumber);
   sub.add_option("--size", a.size, "window size")->capture_default_str();
   sub.add_option("--profile", a.profile, "run N frames of a synthetic drag, print frame-time percentiles, exit");
+  sub.add_option("--output-folder", a.output_folder,
+                 "where P's screenshots and the field export go (default: beside the session file, or "
+                 "$XDG_DATA_HOME/shearbench/output when that is in a checkout; never the working folder)");
   sub.add_option("--residual", a.residual, "show a residual analysis (shearbench residual --json)");
   sub.add_option("--stats", a.stats,
                  "append a JSON line of frame-time percentiles, resident memory and live GL objects "

@@ -46,7 +46,9 @@ Vec3 parse_mm_triple(const std::string& text) {
   return v * 1e-3;
 }
 
-int run_render(const RenderArgs& a, const GlobalOptions& g) {
+int run_render(const RenderArgs& args, const GlobalOptions& g) {
+  RenderArgs a = args;
+  if (a.session.empty()) open_report_dataset(a.open, a.residual, g.data_root_flag);  // as gui does
   const SessionOptions so{a.open, g.data_root_flag};
   FrontendOptions fo;
   std::tie(fo.width, fo.height) = parse_size(a.size);
@@ -63,7 +65,7 @@ int run_render(const RenderArgs& a, const GlobalOptions& g) {
     session_step = load_session_file(a.session).step;
   }
   if (!a.residual.empty()) {
-    front.load_residual(a.residual);
+    if (!front.load_residual(a.residual)) throw InputError("--residual", front.workbench().message());
     front.workbench().set_residual_view(a.residual_fields, true);
     front.workbench().apply_residual_base_params();  // the base beside the corrected model, both fitted
   }

@@ -23,6 +23,8 @@
 #include "core/effects/model_spec.hpp"
 #include "core/models/model_family.hpp"
 #include "core/workbench/field_export.hpp"
+#include "core/workbench/output_folder.hpp"
+#include "core/workbench/report_dataset.hpp"
 #include "widgets/panels.hpp"
 
 namespace sb::app {
@@ -173,14 +175,15 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     char stamp[32];
     const std::time_t t = std::time(nullptr);
     std::strftime(stamp, sizeof stamp, "%Y%m%d_%H%M%S", std::localtime(&t));
-    std::string name = std::string("screenshots/shearbench_") + stamp;
+    std::string name = output_path(std::string("shearbench_") + stamp, output_folder());
     ui::Image img = window_.read_back_buffer();
     if (!screenshot_region_.empty()) {
       img = crop_to_region(img, screenshot_region_);
       name += "_" + file_slug(screenshot_region_);
     }
     ui::write_png_atomic(img, name + ".png");
-    workbench_.set_message("saved " + name + ".png");
+    // The name only: a whole path wrapped the status bar (the folder is in the Session field's tooltip).
+    workbench_.set_message("saved " + std::filesystem::path(name).filename().string() + ".png");
   }
   try {
     if (req.load_params) {
@@ -195,7 +198,7 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
     if (req.load_residual) load_residual(*req.load_residual);
     if (req.switch_model) switch_model(req.switch_model->first, req.switch_model->second);
     if (req.beside_hydroshear) set_beside_hydroshear(*req.beside_hydroshear);
-    if (req.export_fields) start_export(*req.export_fields);
+    if (req.export_fields) start_export(output_path(*req.export_fields, output_folder()));
     if (req.answer) handle_answer(req.answer->first, req.answer->second);
     handle_open_requests(req);
   } catch (const std::exception& e) {
@@ -241,6 +244,10 @@ bool Frontend::frame() {
   window_.begin_frame(workbench_.animating() ? 0.0 : kIdleWaitS);
   const auto t_start = std::chrono::steady_clock::now();
   poll_load();
+  if (workbench_.session_path() != output_folder_for_) {  // the folder follows the session file
+    output_folder_for_ = workbench_.session_path();
+    workbench_.set_output_folder(output_folder());
+  }
   const ui::WorkbenchRequest req = workbench_.draw(frame_ms_);
   window_.render();
   handle(req, true);
@@ -332,9 +339,20 @@ void Frontend::set_beside_hydroshear(const std::string& model_id) {
   apply_session_file(f, Baseline::kNone, [this, done] { workbench_.set_message(done); });
 }
 
-void Frontend::load_residual(const std::string& path) {
-  workbench_.set_residual(load_residual_summary(path));
-  workbench_.set_message("loaded residual analysis " + std::filesystem::path(path).filename().string());
+std::string Frontend::output_folder() const {
+  return sb::output_folder(options_.output_folder, workbench_.session_path(), default_user_output_folder(),
+                           inside_git_checkout);
+}
+
+// A report over another dataset (or a scene) would put its corrected model beside HydroShear on data it
+// was never computed on: refused with a status line naming both (core/workbench/report_dataset).
+bool Frontend::load_residual(const std::string& path) {
+  ResidualSummary summary = load_residual_summary(path);
+  const ReportDatasetCheck check = check_report_dataset(std::filesystem::path(path).filename().string(),
+                                                        summary.dataset, session_.scene.dataset_dir);
+  if (check.load) workbench_.set_residual(std::move(summary));
+  workbench_.set_message(check.message);
+  return check.load;
 }
 
 // ------------------------------------------------------------------------------------ no lost work

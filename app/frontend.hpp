@@ -32,6 +32,9 @@ struct FrontendOptions {
   bool keep_work = false;
   std::string autosave_path;  // empty: default_autosave_path()
   double autosave_interval_s = 30.0;
+  // Where P's screenshots and a relative field-export folder go (core/workbench/output_folder): empty: beside the
+  // session file, or the per-user folder when that is in a checkout.
+  std::string output_folder;
 };
 
 class Frontend {
@@ -78,8 +81,11 @@ class Frontend {
   // Replaces a panel's model by another variant (fots | fots-reimpl, tacsl | tacsl-normalized).
   void set_beside_hydroshear(const std::string& model_id);  // "" removes the panel
   void switch_model(int slot, const std::string& model_id);
-  // A residual analysis (shearbench residual --json) for the Residual section; throws InputError.
-  void load_residual(const std::string& path);
+  // A residual analysis (shearbench residual --json) for the Residual section; throws InputError. False (and a
+  // status line naming both) when the report is of another dataset than the open one: nothing is replaced.
+  bool load_residual(const std::string& path);
+  // The folder the workbench's files go to now (it follows the session file).
+  std::string output_folder() const;
   // `gui --stats FILE`: a JSON line of frame times, memory and GL objects every interval_s (widgets/frame_stats).
   void enable_stats(const std::string& path, double interval_s) { stats_ = ui::FrameStats(path, interval_s); }
   // When an autosave from an unclean exit exists, asks whether to restore it.
@@ -106,6 +112,7 @@ class Frontend {
   double now_s() const;
   SessionOptions session_options_;
   FrontendOptions options_;
+  std::string output_folder_for_;  // the session path the Session tooltip's output folder was computed for
   Session session_;
   ui::GlWindow window_;
   ui::Workbench workbench_;

@@ -21,7 +21,9 @@
 #include "core/data/json_read.hpp"
 #include "core/data/tsd.hpp"
 #include "core/loop/residual.hpp"
+#include "core/loop/residual_view.hpp"
 #include "core/models/model.hpp"
+#include "core/workbench/report_dataset.hpp"
 
 namespace sb::app {
 
@@ -131,6 +133,13 @@ void load_measured(Session& s, const std::string& data_root) {
 }
 
 }  // namespace
+
+void open_report_dataset(SessionSource& open, const std::string& residual_file, const std::string& data_root_flag) {
+  if (residual_file.empty() || !open.dataset_dir.empty() || !open.scene_path.empty()) return;
+  const std::string dir =
+      report_dataset_path(load_residual_summary(residual_file).dataset, resolve_data_root(data_root_flag));
+  if (!dir.empty()) open.dataset_dir = dir;
+}
 
 Session open_session(const SessionOptions& o) {
   Session s;

@@ -25,6 +25,10 @@ struct SessionOptions {
 void add_source_options(CLI::App& sub, SessionSource& open);
 std::vector<std::string> source_arguments(const SessionSource& open);
 
+// `--residual R` without --dataset or --scene: R's own dataset (the report's JSON names it) when the data root
+// has it (core/workbench/report_dataset); `open` unchanged otherwise.
+void open_report_dataset(SessionSource& open, const std::string& residual_file, const std::string& data_root_flag);
+
 struct Session {
   Scene scene;
   NamedParamSet param_set;  // what the models started from (before the scene's own tables)

@@ -11,7 +11,9 @@ void SessionSection::draw(WorkbenchRequest& req) {
   // A click selects the whole path, so what is typed replaces it (a path typed into the middle of the old one
   // named a file nobody meant).
   input_text("##session", field_, ImGuiInputTextFlags_AutoSelectAll);
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("session file (JSON): %s", field_.c_str());
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("session file (JSON): %s\nscreenshots (P) and field exports go to: %s", field_.c_str(),
+                      output_folder_.c_str());
   ImGui::SameLine();
   if (ImGui::SmallButton("Open##session")) req.open_session = field_;
   ImGui::SameLine();

@@ -22,6 +22,8 @@ class SessionSection {
   // "unsaved changes"; a session never saved does not say "saved".
   void set_unsaved(bool unsaved) { unsaved_ = unsaved; }
   void set_saved_once(bool saved) { saved_once_ = saved; }
+  // Where screenshots and field exports go (the field's tooltip says it).
+  void set_output_folder(const std::string& folder) { output_folder_ = folder; }
   void draw(WorkbenchRequest& req);
 
  private:
@@ -29,6 +31,7 @@ class SessionSection {
   std::string file_;   // the adopted session file
   bool unsaved_ = false;
   bool saved_once_ = false;
+  std::string output_folder_;
 };
 
 }  // namespace sb::ui

@@ -65,6 +65,7 @@ class Workbench {
   // Draws one frame of windows (between GlWindow::begin_frame and render).
   WorkbenchRequest draw(double frame_ms);
   void set_message(std::string m) { message_ = std::move(m); }
+  const std::string& message() const { return message_; }
   void set_camera(CameraPreset preset) { viewport_.set_camera(preset); }
   const AppSnapshot& last_snapshot() const { return snap_; }
   // True while anything on screen may change without input (play-back, a drag, physics catching up).
@@ -118,6 +119,7 @@ class Workbench {
     parameters_.set_param_set(std::move(set), sensor_model);
   }
   std::string session_path() const { return session_.file(); }
+  void set_output_folder(const std::string& folder) { session_.set_output_folder(folder); }
   ReplayUi& replay_ui() { return replay_; }
   // Where the 3D view and each field panel were drawn in the last frame.
   const std::vector<ScreenRegion>& regions() const { return regions_; }

@@ -21,7 +21,7 @@ render() { "$exe" -q render --scene "$scene" --size 1280x800 --no-timings --out 
 render "$work/enlarged.png" --enlarge FOTS
 render "$work/enlarged_hover.png" --enlarge FOTS --hover-marker 31
 
-"$exe" gui --scene "$scene" --size 1280x800 >"$work/gui.log" 2>&1 &
+"$exe" gui --scene "$scene" --size 1280x800 --output-folder "$work/screenshots" >"$work/gui.log" 2>&1 &
 pid=$!
 trap 'kill -9 $pid 2>/dev/null || true' EXIT
 source "$(dirname "${BASH_SOURCE[0]}")/wait_window.sh"
@@ -29,7 +29,7 @@ wid=$(wait_window $pid) || { echo "FAIL: the workbench window never appeared"; c
 sleep 2
 xdotool key --window "$wid" End; sleep 2   # the last step, as render shows it
 park() { xdotool mousemove --window "$wid" 640 792; sleep 0.8; }   # the status bar: nothing to hover
-shot() {   # P writes screenshots/shearbench_<time>.png; one per second at most
+shot() {   # P writes shearbench_<time>.png into --output-folder (screenshots/ here); one per second at most
   rm -rf screenshots; sleep 1.1
   xdotool key --window "$wid" p
   for _ in $(seq 1 50); do ls screenshots/*.png >/dev/null 2>&1 && break; sleep 0.1; done

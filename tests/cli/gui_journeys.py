@@ -11,7 +11,7 @@ of the issue:
      session path (the XDG state folder), and the scene file is byte-identical afterwards (1, 2, 4, 6);
   3. Ctrl+S while a text field has the focus saves; the camera (key 1: top) is saved; a dataset typed
      relative to the data root ("twin/twin_sphere35") opens on a worker while frames keep coming, and the
-     residual analysis loaded for the previous dataset is dropped (3, 5, 6); the Enter that opens it is tapped
+     residual analysis of another dataset is not shown over the scene (3, 5, 6); the Enter that opens it is tapped
      while the window is busy (press and release in one event poll: CI lost it under load, 2026-11-28);
   4. the saved session reopens (on the worker: frames keep coming) with its camera (5, "the view is saved");
   5. a sample with no marker tracked says so (7);
@@ -233,7 +233,8 @@ class Journeys:
         self.key("ctrl+s")   # Ctrl+S while the Open field has the focus
         d = self.wait_saved(t)
         self.check(d is not None, "Ctrl+S saves while a text field has the focus")
-        self.check(d is not None and "residual" in d, "the residual analysis is in the session before the new dataset")
+        # twin_frames' report over a scene is refused (a report is shown only over its own dataset: gui_reports.py).
+        self.check(d is not None and "residual" not in d, "a residual analysis of twin_frames is not shown over a scene")
         load_from = time.time()
         self.tap("Return")
         opening = self.wait_title("opening", timeout=10)

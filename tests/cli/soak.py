@@ -221,7 +221,8 @@ class Soak:
         self.record_model()
         os.makedirs(os.path.dirname(self.session), exist_ok=True)
         cmd = [self.a.exe, "gui", "--size", "1280x800", "--stats", self.stats, "--stats-interval",
-               str(self.a.stats_interval), "--autosave-interval", str(self.a.autosave_interval), *args]
+               str(self.a.stats_interval), "--autosave-interval", str(self.a.autosave_interval),
+               "--output-folder", os.path.join(self.work, "out"), *args]   # P's screenshots and the export go there
         self.say(f"start ({why}): {' '.join(cmd[1:])}")
         self.gui_log = open(os.path.join(self.work, "gui.log"), "a")
         self.proc = subprocess.Popen(cmd, cwd=self.work, env=self.env, stdout=self.gui_log, stderr=subprocess.STDOUT)
@@ -440,13 +441,14 @@ class Soak:
         # Nothing the user had changes: the next save is compared with the unchanged model.
 
     def act_screenshot(self):
-        d = os.path.join(self.work, "screenshots")
-        n = len(os.listdir(d)) if os.path.isdir(d) else 0
+        d = os.path.join(self.work, "out")   # --output-folder
+        pngs = lambda: len([f for f in os.listdir(d) if f.endswith(".png")]) if os.path.isdir(d) else 0  # noqa: E731
+        n = pngs()
         time.sleep(1.05)   # the file name has a one-second stamp
         self.key("p")
         t = time.monotonic()
         while time.monotonic() - t < 20:
-            if os.path.isdir(d) and len(os.listdir(d)) > n:
+            if pngs() > n:
                 self.counts["screenshots"] += 1
                 break
             time.sleep(0.2)
@@ -461,7 +463,7 @@ class Soak:
     def act_export(self):
         if not self.layout_ok:
             return self.act_camera()
-        out = os.path.join(self.work, "fields_export")
+        out = os.path.join(self.work, "out", "fields_export")   # the Export row's relative folder, in --output-folder
 
         def newest():   # a re-export replaces the models' folders inside; the top folder's mtime stays
             try:
