@@ -136,6 +136,12 @@ struct SampleSlot {
   int offset;  // first scored marker-frame of this sample
 };
 
+// A Central run keeps each sample's model state at its first scored frame, for the columns of field-only parameters
+// to start from (kFromScored), for at most this many samples; the others' columns run the whole path (the same
+// values, slower). A state is O(contact): on the TacTip 0.4 MB, so a fit of 5005 samples kept 2 GB of them. The
+// loop's search (ResidualOptions::search_set) fits at most 2000 samples and keeps every one.
+constexpr int kMaxScoredStarts = 2000;
+
 // Runs the model over the stage's samples for a parameter vector and forms the residual vector.
 class StageEvaluator {
  public:
@@ -190,7 +196,7 @@ class StageEvaluator {
       const int m = static_cast<int>(s.sample->meas_px.front().size());
       const std::size_t first_scored = static_cast<std::size_t>(s.active->front() / m);
       std::vector<std::vector<Vec2>> pred(s.sample->X_EI.size());
-      if (run == Run::kFromScored) {
+      if (run == Run::kFromScored && static_cast<std::size_t>(i) < scored_start_.size() && scored_start_[i]) {
         auto model = scored_start_[i]->clone();
         model->set_params(p);
         simulate_frames(*model, *s.sample, first_scored, &pred);
@@ -198,9 +204,10 @@ class StageEvaluator {
         s.model->set_params(p);
         s.model->reset();
         const auto keep = [&](std::size_t k) {
-          if (run == Run::kCentral && k == first_scored) scored_start_[i] = s.model->clone();
+          if (run == Run::kCentral && k == first_scored && i < kMaxScoredStarts) scored_start_[i] = s.model->clone();
         };
         simulate_frames(*s.model, *s.sample, 0, &pred, keep);
+        s.model->reset();  // the path's state is not needed until the next run, which resets it anyway
       }
       for (std::size_t a = 0; a < s.active->size(); ++a) {
         const int f = (*s.active)[a];
