@@ -4,8 +4,9 @@
 // tracker noise; the first copy of each sample keeps its pose). N = 500 takes 250 + 250 evenly spaced samples of the
 // shipped set as they are; N = 2000 is the shipped set (1999) and one copy; N = 10,000 five copies of each.
 // The loop runs as docs/residuals/run_real.sh runs it on the shipped set (HydroShear from the shipped set's values,
-// its model-form round, the default candidates, three rounds, at most 10 steps per stage). Goal at 10,000 samples:
-// 20 min and 8 GB on 2 cores. Peak memory is the process's (getrusage): run one size per process,
+// its model-form round, the default candidates, three rounds, at most 10 steps per stage; past 2000 samples the search
+// sees a search set of 2000 and the answer is refitted and scored on all: ResidualOptions::search_set). Goal at
+// 10,000 samples: 20 min and 8 GB on 2 cores. Peak memory is the process's (getrusage): run one size per process,
 //   ./build/shearbench_bench --benchmark_filter='BM_LargeSetLoop/10000'
 // Needs the data root ($SHEARBENCH_DATA or ../shared/data).
 #include <benchmark/benchmark.h>

@@ -527,9 +527,7 @@ void HydroShearBatch::reset() {
 
 void HydroShearBatch::reset_slot(int slot) {
   Slot& s = slots_.at(slot);
-  // Freed, not emptied: a fit keeps one model per sample between its runs, and a TacTip press holds most of the
-  // 15k-point surface (0.4 MB a sample, gigabytes over a large set's calibration split).
-  s.points = hydroshear::PointColumns{};
+  s.points.resize(0);
   s.first = true;
   s.X_prev = Pose::Identity();
 }
