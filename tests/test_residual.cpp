@@ -260,10 +260,10 @@ TEST_CASE(
   CHECK(r.after.validation.overall.result().rmse_px < 1.3 * std::sqrt(2.0) * kNoisePx);
 }
 
-// The search's joint refits see a subset of the calibration samples (ResidualOptions::search_samples); the answer
-// is the selected set refitted on all of them, and every view says so.
-TEST_CASE("residual loop: joint refits on an evenly spaced subset, the answer refitted on every calibration sample",
-          "[residual]") {
+namespace {
+
+// The four presses of each split with a tracker bias of (0.3, -0.2) px, and the loop's options that look for it alone.
+sb::ResidualInputs tracker_bias_presses() {
   sb::ResidualInputs in;
   in.dataset = "synthetic:tracker_bias";
   in.model_id = kBase;
@@ -274,10 +274,25 @@ TEST_CASE("residual loop: joint refits on an evenly spaced subset, the answer re
   const Truths truth = {{"tracker_bias", {{"bias_x_px", 0.3}, {"bias_y_px", -0.2}}}};
   simulate(&in.calibration, truth, in.sensor, 11);
   simulate(&in.validation, truth, in.sensor, 23);
+  return in;
+}
+
+sb::ResidualOptions tracker_bias_options() {
   sb::ResidualOptions o;
   o.max_iterations = 15;
   o.model_forms = false;
   o.candidates = {"tracker_bias"};
+  return o;
+}
+
+}  // namespace
+
+// The search's joint refits see a subset of the calibration samples (ResidualOptions::search_samples); the answer
+// is the selected set refitted on all of them, and every view says so.
+TEST_CASE("residual loop: joint refits on an evenly spaced subset, the answer refitted on every calibration sample",
+          "[residual]") {
+  const sb::ResidualInputs in = tracker_bias_presses();
+  sb::ResidualOptions o = tracker_bias_options();
   o.search_samples = 2;  // of the 4 calibration presses: the first and the third (evenly_spaced(4, 2) = 0, 2)
   const auto r = sb::run_residual_loop(in, o);
   const auto j = sb::residual_to_json(r);
@@ -488,20 +503,8 @@ TEST_CASE("residual structure: the contact frame's radial and along-travel compo
 // answer is refitted and scored on every sample.
 TEST_CASE("residual loop: the search on a search set, the base and the answer refitted and scored on all samples",
           "[residual]") {
-  sb::ResidualInputs in;
-  in.dataset = "synthetic:tracker_bias";
-  in.model_id = kBase;
-  in.sensor = setup().sensor;
-  in.base_params = sb::default_params(kBase);
-  in.calibration = trajectories("calibration");
-  in.validation = trajectories("validation");
-  const Truths truth = {{"tracker_bias", {{"bias_x_px", 0.3}, {"bias_y_px", -0.2}}}};
-  simulate(&in.calibration, truth, in.sensor, 11);
-  simulate(&in.validation, truth, in.sensor, 23);
-  sb::ResidualOptions o;
-  o.max_iterations = 15;
-  o.model_forms = false;
-  o.candidates = {"tracker_bias"};
+  const sb::ResidualInputs in = tracker_bias_presses();
+  sb::ResidualOptions o = tracker_bias_options();
   // 6 of the 8 samples: each split's share 6 * 4 / 8 = 3, evenly spaced (evenly_spaced(4, 3) = 0, 1, 2).
   o.search_set = 6;
   constexpr std::size_t kSearchedPerSplit = 3;
