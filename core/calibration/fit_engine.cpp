@@ -36,8 +36,6 @@ constexpr double kMaxStepLinear = 0.25;
 constexpr double kScanDecades = 2.0;
 constexpr int kScanPoints1d = 9;
 constexpr int kScanPoints2d = 5;
-// A stage stops when a step changes the cost by less than this fraction (the RMSE by half of it): 1e-10 had every
-// stage run its iteration cap, e.g. friction on the TacTip five iterations at the same cost to six digits.
 // Below this <pred, pred> a rescale stage keeps s = 1 (the model predicts nothing to scale).
 constexpr double kRescaleMinNorm2 = 1e-12;
 
@@ -207,7 +205,6 @@ class StageEvaluator {
           if (run == Run::kCentral && k == first_scored && i < kMaxScoredStarts) scored_start_[i] = s.model->clone();
         };
         simulate_frames(*s.model, *s.sample, 0, &pred, keep);
-        s.model->reset();  // the path's state is not needed until the next run, which resets it anyway
       }
       for (std::size_t a = 0; a < s.active->size(); ++a) {
         const int f = (*s.active)[a];
@@ -331,6 +328,8 @@ BoundedLmResult minimize_stage(StageCost* cost, const ParamMap& map, const std::
   };
   BoundedLmOptions lo;
   lo.max_iterations = o.max_iterations;
+  // FitOptions' default 1e-6 of the cost (the RMSE by half of it): 1e-10 had every stage run its iteration cap,
+  // e.g. friction on the TacTip five iterations at the same cost to six digits.
   lo.function_tolerance = o.function_tolerance;
   lo.on_iteration = [&](int iteration, double c) {
     if (o.progress) o.progress({stage, iteration, c});

@@ -75,14 +75,18 @@ std::string effect_set_key(const std::vector<std::string>& ids) {
 
 namespace {
 
+// A split's share of `cap` samples of `all` (both splits), at least one; the split whole when cap is 0 or >= all.
+std::size_t split_share(std::size_t split, std::size_t cap, std::size_t all) {
+  return cap == 0 || cap >= all ? split : std::max<std::size_t>(1, cap * split / all);
+}
+
 // ResidualOptions::structure_samples of both splits: each split's share of `cap`, evenly spaced (evenly_spaced).
 std::vector<const FitSample*> structure_subset(const ResidualInputs& in, std::size_t cap) {
   const std::size_t all = in.calibration.size() + in.validation.size();
   std::vector<const FitSample*> out;
   for (const auto* split : {&in.calibration, &in.validation}) {
-    const std::size_t share = cap == 0 || cap >= all ? split->size()
-                                                     : std::max<std::size_t>(1, cap * split->size() / all);
-    for (std::size_t i : evenly_spaced(split->size(), share)) out.push_back(&(*split)[i]);
+    for (std::size_t i : evenly_spaced(split->size(), split_share(split->size(), cap, all)))
+      out.push_back(&(*split)[i]);
   }
   return out;
 }
@@ -97,7 +101,7 @@ std::optional<ResidualInputs> search_set_of(const ResidualInputs& in, std::size_
   s.sensor = in.sensor;
   s.base_params = in.base_params;
   const auto share = [&](const std::vector<FitSample>& split) {
-    return subset(split, evenly_spaced(split.size(), std::max<std::size_t>(1, cap * split.size() / all)));
+    return subset(split, evenly_spaced(split.size(), split_share(split.size(), cap, all)));
   };
   s.calibration = share(in.calibration);
   s.validation = share(in.validation);
