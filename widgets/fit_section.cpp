@@ -77,8 +77,9 @@ void FitSection::start(const AppSnapshot& snap) {
 // The parameters the fit changed (start and fitted value), then Apply or Discard.
 void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const FitJobStatus& st) {
   const bool cancelled = st.phase == FitJobStatus::Phase::kCancelled;
-  ImGui::Text("%s: calibration RMSE %.3f -> %.3f px", cancelled ? "cancelled (completed stages)" : "done",
-              st.calibration_rmse_before_px, st.calibration_rmse_after_px);
+  // Wrapped: the cancelled line is wider than the left column at its default width.
+  ImGui::TextWrapped("%s: calibration RMSE %.3f -> %.3f px", cancelled ? "cancelled (completed stages)" : "done",
+                     st.calibration_rmse_before_px, st.calibration_rmse_after_px);
   const ParamSet& after = st.result->params;
   std::size_t model = snap.models.size();
   for (std::size_t m = 0; m < snap.models.size(); ++m)
@@ -110,33 +111,66 @@ void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const Fit
   if (ImGui::Button("Discard##fit")) result_handled_ = true;
 }
 
-// The fit's loss per iteration with its axes: cost (least squares, log of the largest and smallest) against iteration.
-void FitSection::draw_loss_plot(const std::vector<float>& losses) {
-  const auto [lo, hi] = std::minmax_element(losses.begin(), losses.end());
-  const std::string top = format_number(*hi, "%.3g"), bottom = format_number(*lo, "%.3g");
-  const float axis_w = std::max(ImGui::CalcTextSize(top.c_str()).x, ImGui::CalcTextSize(bottom.c_str()).x) + 6;
-  const float h = 60.0f;
-  ImGui::TextDisabled("least-squares cost per iteration (all stages)");
+// The fit's cost per iteration, each stage relative to its own start (stages fit their own parameters on their own
+// residuals: their costs are not one curve), stage runs side by side with their names and a separator between.
+void FitSection::draw_loss_plot(const std::vector<StageLosses>& stages) {
+  std::vector<std::vector<float>> rel;
+  std::size_t points = 0;
+  float lo = 1.0f;
+  for (const StageLosses& st : stages) {
+    rel.push_back(relative_to_stage_start(st));
+    points += rel.back().size();
+    for (float v : rel.back()) lo = std::min(lo, v);
+  }
+  if (points == 0) return;
+  ImGui::TextDisabled("cost per iteration, each stage relative to its start");
+  const std::string bottom = format_number(lo, "%.2g");
+  const float axis_w = std::max(ImGui::CalcTextSize("1").x, ImGui::CalcTextSize(bottom.c_str()).x) + 6;
+  const float h = 60.0f, label_h = ImGui::GetTextLineHeight();
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
+  const ImVec2 a(p0.x + axis_w, p0.y + label_h), b(p0.x + ImGui::GetContentRegionAvail().x, p0.y + label_h + h);
   ImDrawList* dl = ImGui::GetWindowDrawList();
-  const ImU32 text = ImGui::GetColorU32(ImGuiCol_TextDisabled);
-  dl->AddText(ImVec2(p0.x, p0.y), text, top.c_str());
-  dl->AddText(ImVec2(p0.x, p0.y + h - ImGui::GetTextLineHeight()), text, bottom.c_str());
-  ImGui::SetCursorScreenPos(ImVec2(p0.x + axis_w, p0.y));
-  ImGui::PlotLines("##fitloss", losses.data(), static_cast<int>(losses.size()), 0, nullptr, *lo, *hi,
-                   ImVec2(ImGui::GetContentRegionAvail().x, h));
+  const ImU32 text = ImGui::GetColorU32(ImGuiCol_TextDisabled), line = ImGui::GetColorU32(ImGuiCol_PlotLines);
+  dl->AddRect(a, b, ImGui::GetColorU32(ImGuiCol_FrameBg));
+  dl->AddText(ImVec2(p0.x, a.y), text, "1");
+  dl->AddText(ImVec2(p0.x, b.y - label_h), text, bottom.c_str());
+  const float dx = (b.x - a.x) / static_cast<float>(std::max<std::size_t>(1, points - 1));
+  const float span = std::max(1.0f - lo, 1e-6f);
+  auto y_of = [&](float v) { return b.y - (v - lo) / span * (b.y - a.y); };
+  std::size_t first = 0;
+  for (std::size_t s = 0; s < rel.size(); ++s) {
+    const float x0 = a.x + dx * static_cast<float>(first);
+    if (s > 0) dl->AddLine(ImVec2(x0, a.y), ImVec2(x0, b.y), text);
+    dl->PushClipRect(ImVec2(x0, p0.y), ImVec2(b.x, b.y), true);
+    dl->AddText(ImVec2(x0 + 2, p0.y), text, stages[s].stage.c_str());
+    dl->PopClipRect();
+    for (std::size_t i = 1; i < rel[s].size(); ++i)
+      dl->AddLine(ImVec2(x0 + dx * static_cast<float>(i - 1), y_of(rel[s][i - 1])),
+                  ImVec2(x0 + dx * static_cast<float>(i), y_of(rel[s][i])), line, 1.5f);
+    first += rel[s].size();
+  }
+  ImGui::InvisibleButton("##fitloss", ImVec2(b.x - p0.x, b.y - p0.y));
+  if (ImGui::IsItemHovered()) draw_loss_tooltip(stages);
   char right[32];
-  std::snprintf(right, sizeof right, "%zu", losses.size() - 1);
-  const float x1 = ImGui::GetItemRectMax().x;
-  ImGui::SetCursorScreenPos(ImVec2(p0.x + axis_w, p0.y + h + 2));
+  std::snprintf(right, sizeof right, "%zu", points - 1);
+  ImGui::SetCursorScreenPos(ImVec2(a.x, b.y + 2));
   ImGui::TextDisabled("0");
-  ImGui::SameLine(0, 0);
   const float label_w = ImGui::CalcTextSize("iteration").x;
-  ImGui::SetCursorScreenPos(ImVec2((p0.x + axis_w + x1 - label_w) / 2, p0.y + h + 2));
+  ImGui::SameLine((a.x + b.x - label_w) / 2 - ImGui::GetWindowPos().x, 0);
   ImGui::TextDisabled("iteration");
-  ImGui::SameLine(0, 0);
-  ImGui::SetCursorScreenPos(ImVec2(x1 - ImGui::CalcTextSize(right).x, p0.y + h + 2));
+  ImGui::SameLine(b.x - ImGui::CalcTextSize(right).x - ImGui::GetWindowPos().x, 0);
   ImGui::TextDisabled("%s", right);
+}
+
+// Each stage's cost at its start and end, in the fit's own units.
+void FitSection::draw_loss_tooltip(const std::vector<StageLosses>& stages) {
+  ImGui::BeginTooltip();
+  for (const StageLosses& st : stages)
+    if (!st.costs.empty())
+      ImGui::Text("%s: cost %s -> %s (%zu iterations)", st.stage.c_str(),
+                  format_number(st.costs.front(), "%.4g").c_str(), format_number(st.costs.back(), "%.4g").c_str(),
+                  st.costs.size());
+  ImGui::EndTooltip();
 }
 
 }  // namespace sb::ui

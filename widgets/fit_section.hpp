@@ -21,7 +21,8 @@ class FitSection {
   void draw_run_row(const AppSnapshot& snap, const FitJobStatus& st);
   void start(const AppSnapshot& snap);
   void draw_result(const AppSnapshot& snap, AppState& state, const FitJobStatus& st);
-  static void draw_loss_plot(const std::vector<float>& losses);
+  static void draw_loss_plot(const std::vector<StageLosses>& stages);
+  static void draw_loss_tooltip(const std::vector<StageLosses>& stages);
 
   FitJob job_;
   std::string data_root_;

@@ -14,6 +14,7 @@
 #include <thread>
 #include <utility>
 
+#include "core/workbench/column_layout.hpp"
 #include "core/workbench/unsaved_work.hpp"
 #include "widgets/keys.hpp"
 #include "widgets/replay_section.hpp"
@@ -471,7 +472,7 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
                                   .y;
   const float status_h = std::min(status_text_h, 4 * ImGui::GetTextLineHeight()) + line + 8 -
                          ImGui::GetTextLineHeight();
-  const float left_w = std::clamp(0.25f * W, 300.0f, 400.0f);
+  const float left_w = left_column_px(W, dragged_left_px_);
   const float right_w = W - left_w;
 
   ImGui::SetNextWindowPos(vp->Pos);
@@ -495,10 +496,28 @@ WorkbenchRequest Workbench::draw(double frame_ms) {
   status_bar(snap_, frame_ms, options_.show_timings, message_);
   ImGui::End();
 
+  draw_column_divider(vp->Pos.x + left_w, H - status_h);
   draw_help_overlay(&show_help_);
   question_.draw(req);
   loading_.draw();
   return req;
+}
+
+// A strip over the columns' boundary that drags it: the left column widens for its tables (residual analysis,
+// the fit's result) and narrows for more field panels.
+void Workbench::draw_column_divider(float x, float height) {
+  constexpr float kGrip = 6;
+  const ImGuiViewport* vp = ImGui::GetMainViewport();
+  ImGui::SetNextWindowPos(ImVec2(x - kGrip / 2, vp->Pos.y));
+  ImGui::SetNextWindowSize(ImVec2(kGrip, height));
+  ImGui::PushStyleVar(ImGuiStyleVar_WindowPadding, ImVec2(0, 0));
+  ImGui::Begin("##column_divider", nullptr, kFixed | ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoScrollbar);
+  ImGui::InvisibleButton("##divider", ImVec2(kGrip, height));
+  if (ImGui::IsItemHovered() || ImGui::IsItemActive()) ImGui::SetMouseCursor(ImGuiMouseCursor_ResizeEW);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("drag to widen or narrow the controls");
+  if (ImGui::IsItemActive()) dragged_left_px_ = ImGui::GetIO().MousePos.x - vp->Pos.x;
+  ImGui::End();
+  ImGui::PopStyleVar();
 }
 
 }  // namespace sb::ui

@@ -146,6 +146,7 @@ class Workbench {
   RmseRowOverride corrected_rmse_row();
   std::string rmse_csv_path() const;
   void draw_fields(float width, float height);
+  void draw_column_divider(float x, float height);
   FieldGrid field_grid(float width, float height) const;
   FieldPanelInput panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual);
   void model_panel_input(int i, const std::vector<Vec2>* measured, std::vector<Vec2>& residual, FieldPanelInput& in);
@@ -178,6 +179,7 @@ class Workbench {
   QuestionDialog question_;
   LoadingDialog loading_;
   bool show_help_ = false;
+  float dragged_left_px_ = 0;  // where the user dragged the columns' divider (0: never)
   // The field area (the right column).
   std::string enlarged_;     // the enlarged field panel's name, "" for none
   int hovered_marker_ = -1;  // the marker under the mouse in the last frame (ringed in every panel)

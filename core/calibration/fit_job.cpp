@@ -33,7 +33,7 @@ void FitJob::run(const FitJobRequest& req, const std::atomic<bool>& cancel, Job&
       job.update([&](FitJobStatus& s) {
         s.stage = p.stage;
         s.iteration = p.iteration;
-        s.losses.push_back(static_cast<float>(p.loss));
+        append_stage_loss(s.losses, p.stage, p.loss);
       });
     };
     const double before = fit_rmse_px(req.model_id, data.sensor, data.samples, req.start);

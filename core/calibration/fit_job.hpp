@@ -9,6 +9,7 @@
 
 #include "core/base/status_job.hpp"
 #include "core/calibration/fit.hpp"
+#include "core/calibration/stage_losses.hpp"
 
 namespace sb {
 
@@ -26,7 +27,7 @@ struct FitJobStatus {
   enum class Phase { kIdle, kLoading, kFitting, kDone, kCancelled, kFailed } phase = Phase::kIdle;
   std::string stage;  // current stage
   int iteration = 0;
-  std::vector<float> losses;                // Ceres cost after every iteration reported, all stages
+  std::vector<StageLosses> losses;          // Ceres cost after every iteration reported, per stage run
   std::string error;                        // Failed: why
   std::optional<CalibrationResult> result;  // Done (and Cancelled: the completed stages)
   double calibration_rmse_before_px = 0, calibration_rmse_after_px = 0;  // RMSE over the calibration split

@@ -1,50 +1,15 @@
 // skin_indentation: the skin under a contact is pushed in along its normal, and a camera with perspective sees it.
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <vector>
 
 #include "core/effects/effect_catalogue.hpp"
+#include "core/effects/spreading_kernel.hpp"
 
 namespace sb::effects {
 namespace {
 
-using Kernel = std::vector<double>;
-
-// Row j: exp(-|p_j - p_k|^2 / (2 sigma^2)) over k, normalised to sum 1.
-Kernel spreading_kernel(const std::vector<Vec3>& p_EM, double sigma) {
-  const std::size_t n = p_EM.size();
-  Kernel kernel(n * n, 0.0);
-  for (std::size_t j = 0; j < n; ++j) {
-    double* row = &kernel[j * n];
-    double sum = 0.0;
-    for (std::size_t k = 0; k < n; ++k)
-      sum += row[k] = std::exp(-(p_EM[j] - p_EM[k]).squaredNorm() / (2 * sigma * sigma));
-    for (std::size_t k = 0; k < n; ++k) row[k] /= sum;
-  }
-  return kernel;
-}
-
-// The kernel of these pins at this width, shared by every model that asks while one holds it: a fit keeps a model
-// per sample, and a kernel is n x n (0.86 MB for the TacTip's 327 pins; 4.4 GB over 5005 samples when each built
-// its own, heaptrack of the 10,000-sample loop's final refit). Keyed by the pins themselves, not an address.
-std::shared_ptr<const Kernel> shared_kernel(const std::vector<Vec3>& p_EM, double sigma) {
-  struct Entry {
-    std::vector<Vec3> pins;
-    double sigma;
-    std::weak_ptr<const Kernel> kernel;
-  };
-  static std::mutex mutex;
-  static std::vector<Entry> entries;
-  const std::lock_guard<std::mutex> lock(mutex);
-  std::erase_if(entries, [](const Entry& e) { return e.kernel.expired(); });
-  for (const Entry& e : entries)
-    if (e.sigma == sigma && e.pins == p_EM)
-      if (auto k = e.kernel.lock()) return k;
-  auto k = std::make_shared<const Kernel>(spreading_kernel(p_EM, sigma));
-  entries.push_back({p_EM, sigma, k});
-  return k;
-}
+using Kernel = SpreadingKernel;
 
 struct SkinIndentationParams {
   double gain = 0, spread_m = 0;
@@ -115,7 +80,7 @@ class SkinIndentation final : public TypedEffect<SkinIndentationParams> {
   // The shared spreading kernel at the current width (none at spread 0: no spreading).
   void build_kernel(const std::vector<Vec3>& p_EM) {
     const double sigma = v().spread_m;
-    kernel_ = sigma > 0.0 ? shared_kernel(p_EM, sigma) : nullptr;
+    kernel_ = sigma > 0.0 ? shared_spreading_kernel(p_EM, sigma) : nullptr;
     kernel_for_spread_m_ = sigma;
   }
 
@@ -134,7 +99,7 @@ class SkinIndentation final : public TypedEffect<SkinIndentationParams> {
   const Sensor* cached_for_ = nullptr;    // only compared, never read: the sensor the cache was computed for
   std::vector<Vec3> tips_E_;              // pin tips, L below the surface along the rest normal
   std::vector<Vec3> normals_E_;           // the skin's outward rest normal at each pin
-  std::shared_ptr<const Kernel> kernel_;  // n x n, row-major (shared_kernel); null without spreading
+  std::shared_ptr<const Kernel> kernel_;  // n x n, row-major (shared_spreading_kernel); null without spreading
   double kernel_for_spread_m_ = -1.0;
 };
 
