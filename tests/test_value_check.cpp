@@ -47,7 +47,9 @@ TEST_CASE("a pose beyond the reach or not a number is refused", "[value_check]")
   CHECK_FALSE(sb::check_indenter_pose(X, kGel_m).accepted);
 }
 
-ParamSpec kappa_d() { return {.name = "kappa_d", .unit = "px/m", .default_value = 10, .min = 1, .max = 1e9, .help = ""}; }
+ParamSpec kappa_d() {
+  return {.name = "kappa_d", .unit = "px/m", .default_value = 10, .min = 1, .max = 1e9, .help = ""};
+}
 
 TEST_CASE("a parameter outside its range is clamped with a note, never silently", "[value_check]") {
   const sb::ParamCheck below = sb::check_param_value(kappa_d(), -5);

@@ -30,21 +30,21 @@ PoseCheck check_indenter_pose(const Pose& X_EI, double gel_thickness_m, double r
   if (z < -gel_thickness_m)
     return {false, "z = " + mm(z) + " is below the gel's back (" + mm(gel_thickness_m) + " thick); kept the last pose"};
   if (z > reach_m)
-    return {false, "z = " + mm(z) + " is above the indenter's reach (" + mm(reach_m) +
-                       " above the gel); kept the last pose"};
+    return {false,
+            "z = " + mm(z) + " is above the indenter's reach (" + mm(reach_m) + " above the gel); kept the last pose"};
   return {};
 }
 
 ParamCheck check_param_value(const ParamSpec& spec, double typed) {
   if (!std::isfinite(typed)) return {false, 0.0, spec.name + ": " + number(typed) + " is not a number; kept"};
   if (typed < spec.min)
-    return {true, spec.min,
-            spec.name + ": " + number(typed) + " is below its bound " + number(spec.min) + "; set to " +
-                number(spec.min)};
+    return {
+        true, spec.min,
+        spec.name + ": " + number(typed) + " is below its bound " + number(spec.min) + "; set to " + number(spec.min)};
   if (typed > spec.max)
-    return {true, spec.max,
-            spec.name + ": " + number(typed) + " is above its bound " + number(spec.max) + "; set to " +
-                number(spec.max)};
+    return {
+        true, spec.max,
+        spec.name + ": " + number(typed) + " is above its bound " + number(spec.max) + "; set to " + number(spec.max)};
   return {true, typed, ""};
 }
 
