@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "core/workbench/value_check.hpp"
 #include "widgets/panels.hpp"
 #include "widgets/text_field.hpp"
 
@@ -100,6 +101,8 @@ void FitSection::draw_result(const AppSnapshot& snap, AppState& state, const Fit
       ImGui::Text("%.4g", before[i]);
       ImGui::TableNextColumn();
       ImGui::Text("%.4g", after[i]);
+      // A fitted value at its bound is where the search was stopped by the range, not a minimum it found.
+      if (at_bound(after.specs()[i], after[i])) at_bound_mark(after.specs()[i]);
     }
     ImGui::EndTable();
   }

@@ -154,6 +154,20 @@ void GlWindow::apply_fed_mouse_state() const {
     io.MousePos = ImVec2(static_cast<float>(cursor_x_), static_cast<float>(cursor_y_));
 }
 
+// The backend reports a focused window's cursor wherever it is, and our fed position is the last one inside (GLFW
+// reports moves inside only): an ImGui that saw either kept hovering what the pointer left. While a button is held
+// (a drag that leaves the window) ImGui keeps following the pointer.
+void GlWindow::forget_pointer_outside() const {
+  ImGuiIO& io = ImGui::GetIO();
+  for (int b = 0; b < kButtons && b < IM_ARRAYSIZE(io.MouseDown); ++b)
+    if (io.MouseDown[b]) return;
+  double x = 0, y = 0;
+  glfwGetCursorPos(window_, &x, &y);
+  int w = 0, h = 0;
+  glfwGetWindowSize(window_, &w, &h);
+  if (x < 0 || y < 0 || x >= w || y >= h) io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+}
+
 void GlWindow::begin_frame(double wait_s) {
   clear_key_presses();  // presses of a frame that did not ask for them are not replayed later
   begin_mouse_poll(last_poll_s_ > 0 ? glfwGetTime() - last_poll_s_ : 0.0);
@@ -167,6 +181,7 @@ void GlWindow::begin_frame(double wait_s) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   apply_fed_mouse_state();
+  forget_pointer_outside();
   ImGui::NewFrame();
 }
 

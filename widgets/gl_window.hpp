@@ -67,6 +67,8 @@ class GlWindow {
   // ImGui's backend reads the live cursor and buttons at NewFrame, which are already those after the whole
   // queue; while events are still queued, a frame sees those after its own events instead.
   void apply_fed_mouse_state() const;
+  // A pointer outside the window hovers nothing (a marker's tooltip goes) and fires no shortcut (keys.cpp).
+  void forget_pointer_outside() const;
 
   GLFWwindow* window_ = nullptr;
   KeyCallback imgui_key_callback_ = nullptr;  // ImGui's GLFW backend; feed() calls them

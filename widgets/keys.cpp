@@ -122,9 +122,10 @@ std::vector<Action> pressed_actions() {
   };
   std::copy_if(recorded.begin(), recorded.end(), std::back_inserter(presses), bound);
   recorded.erase(std::remove_if(recorded.begin(), recorded.end(), bound), recorded.end());
-  // While a text field has the keyboard, plain keys are typing; Ctrl chords (Ctrl+S) still act: a save must
-  // not depend on where the focus is.
-  const bool typing = ImGui::GetIO().WantTextInput;
+  // While a text field has the keyboard or an item is held, plain keys are typing; with the pointer outside the
+  // window (a mis-click elsewhere, then typing: P wrote PNGs) they are not for us (gl_window.cpp forgets such a
+  // pointer). Ctrl chords (Ctrl+S) still act: a save must not depend on where the focus is.
+  const bool typing = ImGui::GetIO().WantTextInput || ImGui::IsAnyItemActive() || !ImGui::IsMousePosValid();
   for (const KeyPress& p : presses) {
     const bool shift = (p.mods & GLFW_MOD_SHIFT) != 0;
     const bool ctrl = (p.mods & GLFW_MOD_CONTROL) != 0;

@@ -7,6 +7,7 @@
 #include <cstdio>
 
 #include "core/models/model_family.hpp"
+#include "core/workbench/value_check.hpp"
 #include "widgets/text_field.hpp"
 
 namespace sb::ui {
@@ -17,20 +18,33 @@ std::string display_name(const std::string& id) {
 }
 
 namespace {
-// A parameter's value as a slider over its range (logarithmic for a log-scale one), clamped to it.
-bool slider_control(ParamSet& params, std::size_t i, float width) {
+// A parameter's value as a slider over its range (logarithmic for a log-scale one). A value typed out of the
+// range (Ctrl+click) is set to the bound with `note` saying so, never clamped silently; `note` is cleared by the
+// next edit that needs none.
+bool slider_control(ParamSet& params, std::size_t i, float width, std::string& note) {
   const ParamSpec& spec = params.specs()[i];
   float v = static_cast<float>(params[i]);
   const std::string format = spec.unit.empty() ? "%.4g" : "%.4g " + spec.unit;
   const bool log = spec.log_scale && spec.min > 0;
   ImGui::SetNextItemWidth(width);
+  // No AlwaysClamp: ImGui would clamp a typed value before check_param_value could say so.
   if (!ImGui::SliderFloat("##v", &v, static_cast<float>(spec.min), static_cast<float>(spec.max), format.c_str(),
-                          (log ? ImGuiSliderFlags_Logarithmic : 0) | ImGuiSliderFlags_AlwaysClamp))
+                          log ? ImGuiSliderFlags_Logarithmic : 0))
     return false;
-  const double clamped = std::clamp(static_cast<double>(v), spec.min, spec.max);
-  if (clamped == params[i]) return false;
-  params.set(i, clamped);
+  const ParamCheck check = check_param_value(spec, static_cast<double>(v));
+  if (check.note != note && !check.note.empty()) std::fprintf(stderr, "note: %s\n", check.note.c_str());
+  note = check.note;
+  if (!check.accepted || check.value == params[i]) return false;
+  params.set(i, check.value);
   return true;
+}
+
+// "[min, max] unit" of a parameter, for its slider's tooltip.
+std::string range_text(const ParamSpec& spec) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "range [%g, %g]%s%s%s", spec.min, spec.max, spec.unit.empty() ? "" : " ",
+                spec.unit.c_str(), spec.log_scale ? " (log scale)" : "");
+  return buf;
 }
 
 // A switch (0 or 1) as a checkbox, in the slider's place.
@@ -46,7 +60,20 @@ bool switch_control(ParamSet& params, std::size_t i, float width) {
 }
 }  // namespace
 
-bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference, const ParamSet* published) {
+void at_bound_mark(const ParamSpec& spec) {
+  ImGui::SameLine();
+  ImGui::TextColored(kAtBoundColour, "at bound");
+  if (ImGui::IsItemHovered()) wrapped_tooltip(spec.name + " is at a bound of its " + range_text(spec));
+}
+
+void note_line(const std::string& note) {
+  ImGui::PushStyleColor(ImGuiCol_Text, kAtBoundColour);
+  ImGui::TextWrapped("%s", note.c_str());
+  ImGui::PopStyleColor();
+}
+
+bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference, const ParamSet* published,
+                 std::vector<std::string>* notes) {
   bool changed = false;
   ImGui::PushID(model_id.c_str());
   // The sliders leave room for the reset button and the longest name of this table (at least half the
@@ -57,14 +84,20 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
   const float reset_w = ImGui::CalcTextSize("R").x + 2 * style.FramePadding.x;
   const float avail = ImGui::GetContentRegionAvail().x;
   const float slider_w = std::max(avail - name_w - reset_w - 2 * style.ItemSpacing.x, 0.5f * avail);
+  std::vector<std::string> no_notes;
+  if (notes == nullptr) notes = &no_notes;
+  notes->resize(params.size());
   for (std::size_t i = 0; i < params.size(); ++i) {
     const ParamSpec& spec = params.specs()[i];
     ImGui::PushID(static_cast<int>(i));
     if (spec.is_switch)
       changed |= switch_control(params, i, slider_w);
     else
-      changed |= slider_control(params, i, slider_w);
-    if (ImGui::IsItemHovered() && !spec.help.empty()) wrapped_tooltip(spec.help);
+      changed |= slider_control(params, i, slider_w, (*notes)[i]);
+    if (ImGui::IsItemHovered() && !spec.is_switch)
+      wrapped_tooltip(range_text(spec) + (spec.help.empty() ? "" : "\n" + spec.help));
+    else if (ImGui::IsItemHovered() && !spec.help.empty())
+      wrapped_tooltip(spec.help);
     ImGui::SameLine();
     if (ImGui::SmallButton("R") && params[i] != reference[i]) {
       params.set(i, reference[i]);
@@ -78,6 +111,8 @@ bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& 
       ImGui::SameLine();
       ImGui::TextDisabled("published %.4g", (*published)[i]);
     }
+    if (at_bound(spec, params[i])) at_bound_mark(spec);
+    if (!(*notes)[i].empty()) note_line((*notes)[i]);
     ImGui::PopID();
   }
   ImGui::PopID();

@@ -1,6 +1,8 @@
 #pragma once
 // The workbench's control panels. Each is a function that draws into the current ImGui window and
 // returns whether the user changed something (and what, through its arguments).
+#include <imgui.h>
+
 #include <string>
 #include <vector>
 
@@ -13,8 +15,17 @@ namespace sb::ui {
 // a reset-to-default button. Returns true when a value changed.
 // Sliders of one model's parameters. R resets a slider to `reference` (the active parameter set's value);
 // with `published`, each row also shows the authors' value.
+// Each slider's tooltip gives its range and unit; a value at a bound is marked "at bound"; a value typed out of
+// range is set to its bound and `notes` (one per parameter, kept by the caller across frames) says so under it.
 bool param_panel(const std::string& model_id, ParamSet& params, const ParamSet& reference,
-                 const ParamSet* published = nullptr);
+                 const ParamSet* published = nullptr, std::vector<std::string>* notes = nullptr);
+
+// The orange of "at bound" and of a note on a value set to its bound.
+inline const ImVec4 kAtBoundColour{1.0f, 0.65f, 0.2f, 1.0f};
+// "at bound" beside the last item, its range as the tooltip.
+void at_bound_mark(const ParamSpec& spec);
+// A note under a field (a typed value set to its bound).
+void note_line(const std::string& note);
 
 // Numeric entry of the indenter pose: position in mm and roll-pitch-yaw (extrinsic xyz) in degrees.
 bool pose_panel(Pose& X_EI);

@@ -14,6 +14,7 @@ namespace sb::ui {
 void ParametersSection::start_session(const AppSnapshot& snap) {
   edit_params_.clear();
   for (const auto& m : snap.models) edit_params_.push_back(m.params);
+  notes_.assign(edit_params_.size(), {});
 }
 
 void ParametersSection::catch_up(const AppSnapshot& snap, const AppState& state) {
@@ -121,13 +122,13 @@ void ParametersSection::draw_param_set_row(WorkbenchRequest& req) {
 
 // One tree node of sliders per model (the first open).
 void ParametersSection::draw_sliders(const AppSnapshot& snap, AppState& state) {
-  for (std::size_t m = 0; m < snap.models.size() && m < edit_params_.size(); ++m) {
+  for (std::size_t m = 0; m < snap.models.size() && m < edit_params_.size() && m < notes_.size(); ++m) {
     const std::string& id = snap.models[m].id;
     if (!ImGui::TreeNodeEx(id.c_str(), m == 0 ? ImGuiTreeNodeFlags_DefaultOpen : 0, "%s", display_name(id).c_str()))
       continue;
     // Slider edits go to a local copy that is sent as a whole; the snapshot catches up after the replay.
     const ParamSet published = default_params(id);
-    if (param_panel(id, edit_params_[m], set_.params(id), show_published_ ? &published : nullptr))
+    if (param_panel(id, edit_params_[m], set_.params(id), show_published_ ? &published : nullptr, &notes_[m]))
       state.request_params(m, edit_params_[m]);
     ImGui::TreePop();
   }

@@ -36,6 +36,7 @@ class ParametersSection {
 
   std::string file_ = "params.json";
   std::vector<ParamSet> edit_params_;
+  std::vector<std::vector<std::string>> notes_;  // per model, per parameter: a typed value set to its bound
   NamedParamSet set_ = published_param_set();
   std::string mismatch_;                       // sensor_mismatch() of the set and the open scene
   std::map<std::string, std::string> labels_;  // set name -> its combo label

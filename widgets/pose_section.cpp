@@ -2,6 +2,7 @@
 
 #include <imgui.h>
 
+#include "core/workbench/value_check.hpp"
 #include "widgets/panels.hpp"
 
 namespace sb::ui {
@@ -19,9 +20,32 @@ void PoseSection::nudge(const Pose& delta_E, bool rotate, const AppSnapshot& sna
   drag_to(X, state);
 }
 
+// A typed pose under the gel's back or out of reach is refused where it was typed; the pose stays.
+void PoseSection::ask_checked(const Pose& X_EI, AppState& state) {
+  const PoseCheck check = check_indenter_pose(X_EI, state.sensor()->gel.thickness_m);
+  refusal_ = check.message;
+  if (check.accepted) drag_to(X_EI, state);
+}
+
 void PoseSection::draw(const AppSnapshot& snap, bool dragging, AppState& state) {
   Pose X = shown(snap, dragging);
-  if (pose_panel(X)) drag_to(X, state);
+  // A value typed (Ctrl+click) is applied when its field is left: ImGui applies each key's text, and "-2" on the
+  // way to "-20" is not the pose asked for.
+  if (pose_panel(X)) {
+    if (ImGui::GetIO().WantTextInput)
+      typed_ = X;
+    else
+      ask_checked(X, state);
+  }
+  if (typed_ && !ImGui::IsAnyItemActive()) {
+    ask_checked(*typed_, state);
+    typed_.reset();
+  }
+  if (!refusal_.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.55f, 0.45f, 1.0f));
+    ImGui::TextWrapped("%s", refusal_.c_str());
+    ImGui::PopStyleColor();
+  }
   ImGui::TextDisabled("drag it in the 3D view; F1 for keys");
 }
 

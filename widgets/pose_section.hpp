@@ -3,6 +3,7 @@
 // keyboard's nudges): it owns the pose last asked for, so a drag continues from where it is, not from the
 // snapshot that has not caught up yet.
 #include <optional>
+#include <string>
 
 #include "core/workbench/app_state.hpp"
 
@@ -11,7 +12,11 @@ namespace sb::ui {
 class PoseSection {
  public:
   // A new session: no drag in progress.
-  void reset() { last_drag_.reset(); }
+  void reset() {
+    last_drag_.reset();
+    refusal_.clear();
+    typed_.reset();
+  }
   // The pose to show: the one being dragged while `dragging`, else the snapshot's.
   Pose shown(const AppSnapshot& snap, bool dragging) const { return last_drag_ && dragging ? *last_drag_ : snap.X_EI; }
   // Asks the sync point for `X_EI` (unless it is the pose already asked for, when `skip_same`).
@@ -21,7 +26,11 @@ class PoseSection {
   void draw(const AppSnapshot& snap, bool dragging, AppState& state);
 
  private:
+  void ask_checked(const Pose& X_EI, AppState& state);
+
   std::optional<Pose> last_drag_;
+  std::optional<Pose> typed_;  // typed into a field still being edited
+  std::string refusal_;        // why the last typed pose was refused, shown under the fields until the next edit
 };
 
 }  // namespace sb::ui
