@@ -62,7 +62,10 @@ bool switch_control(ParamSet& params, std::size_t i, float width) {
 
 void at_bound_mark(const ParamSpec& spec) {
   ImGui::SameLine();
-  ImGui::TextColored(kAtBoundColour, "at bound");
+  // Where the row has no room for the words (a long name beside the slider), a "|" in the same colour; the
+  // tooltip says it whole either way.
+  const bool room = ImGui::GetContentRegionAvail().x >= ImGui::CalcTextSize("at bound").x;
+  ImGui::TextColored(kAtBoundColour, room ? "at bound" : "|");
   if (ImGui::IsItemHovered()) wrapped_tooltip(spec.name + " is at a bound of its " + range_text(spec));
 }
 
