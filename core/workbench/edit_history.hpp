@@ -17,8 +17,8 @@
 #include <variant>
 #include <vector>
 
-#include "core/geometry/pose.hpp"
 #include "core/base/params.hpp"
+#include "core/geometry/pose.hpp"
 
 namespace sb {
 
@@ -77,7 +77,7 @@ class EditHistory {
   std::size_t stored_poses() const;
 
   std::size_t capacity_, max_stored_poses_;
-  std::deque<EditEntry> undo_;  // oldest first
+  std::deque<EditEntry> undo_;   // oldest first
   std::vector<EditEntry> redo_;  // the next redo last
 };
 
