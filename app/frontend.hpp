@@ -2,6 +2,7 @@
 // The frame loop both `gui` and `render` use: one window, one workbench, one session.
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -93,7 +94,11 @@ class Frontend {
 
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
-  void handle_open_requests(const ui::WorkbenchRequest& req);
+  // `confirmed`: the user chose "Open anyway" over unsaved work.
+  void handle_open_requests(const ui::WorkbenchRequest& req, bool confirmed = false);
+  // With unsaved work, an open (sample, scene, dataset, session, parameter set) waits for the user's answer.
+  bool ask_before_open(const ui::WorkbenchRequest& req);
+  std::optional<ui::WorkbenchRequest> open_waiting_;
   void save_session_to(const std::string& path);
   void install_session(Session next, const SessionOptions& options, Baseline baseline);
   void poll_load();

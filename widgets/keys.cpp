@@ -37,6 +37,9 @@ const std::vector<KeyBinding>& key_table() {
       {GLFW_KEY_F1, false, Action::kToggleHelp, "F1 / H", "this help"},
       {GLFW_KEY_H, false, Action::kToggleHelp, "", ""},
       {GLFW_KEY_S, false, Action::kSaveSession, "Ctrl+S", "save the session (JSON; autosaved every 30 s)", true},
+      {GLFW_KEY_Z, false, Action::kUndo, "Ctrl+Z", "undo the last drag, nudge, parameter edit or path replaced", true},
+      {GLFW_KEY_Z, true, Action::kRedo, "Ctrl+Shift+Z / Ctrl+Y", "redo what was undone", true},
+      {GLFW_KEY_Y, false, Action::kRedo, "", "", true},
       {GLFW_KEY_ESCAPE, true, Action::kQuit, "Shift+Esc", "quit (asks first when there are unsaved changes)"},
   };
   return table;
@@ -130,7 +133,9 @@ std::vector<Action> pressed_actions() {
     const bool shift = (p.mods & GLFW_MOD_SHIFT) != 0;
     const bool ctrl = (p.mods & GLFW_MOD_CONTROL) != 0;
     for (const KeyBinding& k : key_table())
-      if (k.key == p.key && (!p.repeat || !k.ctrl) && (!k.shift || shift) && k.ctrl == ctrl && (!typing || k.ctrl))
+      // A Ctrl chord's Shift is exact (Ctrl+Z undoes, Ctrl+Shift+Z redoes); plain keys ignore a Shift not asked for.
+      if (k.key == p.key && (!p.repeat || !k.ctrl) && (k.ctrl ? k.shift == shift : (!k.shift || shift)) &&
+          k.ctrl == ctrl && (!typing || k.ctrl))
         actions.push_back(k.action);
   }
   return actions;

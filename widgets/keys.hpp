@@ -30,6 +30,8 @@ enum class Action {
   kScreenshot,
   kToggleHelp,
   kSaveSession,
+  kUndo,
+  kRedo,
   kQuit,
 };
 

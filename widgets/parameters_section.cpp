@@ -128,10 +128,13 @@ void ParametersSection::draw_sliders(const AppSnapshot& snap, AppState& state) {
       continue;
     // Slider edits go to a local copy that is sent as a whole; the snapshot catches up after the replay.
     const ParamSet published = default_params(id);
-    if (param_panel(id, edit_params_[m], set_.params(id), show_published_ ? &published : nullptr, &notes_[m]))
-      state.request_params(m, edit_params_[m]);
+    if (param_panel(id, edit_params_[m], set_.params(id), show_published_ ? &published : nullptr, &notes_[m])) {
+      if (slider_gesture_ == 0) slider_gesture_ = state.new_gesture();
+      state.request_params(m, edit_params_[m], {"edit of " + display_name(id) + " parameters", slider_gesture_});
+    }
     ImGui::TreePop();
   }
+  if (!ImGui::IsAnyItemActive()) slider_gesture_ = 0;  // the slider let go: one drag of it is one undo entry
 }
 
 }  // namespace sb::ui

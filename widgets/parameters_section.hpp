@@ -41,6 +41,7 @@ class ParametersSection {
   std::string mismatch_;                       // sensor_mismatch() of the set and the open scene
   std::map<std::string, std::string> labels_;  // set name -> its combo label
   bool show_published_ = false;
+  std::uint64_t slider_gesture_ = 0;  // the slider drag in progress (0: none)
 };
 
 }  // namespace sb::ui

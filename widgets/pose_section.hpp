@@ -20,7 +20,8 @@ class PoseSection {
   // The pose to show: the one being dragged while `dragging`, else the snapshot's.
   Pose shown(const AppSnapshot& snap, bool dragging) const { return last_drag_ && dragging ? *last_drag_ : snap.X_EI; }
   // Asks the sync point for `X_EI` (unless it is the pose already asked for, when `skip_same`).
-  void drag_to(const Pose& X_EI, AppState& state, bool skip_same = false);
+  // `origin`: the undo history's name and gesture for it (every mouse move of one drag shares a gesture).
+  void drag_to(const Pose& X_EI, AppState& state, bool skip_same = false, EditOrigin origin = {});
   // A keyboard nudge: translation of `delta_E`, its rotation about the indenter origin when `rotate`.
   void nudge(const Pose& delta_E, bool rotate, const AppSnapshot& snap, AppState& state);
   void draw(const AppSnapshot& snap, bool dragging, AppState& state);
@@ -31,6 +32,7 @@ class PoseSection {
   std::optional<Pose> last_drag_;
   std::optional<Pose> typed_;  // typed into a field still being edited
   std::string refusal_;        // why the last typed pose was refused, shown under the fields until the next edit
+  std::uint64_t panel_gesture_ = 0;  // the pose fields' edit in progress (0: none)
 };
 
 }  // namespace sb::ui

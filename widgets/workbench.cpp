@@ -121,8 +121,12 @@ void Workbench::apply_actions(WorkbenchRequest& req) {
 }
 
 void Workbench::apply_action(Action action, WorkbenchRequest& req) {
-  const auto move = [&](const Vec3& by) { pose_.nudge(make_pose(by, Quat::Identity()), false, snap_, *state_); };
+  const auto move = [&](const Vec3& by) {
+    say_if_path_replaced("nudge");
+    pose_.nudge(make_pose(by, Quat::Identity()), false, snap_, *state_);
+  };
   const auto twist = [&](double rad) {
+    say_if_path_replaced("nudge");
     pose_.nudge(make_pose(Vec3::Zero(), Quat(Eigen::AngleAxisd(rad, Vec3::UnitZ()))), true, snap_, *state_);
   };
   switch (action) {
@@ -149,8 +153,35 @@ void Workbench::apply_action(Action action, WorkbenchRequest& req) {
     case Action::kScreenshot: req.screenshot = true; break;
     case Action::kToggleHelp: show_help_ = !show_help_; break;
     case Action::kSaveSession: req.save_session = session_.field(); break;
+    case Action::kUndo: state_->request_undo(); break;
+    case Action::kRedo: state_->request_redo(); break;
     case Action::kQuit: req.quit = true; break;
   }
+}
+
+// A drag or nudge replaces the path after the step shown: when that drops recorded steps, the status bar says
+// so and how to get them back (the undo history keeps the old path).
+void Workbench::say_if_path_replaced(const char* by) {
+  if (snap_.step + 1 < snap_.num_steps && !viewport_.dragging())
+    message_ = std::string("path replaced by your ") + by + "; Ctrl+Z brings it back";
+}
+
+// Undo / Redo with what they would take back, as the tooltip names it.
+void Workbench::draw_undo_row() {
+  const auto button = [this](const char* label, const std::string& what, bool undo) {
+    ImGui::BeginDisabled(what.empty());
+    // Small: on the pose section's last line, so the column below keeps its place.
+    if (ImGui::SmallButton(label)) undo ? state_->request_undo() : state_->request_redo();
+    ImGui::EndDisabled();
+    if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
+      ImGui::SetTooltip("%s",
+                        what.empty()
+                            ? (undo ? "nothing to undo" : "nothing to redo")
+                            : ((undo ? "undo: " : "redo: ") + what + (undo ? " (Ctrl+Z)" : " (Ctrl+Shift+Z)")).c_str());
+  };
+  button("Undo", snap_.undo_label, true);
+  ImGui::SameLine();
+  button("Redo", snap_.redo_label, false);
 }
 
 // Where a model's panel shows the residual loop's answer, its RMSE row shows the answer's too (one model per view).
@@ -184,8 +215,13 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
   // Beside the RMSE plots: what the residual analysis says the model is missing.
   if (residual_.take_open_request()) ImGui::SetNextItemOpen(true);
   if (ImGui::CollapsingHeader("Residual")) residual_.draw(snap_, *state_, !measured_.poses.empty(), message_, req);
-  if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen))
+  if (ImGui::CollapsingHeader("Indenter pose", ImGuiTreeNodeFlags_DefaultOpen)) {
     pose_.draw(snap_, viewport_.dragging(), *state_);
+    if (options_.interactive) {  // a headless render has nothing to undo: its image stays as it was
+      ImGui::SameLine();
+      draw_undo_row();
+    }
+  }
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {
     display_.draw(snap_, viewport_, regions_, req);
     export_.draw(req);
@@ -392,8 +428,14 @@ void Workbench::draw_view_cell(float x, float y, float w, float h) {
   ImGui::SetCursorScreenPos(ImVec2(x, y));
   viewport_.update(snap_, display_.marker_model(), display_.scale().colour_max_px);
   regions_.push_back({"3D view", x, y, w, h});
-  if (auto target = viewport_.draw(w, h, pose_.shown(snap_, viewport_.dragging()), options_.interactive))
-    pose_.drag_to(*target, *state_, /*skip_same=*/true);
+  if (auto target = viewport_.draw(w, h, pose_.shown(snap_, viewport_.dragging()), options_.interactive)) {
+    if (view_drag_gesture_ == 0) {  // the drag's first move
+      if (snap_.step + 1 < snap_.num_steps) message_ = "path replaced by your drag; Ctrl+Z brings it back";
+      view_drag_gesture_ = state_->new_gesture();
+    }
+    pose_.drag_to(*target, *state_, /*skip_same=*/true, {"drag of the indenter", view_drag_gesture_});
+  }
+  if (!viewport_.dragging()) view_drag_gesture_ = 0;
   draw_view_legend(ImVec2(x, y), w);
 }
 

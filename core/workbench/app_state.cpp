@@ -50,44 +50,32 @@ AppState::AppState(std::shared_ptr<const Sensor> sensor, std::shared_ptr<const I
 AppState::~AppState() { stop_thread(); }
 
 // ---------------------------------------------------------------- UI side
-void AppState::request_params(std::size_t model, const ParamSet& params) {
+void AppState::push_edit(Edit e) {
+  {
+    std::lock_guard lock(edits_mutex_);
+    edits_.push_back(std::move(e));
+  }
+  wake_.notify_one();
+}
+void AppState::request_params(std::size_t model, const ParamSet& params, EditOrigin origin) {
   if (model >= slots_.size()) throw std::out_of_range("AppState: no model " + std::to_string(model));
-  {
-    std::lock_guard lock(edits_mutex_);
-    edits_.push_back(SetParams{model, params});
-  }
-  wake_.notify_one();
+  push_edit(SetParams{model, params, std::move(origin)});
 }
-void AppState::request_seek(int step) {
-  {
-    std::lock_guard lock(edits_mutex_);
-    edits_.push_back(Seek{step});
-  }
-  wake_.notify_one();
-}
-void AppState::request_drag(const Pose& X_EI_target) {
+void AppState::request_seek(int step) { push_edit(Seek{step}); }
+void AppState::request_drag(const Pose& X_EI_target, EditOrigin origin) {
   if (!is_finite(X_EI_target)) throw std::invalid_argument("AppState: non-finite drag pose");
-  {
-    std::lock_guard lock(edits_mutex_);
-    edits_.push_back(Drag{X_EI_target});
-  }
-  wake_.notify_one();
+  push_edit(Drag{X_EI_target, std::move(origin)});
 }
-void AppState::request_path(std::vector<Pose> path) {
-  {
-    std::lock_guard lock(edits_mutex_);
-    edits_.push_back(ReplacePath{std::move(path)});
-  }
-  wake_.notify_one();
+void AppState::request_path(std::vector<Pose> path, EditOrigin origin) {
+  push_edit(ReplacePath{std::move(path), std::move(origin)});
 }
+void AppState::request_undo() { push_edit(Undo{}); }
+void AppState::request_redo() { push_edit(Redo{}); }
+void AppState::request_forget_history() { push_edit(ForgetHistory{}); }
 void AppState::request_model(std::size_t slot, std::unique_ptr<ShearModel> model) {
   if (slot >= slots_.size()) throw std::out_of_range("AppState: no model " + std::to_string(slot));
   if (!model) throw std::invalid_argument("AppState: null model");
-  {
-    std::lock_guard lock(edits_mutex_);
-    edits_.push_back(ReplaceModel{slot, std::move(model)});
-  }
-  wake_.notify_one();
+  push_edit(ReplaceModel{slot, std::move(model)});
 }
 void AppState::set_playing(bool playing) {
   playing_ = playing;
@@ -203,10 +191,11 @@ void AppState::drop_checkpoints_after(int step) {
 }
 
 void AppState::apply(const SetParams& e) {
-  Slot& slot = slots_.at(e.model);
-  slot.model->set_params(e.params);
-  rewind_slot(slot);
-  for (int k = 0; k <= step_; ++k) step_slot(slot, k);
+  ParamsEditState before{e.model, slots_.at(e.model).model->params()};
+  restore_params({e.model, e.params});
+  const ShearModel& model = *slots_.at(e.model).model;
+  const std::string label = e.origin.label.empty() ? "parameters of " + model.id() : e.origin.label;
+  history_.record({label, std::move(before), ParamsEditState{e.model, model.params()}, e.origin.gesture});
 }
 
 void AppState::apply(const Seek& e) {
@@ -224,6 +213,7 @@ void AppState::apply(const Seek& e) {
 }
 
 void AppState::apply(const Drag& e) {
+  PathEditState before = path_state(step_);
   if (!drag_active_) {
     // The first drag of a gesture replaces the future of the path by the dragged segment.
     std::lock_guard lock(path_mutex_);
@@ -236,11 +226,17 @@ void AppState::apply(const Drag& e) {
   const Pose from = path_.empty() ? e.target : path_.back();
   const std::vector<Pose> segment =
       substep_path(from, e.target, config_.max_substep_translation_m, config_.max_substep_rotation_rad);
-  std::lock_guard lock(path_mutex_);
-  path_.insert(path_.end(), segment.begin(), segment.end());
+  {
+    std::lock_guard lock(path_mutex_);
+    path_.insert(path_.end(), segment.begin(), segment.end());
+  }
+  // Redone, a drag shows where it ended: the dragged pose.
+  history_.record({e.origin.label.empty() ? "drag of the indenter" : e.origin.label, std::move(before),
+                   path_state(static_cast<int>(path_.size()) - 1), e.origin.gesture});
 }
 
 void AppState::apply(const ReplacePath& e) {
+  PathEditState before = path_state(step_);
   drag_active_ = false;
   {
     std::lock_guard lock(path_mutex_);
@@ -249,12 +245,59 @@ void AppState::apply(const ReplacePath& e) {
   measured_steps_ = static_cast<int>(path_.size());
   step_ = -1;
   for (Slot& s : slots_) rewind_slot(s);
+  history_.record({e.origin.label.empty() ? "replaced path" : e.origin.label, std::move(before), path_state(step_),
+                   e.origin.gesture});
 }
 
 void AppState::apply(const ReplaceModel& e) {
   Slot& slot = slots_.at(e.model);
   slot.model = e.replacement->clone();
   slot.timing = StepTiming{};
+  rewind_slot(slot);
+  for (int k = 0; k <= step_; ++k) step_slot(slot, k);
+  history_.forget_model(e.model);  // the old model's tables do not fit the new one
+}
+
+void AppState::apply(const Undo& /*e*/) {
+  if (auto entry = history_.undo()) restore(entry->before);
+}
+void AppState::apply(const Redo& /*e*/) {
+  if (auto entry = history_.redo()) restore(entry->after);
+}
+void AppState::apply(const ForgetHistory& /*e*/) { history_.clear(); }
+
+PathEditState AppState::path_state(int step) const {
+  return {std::make_shared<const std::vector<Pose>>(path_), step, measured_steps_};
+}
+
+void AppState::restore(const EditState& s) {
+  if (const auto* p = std::get_if<PathEditState>(&s))
+    restore_path(*p);
+  else
+    restore_params(std::get<ParamsEditState>(s));
+}
+
+void AppState::restore_path(const PathEditState& s) {
+  drag_active_ = false;
+  const std::vector<Pose>& next = *s.path;
+  // The checkpoints up to the last step both paths share stay valid; a seek restores from them.
+  std::size_t shared = 0;
+  {
+    std::lock_guard lock(path_mutex_);
+    while (shared < std::min(path_.size(), next.size()) && path_[shared].matrix() == next[shared].matrix()) ++shared;
+    path_ = next;
+  }
+  measured_steps_ = s.measured_steps;
+  drop_checkpoints_after(static_cast<int>(shared) - 1);
+  const int target = std::clamp(s.step, -1, static_cast<int>(path_.size()) - 1);
+  for (Slot& slot : slots_) seek_slot(slot, target);
+  step_ = target;
+}
+
+// A parameter table replaces the model's and replays it from the start to the current step.
+void AppState::restore_params(const ParamsEditState& s) {
+  Slot& slot = slots_.at(s.model);
+  slot.model->set_params(s.params);
   rewind_slot(slot);
   for (int k = 0; k <= step_; ++k) step_slot(slot, k);
 }
@@ -270,6 +313,8 @@ void AppState::publish() {
   s.speed = speed_;
   s.models.reserve(slots_.size());
   for (const Slot& slot : slots_) s.models.push_back({slot.model->id(), slot.model->params(), slot.out, slot.timing});
+  s.undo_label = history_.undo_label();
+  s.redo_label = history_.redo_label();
   s.version = ++version_;
   {
     std::lock_guard lock(snapshot_mutex_);

@@ -14,6 +14,8 @@
 // forward, so seeking to k gives the same outputs as stepping from 0 to k. A parameter change resets
 // that model and replays it from the start to the current step. A drag replaces the path after the
 // current step by a sub-stepped segment to the dragged pose, so a fast drag never skips contact.
+// Every path and parameter edit applied is recorded in an undo history (core/workbench/edit_history.hpp);
+// undo and redo are edits too, queued and applied at the sync point.
 // This file includes no GL; it is tested in tests/test_app_state.cpp.
 #include <atomic>
 #include <condition_variable>
@@ -30,6 +32,7 @@
 #include "core/geometry/indenter.hpp"
 #include "core/models/model.hpp"
 #include "core/sensor/sensor.hpp"
+#include "core/workbench/edit_history.hpp"
 
 namespace sb {
 
@@ -63,6 +66,16 @@ struct AppSnapshot {
   double speed = 1.0;
   std::vector<ModelView> models;
   std::uint64_t version = 0;  // bumps on every published change
+  std::string undo_label;     // what an undo would take back ("" when nothing): "drag of the indenter"
+  std::string redo_label;
+};
+
+// Which user action an edit comes from, for the undo history: its name there ("" for the edit's own:
+// "drag of the indenter", "parameters of <model id>", "replaced path") and the gesture it belongs to
+// (AppState::new_gesture(); 0: an edit of its own). Every edit of one gesture is one undo entry.
+struct EditOrigin {
+  std::string label;
+  std::uint64_t gesture = 0;
 };
 
 // Linear interpolation in position, slerp in rotation; t in [0, 1].
@@ -81,10 +94,19 @@ class AppState {
   AppState& operator=(const AppState&) = delete;
 
   // ---- UI side (thread-safe; never runs a model)
-  void request_params(std::size_t model, const ParamSet& params);
+  void request_params(std::size_t model, const ParamSet& params, EditOrigin origin = {});
   void request_seek(int step);
-  void request_drag(const Pose& X_EI_target);
-  void request_path(std::vector<Pose> path);  // replaces the path (e.g. another sample) and rewinds
+  void request_drag(const Pose& X_EI_target, EditOrigin origin = {});
+  // Replaces the path (e.g. another sample) and rewinds.
+  void request_path(std::vector<Pose> path, EditOrigin origin = {});
+  // Undo the newest recorded edit / redo the one undone last (nothing when there is none): the path comes
+  // back with the step it was at, a parameter table replays the model to the current step.
+  void request_undo();
+  void request_redo();
+  // The edits queued so far are where the user starts (a session file's path and tables), not theirs to undo.
+  void request_forget_history();
+  // A fresh gesture id for EditOrigin (never 0).
+  std::uint64_t new_gesture() { return ++last_gesture_; }
   // Replaces one slot's model (e.g. FOTS by FOTS re-impl.): the new model replays the path up to the
   // current step, so its field is consistent with the history; the other slots are untouched.
   void request_model(std::size_t slot, std::unique_ptr<ShearModel> model);
@@ -128,21 +150,27 @@ class AppState {
   struct SetParams {
     std::size_t model;
     ParamSet params;
+    EditOrigin origin;
   };
   struct Seek {
     int step;
   };
   struct Drag {
     Pose target;
+    EditOrigin origin;
   };
   struct ReplacePath {
     std::vector<Pose> path;
+    EditOrigin origin;
   };
+  struct Undo {};
+  struct Redo {};
+  struct ForgetHistory {};
   struct ReplaceModel {
     std::size_t model;
     std::shared_ptr<ShearModel> replacement;
   };
-  using Edit = std::variant<SetParams, Seek, Drag, ReplacePath, ReplaceModel>;
+  using Edit = std::variant<SetParams, Seek, Drag, ReplacePath, ReplaceModel, Undo, Redo, ForgetHistory>;
 
   struct Checkpoint {
     std::unique_ptr<ShearModel> model;  // the state after that step (a seek steps on from it)
@@ -159,6 +187,15 @@ class AppState {
   void apply(const Drag& e);
   void apply(const ReplacePath& e);
   void apply(const ReplaceModel& e);
+  void apply(const Undo& e);
+  void apply(const Redo& e);
+  void apply(const ForgetHistory& e);
+  void push_edit(Edit e);
+  // The path as an undo entry keeps it; `step`: the step it is shown at.
+  PathEditState path_state(int step) const;
+  void restore(const EditState& s);
+  void restore_path(const PathEditState& s);
+  void restore_params(const ParamsEditState& s);
   void step_slot(Slot& slot, int k);
   void rewind_slot(Slot& slot);
   void seek_slot(Slot& slot, int target);
@@ -177,6 +214,7 @@ class AppState {
   int step_ = -1;
   int measured_steps_ = 0;
   bool drag_active_ = false;
+  EditHistory history_;
 
   // shared
   mutable std::mutex edits_mutex_;
@@ -187,6 +225,7 @@ class AppState {
   std::atomic<std::uint64_t> version_{0};
   std::atomic<bool> playing_{false};
   std::atomic<double> speed_{1.0};
+  std::atomic<std::uint64_t> last_gesture_{0};
 
   std::function<void()> on_publish_;
   std::thread thread_;
