@@ -11,12 +11,13 @@ using namespace sb;
 constexpr double kTol = 1e-12;
 constexpr double kPitchPx = 30.0;
 
-TEST_CASE("colour_top rounds up to 1, 2, 5 x 10^k; the arrow gain draws the largest at 0.9 pitch",
+TEST_CASE("colour_top is nice_floor, or twice or five times it; the arrow gain draws the largest at 0.9 pitch",
           "[colour_scale]") {
   CHECK(std::abs(colour_top(1.7) - 2.0) < kTol);
   CHECK(std::abs(colour_top(2.0) - 2.0) < kTol);
-  CHECK(std::abs(colour_top(38.0) - 50.0) < kTol);
-  CHECK(std::abs(colour_top(0.3) - 0.5) < kTol);
+  // 38: nice_floor 20, twice reaches it -> 40; 0.3: nice_floor 0.2, twice -> 0.4.
+  CHECK(std::abs(colour_top(38.0) - 40.0) < kTol);
+  CHECK(std::abs(colour_top(0.3) - 0.4) < kTol);
   CHECK(std::abs(nice_floor(38.0) - 20.0) < kTol);
   // 0.9 * 30 / 2 = 13.5; a tiny field is clamped at the slider's 200.
   CHECK(std::abs(auto_arrow_gain(2.0, kPitchPx) - 13.5) < kTol);
@@ -29,7 +30,7 @@ TEST_CASE("a 2 px dataset opened after a 40 px one gets its own scale, hold or n
     k.open("big", 38.0, kPitchPx);
     k.set_hold(hold);
     k.at_frame(38.0);
-    CHECK(std::abs(k.current().colour_max_px - 50.0) < kTol);
+    CHECK(std::abs(k.current().colour_max_px - 40.0) < kTol);
     // Opened before its first step (no field yet): already the small dataset's own, colour_top(1.7) = 2 px,
     // arrows 0.9 * 30 / 1.7 px.
     k.open("small", 1.7, kPitchPx);
@@ -51,8 +52,8 @@ TEST_CASE("colours held for a dataset come back with it, and only grow while hel
   CHECK(std::abs(k.current().colour_max_px - 10.0) < kTol);
   CHECK(std::abs(k.current().arrow_gain - 27.0) < kTol);
   k.open("b", 0.4, kPitchPx);
-  CHECK(std::abs(k.current().colour_max_px - 0.5) < kTol);  // b's own
-  k.open("a", 1.7, kPitchPx);  // back to a: the 10 px it held
+  CHECK(std::abs(k.current().colour_max_px - 0.4) < kTol);  // b's own: colour_top(0.4) = 2 x 0.2
+  k.open("a", 1.7, kPitchPx);                               // back to a: the 10 px it held
   CHECK(std::abs(k.current().colour_max_px - 10.0) < kTol);
 }
 
@@ -64,7 +65,7 @@ TEST_CASE("without hold colours follow the frame; reset returns the dataset's ow
   k.at_frame(8.0);
   CHECK(std::abs(k.current().colour_max_px - 10.0) < kTol);
   k.at_frame(0.3);
-  CHECK(std::abs(k.current().colour_max_px - 0.5) < kTol);
+  CHECK(std::abs(k.current().colour_max_px - 0.4) < kTol);
   const ScaleSetting s = k.reset();
   CHECK(std::abs(s.colour_max_px - 2.0) < kTol);
   CHECK(std::abs(s.arrow_gain - 0.9 * kPitchPx / 1.7) < kTol);

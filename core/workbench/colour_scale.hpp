@@ -17,7 +17,8 @@ inline constexpr double kMaxArrowGain = 200.0;
 
 // The largest of 1, 2, 5 x 10^k not above `x` (scale bar lengths). @pre x > 0.
 double nice_floor(double x);
-// The top of the colour map for a largest displacement: the smallest of 1, 2, 5 x 10^k at or above it.
+// The top of the colour map for a largest displacement: nice_floor(max_px) when it reaches max_px, else twice
+// it when that does, else five times it.
 // @pre max_px > 0.
 double colour_top(double max_px);
 // The arrow gain that draws `max_px` as kAutoArrowFractionOfPitch of `marker_pitch_px`, clamped to the range.

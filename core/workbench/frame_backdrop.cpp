@@ -17,10 +17,8 @@ constexpr std::array<Stop, 5> kViridis{{{0.00, {0.267, 0.005, 0.329}},
                                         {0.75, {0.369, 0.789, 0.383}},
                                         {1.00, {0.993, 0.906, 0.144}}}};
 // Every stop's luminance stays at or under 0.33, so the whole map reads against white pins (luminance 1).
-constexpr std::array<Stop, 4> kHighContrast{{{0.00, {0.05, 0.10, 0.75}},
-                                             {0.35, {0.55, 0.05, 0.70}},
-                                             {0.70, {0.85, 0.05, 0.10}},
-                                             {1.00, {0.85, 0.20, 0.00}}}};
+constexpr std::array<Stop, 4> kHighContrast{
+    {{0.00, {0.05, 0.10, 0.75}}, {0.35, {0.55, 0.05, 0.70}}, {0.70, {0.85, 0.05, 0.10}}, {1.00, {0.85, 0.20, 0.00}}}};
 
 template <std::size_t N>
 Rgb interpolate(const std::array<Stop, N>& stops, double t) {
@@ -52,13 +50,9 @@ double backdrop_brightness(FrameBackdrop b, bool real_frame) {
   return real_frame && b == FrameBackdrop::kDimmed ? kDimmedFrameBrightness : 1.0;
 }
 
-int dimmed_channel(int channel, double brightness) {
-  return static_cast<int>(std::lround(channel * brightness));
-}
+int dimmed_channel(int channel, double brightness) { return static_cast<int>(std::lround(channel * brightness)); }
 
-bool backdrop_outlines_arrows(FrameBackdrop b, bool real_frame) {
-  return real_frame && b == FrameBackdrop::kOutlined;
-}
+bool backdrop_outlines_arrows(FrameBackdrop b, bool real_frame) { return real_frame && b == FrameBackdrop::kOutlined; }
 
 FrameBackdrop PanelBackdrops::of(const std::string& panel) const {
   for (const auto& [name, b] : chosen_)
