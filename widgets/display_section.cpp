@@ -11,8 +11,6 @@
 namespace sb::ui {
 
 namespace {
-// Auto scale: the largest displacement is drawn as this fraction of the marker pitch.
-constexpr double kAutoArrowFractionOfPitch = 0.9;
 // The longest arrow drawn, in marker pitches: one and a half reaches past the next marker without
 // crossing the panel (FOTS's 44 px at the default scene's gain would be 70 pitches).
 constexpr double kMaxArrowPitches = 1.5;
@@ -25,18 +23,26 @@ double largest_finite(const std::vector<Vec2>& d) {
 }
 }  // namespace
 
-void DisplaySection::start_session(const std::vector<Vec2>& rest, const std::vector<std::vector<Vec2>>& measured_px) {
+void DisplaySection::start_session(const std::vector<Vec2>& rest, const std::vector<std::vector<Vec2>>& measured_px,
+                                   const std::string& dataset) {
   double pitch = 1e9;
   for (std::size_t i = 0; i < rest.size(); ++i)
     for (std::size_t j = i + 1; j < rest.size(); ++j) pitch = std::min(pitch, (rest[i] - rest[j]).norm());
   marker_pitch_px_ = pitch < 1e9 && pitch > 0 ? pitch : 33.0;
   scale_.max_arrow_px = static_cast<float>(kMaxArrowPitches * marker_pitch_px_);
-  // The held auto scale starts again with the new session, from the sample's largest measurement.
-  held_max_px_ = 0;
-  sample_max_px_ = 0;
+  // The scale starts at once from the dataset's own (its sample's largest measurement), before any frame
+  // has a field: a scale from the dataset open before is never carried over (unless held for this one).
+  double sample_max_px = 0;
   for (const auto& frame : measured_px)
     for (const Vec2& d : frame)
-      if (d.allFinite()) sample_max_px_ = std::max(sample_max_px_, d.norm());
+      if (d.allFinite()) sample_max_px = std::max(sample_max_px, d.norm());
+  keeper_.open(dataset, sample_max_px, marker_pitch_px_);
+  if (auto_scale_) take(keeper_.current());
+}
+
+void DisplaySection::take(const ScaleSetting& s) {
+  scale_.arrow_gain = static_cast<float>(s.arrow_gain);
+  scale_.colour_max_px = static_cast<float>(s.colour_max_px);
 }
 
 void DisplaySection::auto_scale(const std::vector<Vec2>* measured, const AppSnapshot& snap) {
@@ -53,20 +59,10 @@ void DisplaySection::auto_scale(const std::vector<Vec2>* measured, const AppSnap
       max_px = maxes[maxes.size() / 2];
     }
   }
-  // Without a field yet keep the previous scale rather than blowing up the gain.
-  constexpr double kMinFieldPx = 0.05;
-  if (max_px < kMinFieldPx) return;
-  // Arrows follow the frame (the legend's scale bar says how long a pixel is drawn) ...
-  scale_.arrow_gain = static_cast<float>(std::clamp(kAutoArrowFractionOfPitch * marker_pitch_px_ / max_px, 0.2, 200.0));
-  // ... and colours, held, only grow (from a sample's largest measurement on), so a colour keeps its meaning
-  // through a drag or a replay (the colour maximum once went 2 -> 40 -> 10 px within one drag).
-  if (hold_scale_) {
-    held_max_px_ = std::max({held_max_px_, max_px, sample_max_px_});
-    max_px = held_max_px_;
-  }
-  // The colour map tops out at a round number just above the reference's largest displacement.
-  const double top = nice_floor(max_px);
-  scale_.colour_max_px = static_cast<float>(top >= max_px ? top : (top * 2 >= max_px ? top * 2 : top * 5));
+  // Arrows follow the frame (the legend's scale bar says how long a pixel is drawn); colours, held, only
+  // grow (from a sample's largest measurement on), so a colour keeps its meaning through a drag or a replay
+  // (the colour maximum once went 2 -> 40 -> 10 px within one drag). A frame without a field keeps the scale.
+  take(keeper_.at_frame(max_px));
 }
 
 void DisplaySection::draw(const AppSnapshot& snap, Viewport3D& viewport, const std::vector<ScreenRegion>& regions,
@@ -84,12 +80,26 @@ void DisplaySection::draw(const AppSnapshot& snap, Viewport3D& viewport, const s
 void DisplaySection::draw_scale_controls() {
   ImGui::Checkbox("auto scale", &auto_scale_);
   ImGui::SameLine();
-  if (ImGui::Checkbox("hold colours", &hold_scale_)) held_max_px_ = 0;
+  bool hold = keeper_.hold();
+  if (ImGui::Checkbox("hold colours", &hold)) keeper_.set_hold(hold);
   if (ImGui::IsItemHovered())
     ImGui::SetTooltip(
         "on: the colour scale only grows (a dataset sample: from its largest measured |d|), so a\n"
         "colour means the same from frame to frame; the arrows still follow each frame.\n"
+        "Held for this dataset only: another dataset opens at its own scale.\n"
         "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
+  if (ImGui::SmallButton("reset colour scale")) {
+    auto_scale_ = true;
+    take(keeper_.reset());
+  }
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("colour max and arrow gain back to this dataset's own (its sample's largest measured |d|)");
+  next_item_leaves_label_room();
+  if (ImGui::BeginCombo("colour map", colour_map_name(scale_.map).c_str())) {
+    for (const ColourMap m : kColourMaps)
+      if (ImGui::Selectable(colour_map_name(m).c_str(), m == scale_.map)) scale_.map = m;
+    ImGui::EndCombo();
+  }
   next_item_leaves_label_room();
   if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
     auto_scale_ = false;

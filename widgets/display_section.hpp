@@ -2,7 +2,10 @@
 // The Display section: the shared arrow gain and colour scale (auto, held at the largest, or fixed), the
 // model the 3D view's markers are coloured by, the camera presets and the screenshot row. It owns the field
 // scale every panel draws with.
+#include <string>
 #include <vector>
+
+#include "core/workbench/colour_scale.hpp"
 
 #include "core/workbench/app_state.hpp"
 #include "widgets/field_panel.hpp"
@@ -14,8 +17,10 @@ namespace sb::ui {
 class DisplaySection {
  public:
   // A new session: the marker pitch (smallest distance between two rest markers, for the automatic arrow
-  // scale) and the sample's largest measured displacement (the held colour scale starts from it).
-  void start_session(const std::vector<Vec2>& rest_px, const std::vector<std::vector<Vec2>>& measured_px);
+  // scale), the sample's largest measured displacement (the dataset's own colour scale) and the dataset's
+  // name ("" for a scene: the colours held for a dataset stay with it, core/workbench/colour_scale).
+  void start_session(const std::vector<Vec2>& rest_px, const std::vector<std::vector<Vec2>>& measured_px,
+                     const std::string& dataset);
   // The automatic scale for this frame: `measured` is the measurement at the step, null without one.
   void auto_scale(const std::vector<Vec2>* measured, const AppSnapshot& snap);
   void draw(const AppSnapshot& snap, Viewport3D& viewport, const std::vector<ScreenRegion>& regions,
@@ -42,11 +47,11 @@ class DisplaySection {
   void draw_marker_model_combo(const AppSnapshot& snap);
   void draw_screenshot_row(const std::vector<ScreenRegion>& regions, WorkbenchRequest& req);
 
+  void take(const ScaleSetting& s);
+
   FieldScale scale_;
   bool auto_scale_ = true;
-  bool hold_scale_ = true;    // the auto scale only grows (colours keep their meaning)
-  double held_max_px_ = 0;    // the largest reference |d| seen since the session opened
-  double sample_max_px_ = 0;  // the replayed sample's largest measured |d| (0: a scene)
+  ColourScaleKeeper keeper_;  // the dataset's own scale, and colours held per dataset
   double marker_pitch_px_ = 33.0;
   int marker_model_ = 0;
   int screenshot_region_ = 0;  // 0: window, i: regions[i - 1]

@@ -10,19 +10,12 @@
 namespace sb::ui {
 
 namespace {
-struct Stop {
-  float t, r, g, b;
-};
-// Viridis-like, readable over a light gel image and a dark background.
-constexpr std::array<Stop, 5> kStops{{{0.00f, 0.27f, 0.00f, 0.33f},
-                                      {0.25f, 0.23f, 0.32f, 0.55f},
-                                      {0.50f, 0.13f, 0.57f, 0.55f},
-                                      {0.75f, 0.37f, 0.79f, 0.38f},
-                                      {1.00f, 0.99f, 0.91f, 0.14f}}};
 constexpr ImU32 kRestColour = IM_COL32(30, 30, 30, 200);
 constexpr ImU32 kContactColour = IM_COL32(230, 40, 40, 255);
 constexpr ImU32 kFrameColour = IM_COL32(90, 90, 100, 255);
 constexpr ImU32 kGelColour = IM_COL32(196, 188, 170, 255);
+// Drawn under each arrow, wider, when a panel outlines its arrows over a raw frame.
+constexpr ImU32 kArrowOutlineColour = IM_COL32(0, 0, 0, 230);
 // Below this magnitude (image px) an arrow is drawn as a dot only.
 constexpr double kMinArrowPx = 0.02;
 
@@ -46,21 +39,9 @@ std::string elide(const std::string& text, float max_width) {
 }
 }  // namespace
 
-ImU32 colour_map(float t) {
-  t = std::clamp(t, 0.0f, 1.0f);
-  std::size_t i = 1;
-  while (i + 1 < kStops.size() && t > kStops[i].t) ++i;
-  const Stop& a = kStops[i - 1];
-  const Stop& b = kStops[i];
-  const float s = (t - a.t) / (b.t - a.t);
-  return ImGui::ColorConvertFloat4ToU32(ImVec4(a.r + s * (b.r - a.r), a.g + s * (b.g - a.g), a.b + s * (b.b - a.b), 1));
-}
-
-double nice_floor(double x) {
-  const double p = std::pow(10.0, std::floor(std::log10(x)));
-  for (double m : {5.0, 2.0, 1.0})
-    if (m * p <= x) return m * p;
-  return p;
+ImU32 colour_map(ColourMap map, float t) {
+  const Rgb c = colour_of(map, t);
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(float(c.r), float(c.g), float(c.b), 1));
 }
 
 namespace {
@@ -116,7 +97,17 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   const bool title_fits = ImGui::CalcTextSize(in.title.c_str()).x + ImGui::CalcTextSize("enlarge").x + pad + 4 <= width;
   const char* button = in.enlarged ? "back" : (title_fits ? "enlarge" : "+");
   const float button_w = ImGui::CalcTextSize(button).x + pad;
-  ImGui::TextUnformatted(elide(in.title, width - button_w - 4).c_str());
+  // Over a recorded frame, a second button: how the frame sits under this panel's arrows (cycles).
+  const char* frame_button = in.real_frame ? "frame" : nullptr;
+  const float frame_w = frame_button != nullptr ? ImGui::CalcTextSize(frame_button).x + pad + 4 : 0.0f;
+  ImGui::TextUnformatted(elide(in.title, width - button_w - frame_w - 4).c_str());
+  if (frame_button != nullptr) {
+    ImGui::SetCursorScreenPos(ImVec2(top.x + width - button_w - frame_w, top.y));
+    if (ImGui::SmallButton(frame_button)) result.cycle_backdrop = true;
+    if (interactive && ImGui::IsItemHovered())
+      ImGui::SetTooltip("under the arrows: %s (click: %s)", backdrop_name(in.backdrop).c_str(),
+                        backdrop_name(next_backdrop(in.backdrop)).c_str());
+  }
   ImGui::SetCursorScreenPos(ImVec2(top.x + width - button_w, top.y));
   if (ImGui::SmallButton(button)) result.toggle_enlarge = true;
   if (interactive && ImGui::IsItemHovered())
@@ -126,9 +117,11 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   const float height = in.image_height_px * zoom;
   const ImVec2 p0(top.x, top.y + line);
   const ImVec2 p1(p0.x + width, p0.y + height);
-  if (in.background != nullptr)
-    dl->AddImage(in.background, p0, p1);
-  else
+  if (in.background != nullptr) {
+    // A recorded frame dimmed (by default) so that the arrows stand out of its white pins.
+    const int level = dimmed_channel(255, backdrop_brightness(in.backdrop, in.real_frame));
+    dl->AddImage(in.background, p0, p1, ImVec2(0, 0), ImVec2(1, 1), IM_COL32(level, level, level, 255));
+  } else
     dl->AddRectFilled(p0, p1, kGelColour);
   dl->AddRect(p0, p1, kFrameColour);
   dl->PushClipRect(p0, p1, true);  // nothing drawn for this field leaves its panel
@@ -145,6 +138,7 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   };
   const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
   const float dot = std::max(1.5f, 2.2f * zoom);
+  const bool outline = backdrop_outlines_arrows(in.backdrop, in.real_frame);
   bool any_cut = false;
   if (in.rest_px != nullptr) {
     for (std::size_t m = 0; m < in.rest_px->size(); ++m) {
@@ -164,11 +158,12 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
       if (!std::isfinite(d.x()) || !std::isfinite(d.y())) continue;  // a marker the tracker lost
       const double mag = d.norm();
       if (mag < kMinArrowPx) continue;
-      const ImU32 col = colour_map(float(mag / scale.colour_max_px));
+      const ImU32 col = colour_map(scale.map, float(mag / scale.colour_max_px));
       bool cut = false;
       const Vec2 a = drawn_arrow(d, scale.arrow_gain, scale.max_arrow_px, &cut) * zoom;
       const ImVec2 tip(r.x + float(a.x()), r.y + float(a.y()));
       const float thickness = std::max(1.5f, 0.9f * zoom);
+      if (outline) draw_arrow(dl, r, tip, kArrowOutlineColour, thickness + 2.5f);
       draw_arrow(dl, r, tip, col, thickness);
       if (cut) {  // a second head behind the first: longer than drawn
         any_cut = true;
@@ -219,7 +214,8 @@ float draw_field_legend(const FieldScale& scale, float image_zoom, float width) 
   constexpr int kSegments = 48;
   for (int i = 0; i < kSegments; ++i) {
     const float x0 = top.x + label_w + bar_w * i / kSegments, x1 = top.x + label_w + bar_w * (i + 1) / kSegments;
-    dl->AddRectFilled(ImVec2(x0, top.y + 3), ImVec2(x1 + 0.5f, top.y + 3 + bar_h), colour_map((i + 0.5f) / kSegments));
+    dl->AddRectFilled(ImVec2(x0, top.y + 3), ImVec2(x1 + 0.5f, top.y + 3 + bar_h),
+                      colour_map(scale.map, (i + 0.5f) / kSegments));
   }
   const ImU32 text = ImGui::GetColorU32(ImGuiCol_Text);
   dl->AddText(ImVec2(top.x, top.y), text, "|d|");

@@ -11,7 +11,9 @@
 #include <vector>
 
 #include "core/geometry/pose.hpp"
-#include "core/workbench/field_display.hpp"  // off_scale_note, drawn_arrow
+#include "core/workbench/colour_scale.hpp"    // nice_floor
+#include "core/workbench/field_display.hpp"   // off_scale_note, drawn_arrow
+#include "core/workbench/frame_backdrop.hpp"  // FrameBackdrop, ColourMap
 
 namespace sb::ui {
 
@@ -21,6 +23,7 @@ struct FieldScale {
   // Longest arrow drawn (image pixels; 0: no limit). A longer one is cut to this length and drawn with
   // a double head, so one model far off the shared scale does not bury its panel in lines.
   float max_arrow_px = 0.0f;
+  ColourMap map = ColourMap::kViridis;  // shared by every panel and the 3D view
 };
 
 struct FieldMetrics {
@@ -34,6 +37,8 @@ struct FieldPanelInput {
   const std::vector<Vec2>* disp_px = nullptr;  // null or empty: nothing to draw
   const std::vector<std::uint8_t>* in_contact = nullptr;
   ImTextureID background = nullptr;
+  bool real_frame = false;                          // `background` is a recorded frame (not the neutral gel)
+  FrameBackdrop backdrop = FrameBackdrop::kDimmed;  // how that frame sits under the arrows
   int image_width_px = 320;
   int image_height_px = 240;
   std::optional<FieldMetrics> metrics;
@@ -47,12 +52,11 @@ struct FieldPanelResult {
   int hovered_marker = -1;      // the marker under the mouse (nearest within reach), -1: none
   bool toggle_enlarge = false;  // the enlarge / back button was pressed, or the image double-clicked
   bool clicked = false;         // the image was clicked (the workbench shows this model in the 3D view)
+  bool cycle_backdrop = false;  // the frame button was pressed: the next FrameBackdrop for this panel
 };
 
-// RGBA of a magnitude on the colour map (t in [0, 1], clamped): dark blue, teal, green, yellow.
-ImU32 colour_map(float t);
-// The largest of 1, 2, 5 x 10^k not above `x` (scale bar lengths). x > 0.
-double nice_floor(double x);
+// RGBA of a magnitude on colour map `map` (t in [0, 1], clamped; core/workbench/frame_backdrop).
+ImU32 colour_map(ColourMap map, float t);
 
 // Draws at the cursor into a box of `width` pixels (title row, then the image). `interactive`: hover and
 // the enlarge button answer the mouse.

@@ -99,6 +99,7 @@ struct Viewport3D::Impl {
     Pose X_EI_shown = Pose::Identity();
     bool have_pose = false;
     float colour_max_px = 1.0f;
+    ColourMap map = ColourMap::kViridis;
     bool camera_set = false;
     bool dirty = true;
     std::uint64_t shown_version = 0;
@@ -352,12 +353,12 @@ void show_tracked_points(const FieldOutput* out, PointCloud& tracked, PointCloud
 
 }  // namespace
 
-void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_max_px) {
+void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_max_px, ColourMap map) {
   Impl& s = *impl_;
   if (s.shown.sensor == nullptr) return;
   const Sensor& sensor = *s.shown.sensor;
   if (snap.version == s.shown.shown_version && model_index == s.shown.shown_model &&
-      colour_max_px == s.shown.colour_max_px) {
+      colour_max_px == s.shown.colour_max_px && map == s.shown.map) {
     if (s.shown.moving) {
       s.shown.moving = false;
       if (s.shown.low_res_shown) s.shown.dirty = true;
@@ -367,6 +368,7 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
   s.shown.shown_version = snap.version;
   s.shown.shown_model = model_index;
   s.shown.colour_max_px = colour_max_px;
+  s.shown.map = map;
   s.shown.dirty = true;
   const FieldOutput* out = (model_index >= 0 && model_index < static_cast<int>(snap.models.size()))
                                ? &snap.models[model_index].out
@@ -425,7 +427,8 @@ void Viewport3D::update(const AppSnapshot& snap, int model_index, float colour_m
     p.z() += 0.05e-3;
     const bool coloured = out != nullptr && !out->disp_px.empty();
     s.actors.markers.add(
-        p * kMmPerM, coloured ? rgb_of(colour_map(float(marker_px[m] / std::max(1e-6f, colour_max_px)))) : kMarkerRgb);
+        p * kMmPerM,
+        coloured ? rgb_of(colour_map(s.shown.map, float(marker_px[m] / std::max(1e-6f, colour_max_px)))) : kMarkerRgb);
   }
   s.actors.markers.commit();
 

@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "core/workbench/app_state.hpp"
+#include "core/workbench/frame_backdrop.hpp"
 #include "core/workbench/session_file.hpp"
 
 namespace sb::ui {
@@ -30,7 +31,7 @@ class Viewport3D {
   void set_scene(const Sensor& sensor, const Indenter& indenter);
   // Moves the indenter, dents a flat pad where the indenter is in it, and updates markers (coloured by
   // |d| up to `colour_max_px`, the field panels' scale) and tracked points from one model's output.
-  void update(const AppSnapshot& snapshot, int model_index, float colour_max_px);
+  void update(const AppSnapshot& snapshot, int model_index, float colour_max_px, ColourMap map);
   void set_camera(CameraPreset preset);
   // The camera as the user left it (none before the first view is framed), and back (a session reopened).
   std::optional<CameraView> camera_view() const;

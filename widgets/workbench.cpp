@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "core/workbench/column_layout.hpp"
+#include "core/workbench/report_dataset.hpp"
 #include "core/workbench/unsaved_work.hpp"
 #include "widgets/keys.hpp"
 #include "widgets/replay_section.hpp"
@@ -106,7 +107,7 @@ void Workbench::set_session(AppState* state, MeasuredData measured, std::string 
   rmse_.reset();  // a new sample: its series is computed afresh
   residual_.restart_corrected();
   viewport_.set_scene(*state_->sensor(), *state_->indenter());
-  display_.start_session(state_->sensor()->markers_rest_px, measured_.disp_px);
+  display_.start_session(state_->sensor()->markers_rest_px, measured_.disp_px, dataset_name(replay_.dataset_dir));
   pose_.reset();
 }
 
@@ -365,6 +366,7 @@ void Workbench::draw_fields(float width, float height) {
   ImTextureID background = nullptr;
   if (snap_.step >= 0 && snap_.step < int(measured_.frame_paths.size()) && snap_.step < snap_.measured_steps)
     background = textures_->frame_for(measured_.frame_paths[snap_.step]);
+  const bool real_frame = background != nullptr;
   if (background == nullptr) background = textures_->neutral_for(iw, ih);
 
   const int models = static_cast<int>(snap_.models.size());
@@ -387,6 +389,8 @@ void Workbench::draw_fields(float width, float height) {
   for (int i = 0; i < n; ++i) {
     FieldPanelInput in = panel_input(i, measured, residuals[i]);
     in.background = background;
+    in.real_frame = real_frame;
+    in.backdrop = backdrops_.of(names[i]);
     if (i != models || measured != nullptr) shown_fields_.emplace_back(in.title, in.disp_px);
     if (one && i != enlarged) continue;
     const int cell = i + 1;  // the grid's cell: the 3D view is cell 0
@@ -401,6 +405,7 @@ void Workbench::draw_fields(float width, float height) {
     ImGui::PushID(i);
     const FieldPanelResult r = draw_field_panel(in, display_.scale(), pw, options_.interactive);
     if (r.toggle_enlarge) enlarged_ = one ? std::string() : names[i];
+    if (r.cycle_backdrop) backdrops_.cycle(names[i]);
     // The model panel last clicked (or enlarged) is the one the 3D view colours its markers by.
     if ((r.clicked || r.toggle_enlarge) && i < models) display_.set_marker_model(i);
     if (r.hovered_marker >= 0 || (forced_hover_ >= 0 && first_shown && forced_hover_ < int(in.rest_px->size()))) {
@@ -426,7 +431,7 @@ void Workbench::draw_fields(float width, float height) {
 // points' colours and their lines mean).
 void Workbench::draw_view_cell(float x, float y, float w, float h) {
   ImGui::SetCursorScreenPos(ImVec2(x, y));
-  viewport_.update(snap_, display_.marker_model(), display_.scale().colour_max_px);
+  viewport_.update(snap_, display_.marker_model(), display_.scale().colour_max_px, display_.scale().map);
   regions_.push_back({"3D view", x, y, w, h});
   if (auto target = viewport_.draw(w, h, pose_.shown(snap_, viewport_.dragging()), options_.interactive)) {
     if (view_drag_gesture_ == 0) {  // the drag's first move
@@ -452,7 +457,8 @@ void Workbench::draw_view_legend(ImVec2 at, float width) {
                              {IM_COL32(60, 200, 90, 255), "stick", false, {}},
                              {IM_COL32(240, 150, 40, 255), "slip", false, {}},
                              {IM_COL32(150, 150, 150, 255), "free (tracked points)", false, {}},
-                             {IM_COL32(220, 220, 220, 255), "line: a tracked point to its anchor", true, {}}};
+                             {IM_COL32(60, 120, 255, 255), "anchor (blue points)", false, {}},
+                             {IM_COL32(89, 140, 255, 255), "line: a tracked point to its anchor", true, {}}};
   const float lh = ImGui::GetTextLineHeight();
   float x = 0, y = 0, right = 0;
   for (std::size_t k = 0; k < items.size(); ++k) {  // rows: the markers, the point states, the lines

@@ -184,8 +184,9 @@ class Workbench {
   void say_if_path_replaced(const char* by);
   void draw_undo_row();
   // The field area (the right column).
-  std::string enlarged_;     // the enlarged field panel's name, "" for none
-  int hovered_marker_ = -1;  // the marker under the mouse in the last frame (ringed in every panel)
+  std::string enlarged_;      // the enlarged field panel's name, "" for none
+  PanelBackdrops backdrops_;  // each panel's choice of how a recorded frame sits under its arrows
+  int hovered_marker_ = -1;   // the marker under the mouse in the last frame (ringed in every panel)
   int forced_hover_ = -1;
   // What the field panels drew in this frame (title, field or null), for the marker tooltip.
   std::vector<std::pair<std::string, const std::vector<Vec2>*>> shown_fields_;
