@@ -3,6 +3,7 @@
 #include <imgui.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 #include "widgets/panels.hpp"
@@ -74,6 +75,8 @@ void DisplaySection::draw(const AppSnapshot& snap, Viewport3D& viewport, const s
   if (ImGui::SmallButton("Side")) viewport.set_camera(CameraPreset::kSide);
   ImGui::SameLine();
   if (ImGui::SmallButton("Iso")) viewport.set_camera(CameraPreset::kIso);
+  ImGui::SameLine();
+  draw_colour_map_combo();
   draw_screenshot_row(regions, req);
 }
 
@@ -88,24 +91,32 @@ void DisplaySection::draw_scale_controls() {
         "colour means the same from frame to frame; the arrows still follow each frame.\n"
         "Held for this dataset only: another dataset opens at its own scale.\n"
         "off: colours follow every frame. Untick auto scale to fix both at the sliders' values.");
-  if (ImGui::SmallButton("reset colour scale")) {
+  // On the checkboxes' row (and the colour map on the camera buttons'): the rows below keep their places.
+  ImGui::SameLine();
+  if (ImGui::SmallButton("reset##colour_scale")) {
     auto_scale_ = true;
     take(keeper_.reset());
   }
   if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("colour max and arrow gain back to this dataset's own (its sample's largest measured |d|)");
-  next_item_leaves_label_room();
-  if (ImGui::BeginCombo("colour map", colour_map_name(scale_.map).c_str())) {
-    for (const ColourMap m : kColourMaps)
-      if (ImGui::Selectable(colour_map_name(m).c_str(), m == scale_.map)) scale_.map = m;
-    ImGui::EndCombo();
-  }
+    ImGui::SetTooltip(
+        "reset the colour scale: colour max and arrow gain back to this dataset's own\n"
+        "(its sample's largest measured |d|)");
   next_item_leaves_label_room();
   if (ImGui::SliderFloat("arrow gain", &scale_.arrow_gain, 0.2f, 200.0f, "%.3gx", ImGuiSliderFlags_Logarithmic))
     auto_scale_ = false;
   next_item_leaves_label_room();
   if (ImGui::SliderFloat("colour max", &scale_.colour_max_px, 0.05f, 50.0f, "%.3g px", ImGuiSliderFlags_Logarithmic))
     auto_scale_ = false;
+}
+
+void DisplaySection::draw_colour_map_combo() {
+  ImGui::SetNextItemWidth(-FLT_MIN);
+  if (ImGui::BeginCombo("##colour_map", colour_map_name(scale_.map).c_str())) {
+    for (const ColourMap m : kColourMaps)
+      if (ImGui::Selectable(colour_map_name(m).c_str(), m == scale_.map)) scale_.map = m;
+    ImGui::EndCombo();
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("colour map of |d| in every panel and the 3D markers");
 }
 
 void DisplaySection::draw_marker_model_combo(const AppSnapshot& snap) {

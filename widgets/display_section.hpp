@@ -44,6 +44,7 @@ class DisplaySection {
 
  private:
   void draw_scale_controls();
+  void draw_colour_map_combo();
   void draw_marker_model_combo(const AppSnapshot& snap);
   void draw_screenshot_row(const std::vector<ScreenRegion>& regions, WorkbenchRequest& req);
 

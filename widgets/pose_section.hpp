@@ -30,8 +30,8 @@ class PoseSection {
   void ask_checked(const Pose& X_EI, AppState& state);
 
   std::optional<Pose> last_drag_;
-  std::optional<Pose> typed_;  // typed into a field still being edited
-  std::string refusal_;        // why the last typed pose was refused, shown under the fields until the next edit
+  std::optional<Pose> typed_;        // typed into a field still being edited
+  std::string refusal_;              // why the last typed pose was refused, shown under the fields until the next edit
   std::uint64_t panel_gesture_ = 0;  // the pose fields' edit in progress (0: none)
 };
 

@@ -179,7 +179,7 @@ class Workbench {
   QuestionDialog question_;
   LoadingDialog loading_;
   bool show_help_ = false;
-  float dragged_left_px_ = 0;  // where the user dragged the columns' divider (0: never)
+  float dragged_left_px_ = 0;            // where the user dragged the columns' divider (0: never)
   std::uint64_t view_drag_gesture_ = 0;  // the 3D view's drag in progress (0: none): one undo entry
   void say_if_path_replaced(const char* by);
   void draw_undo_row();

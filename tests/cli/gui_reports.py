@@ -9,13 +9,13 @@ Drives the real `shearbench gui` (gui_journeys.py's driver: xdotool, the window 
   3. P writes its screenshot in the output folder (the per-user one: the session file is in a checkout here),
      not into the working folder (the repository).
 """
-import argparse
+import functools
 import os
-import shutil
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from journey_runner import journey_args, run_journeys  # noqa: E402  (the shared command line and loop)
 from gui_journeys import Journeys  # noqa: E402
 
 
@@ -81,27 +81,9 @@ def journey_screenshot_folder(j):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--exe", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--src", required=True)
-    p.add_argument("--data", default=os.environ.get("SHEARBENCH_DATA", ""))
-    p.add_argument("--only", default="", help="run only the journeys whose name contains this")
-    a = p.parse_args()
-    a.data = os.path.abspath(a.data)
-    shutil.rmtree(a.work, ignore_errors=True)
-    os.makedirs(a.work)
+    a = journey_args()
     j = Journeys(a)
-    try:
-        for journey in (journey_own_dataset, journey_wrong_dataset, journey_screenshot_folder):
-            if a.only not in journey.__name__:
-                continue
-            j.say(f"--- {journey.__name__}")
-            journey(j)
-    finally:
-        j.kill()
-    j.say(f"{len(j.failures)} failures in {time.time() - j.t0:.0f} s")
-    sys.exit(1 if j.failures else 0)
+    run_journeys(j, [functools.partial(f, j) for f in (journey_own_dataset, journey_wrong_dataset, journey_screenshot_folder)], a.only)
 
 
 if __name__ == "__main__":

@@ -13,14 +13,13 @@ that Ctrl+S writes:
   3. in the Open field, Ctrl+A, End and 60 BackSpaces empty it: what is typed next opens alone;
   4. a Ctrl+click on a parameter's slider, a value typed and Enter set that value.
 """
-import argparse
 import os
-import shutil
 import signal
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from journey_runner import journey_args, run_journeys  # noqa: E402  (the shared command line and loop)
 from gui_journeys import Journeys  # noqa: E402  (the driving: start, keys, clicks, titles, the session file)
 
 # Positions in the 1600x900 window, for scenes/press_cow.json as opened below (the layout of the headless PNG).
@@ -149,29 +148,9 @@ class Taps(Journeys):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--exe", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--src", required=True)
-    p.add_argument("--data", default=os.environ.get("SHEARBENCH_DATA", ""))
-    p.add_argument("--only", default="", help="run the journeys whose name contains this")
-    a = p.parse_args()
-    a.data = os.path.abspath(a.data)
-    shutil.rmtree(a.work, ignore_errors=True)
-    os.makedirs(a.work)
+    a = journey_args()
     j = Taps(a)
-    try:
-        for journey in (j.journey_step_clicks, j.journey_play_clicks, j.journey_text_field, j.journey_slider):
-            if a.only not in journey.__name__:
-                continue
-            j.say(f"--- {journey.__name__}")
-            journey()
-            j.kill()
-            time.sleep(1.0)   # the X server done with the last window
-    finally:
-        j.kill()
-    j.say(f"{len(j.failures)} failures in {time.time() - j.t0:.0f} s")
-    sys.exit(1 if j.failures else 0)
+    run_journeys(j, [j.journey_step_clicks, j.journey_play_clicks, j.journey_text_field, j.journey_slider], a.only)
 
 
 if __name__ == "__main__":

@@ -8,13 +8,12 @@ Each journey reads what the workbench writes: the session file Ctrl+S saves, and
   3. opening another scene while a nudge is unsaved asks first: Enter (Cancel) keeps the scene open; once
      saved, the other scene opens without a question.
 """
-import argparse
 import os
-import shutil
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from journey_runner import journey_args, run_journeys  # noqa: E402  (the shared command line and loop)
 from gui_taps import POS_OPEN_BUTTON, POS_OPEN_FIELD, POS_SLIDER_K, SIZE, Taps  # noqa: E402  (positions, driving)
 
 # The keeper looks at the work every 0.5 s: an edit is "unsaved" for an open after this long.
@@ -109,29 +108,9 @@ class Undo(Taps):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--exe", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--src", required=True)
-    p.add_argument("--data", default=os.environ.get("SHEARBENCH_DATA", ""))
-    p.add_argument("--only", default="", help="run the journeys whose name contains this")
-    a = p.parse_args()
-    a.data = os.path.abspath(a.data)
-    shutil.rmtree(a.work, ignore_errors=True)
-    os.makedirs(a.work)
+    a = journey_args()
     j = Undo(a)
-    try:
-        for journey in (j.journey_nudge, j.journey_slider, j.journey_open_asks):
-            if a.only not in journey.__name__:
-                continue
-            j.say(f"--- {journey.__name__}")
-            journey()
-            j.kill()
-            time.sleep(1.0)   # the X server done with the last window
-    finally:
-        j.kill()
-    j.say(f"{len(j.failures)} failures in {time.time() - j.t0:.0f} s")
-    sys.exit(1 if j.failures else 0)
+    run_journeys(j, [j.journey_nudge, j.journey_slider, j.journey_open_asks], a.only)
 
 
 if __name__ == "__main__":

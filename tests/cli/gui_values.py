@@ -8,14 +8,13 @@ xvfb-run with a screen larger than the window (1920x1080 for a 1600x900 window),
      carries the note the field shows);
   3. with the pointer outside the window, P writes no PNG into the output folder; with it inside, P writes one.
 """
-import argparse
 import glob
 import os
-import shutil
 import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from journey_runner import journey_args, run_journeys  # noqa: E402  (the shared command line and loop)
 from gui_taps import Taps  # noqa: E402  (the driving, and taps made while the process is stopped)
 
 # Positions in the 1600x900 window, for scenes/press_cow.json (the layout of the headless PNG at 1600x900).
@@ -107,29 +106,9 @@ class Values(Taps):
 
 
 def main():
-    p = argparse.ArgumentParser()
-    p.add_argument("--exe", required=True)
-    p.add_argument("--work", required=True)
-    p.add_argument("--src", required=True)
-    p.add_argument("--data", default=os.environ.get("SHEARBENCH_DATA", ""))
-    p.add_argument("--only", default="", help="run the journeys whose name contains this")
-    a = p.parse_args()
-    a.data = os.path.abspath(a.data)
-    shutil.rmtree(a.work, ignore_errors=True)
-    os.makedirs(a.work)
+    a = journey_args()
     j = Values(a)
-    try:
-        for journey in (j.journey_pose, j.journey_param, j.journey_shortcut_outside):
-            if a.only not in journey.__name__:
-                continue
-            j.say(f"--- {journey.__name__}")
-            journey()
-            j.kill()
-            time.sleep(1.0)   # the X server done with the last window
-    finally:
-        j.kill()
-    j.say(f"{len(j.failures)} failures in {time.time() - j.t0:.0f} s")
-    sys.exit(1 if j.failures else 0)
+    run_journeys(j, [j.journey_pose, j.journey_param, j.journey_shortcut_outside], a.only)
 
 
 if __name__ == "__main__":
