@@ -207,8 +207,7 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
 }
 
 // Everything that replaces the session: on the worker (reopen_then), so the window stays live.
-void Frontend::handle_open_requests(const ui::WorkbenchRequest& req, bool confirmed) {
-  if (!confirmed && ask_before_open(req)) return;
+void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
   if (req.open_sample) {
     SessionOptions o = session_options_;
     o.open.sample_id = session_.replay.samples.at(*req.open_sample);
@@ -225,24 +224,6 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req, bool confir
     reopen_then(o, Baseline::kNone, "parameter set " + name,
                 [this, name] { workbench_.set_message("every model starts again from parameter set " + name); });
   }
-}
-
-// Opening replaces the path, the parameters and their undo history: unsaved drags and edits would go without
-// a word, so the user is asked first (the question's first button, Enter's, keeps the work).
-bool Frontend::ask_before_open(const ui::WorkbenchRequest& req) {
-  const bool opens = req.open_sample || req.open_session || req.open_dataset || req.param_set;
-  if (!opens || !options_.keep_work || !keeper_.dirty()) return false;
-  ui::WorkbenchRequest waiting;
-  waiting.open_sample = req.open_sample;
-  waiting.open_session = req.open_session;
-  waiting.open_dataset = req.open_dataset;
-  waiting.param_set = req.param_set;
-  open_waiting_ = waiting;
-  workbench_.ask("open",
-                 "There are unsaved changes (drags, parameter edits).\nOpening replaces them; save first with Ctrl+S "
-                 "to keep them.",
-                 {"Cancel", "Open anyway"});
-  return true;
 }
 
 // Save / Ctrl+S: the session file is adopted only once written (a refused path is not offered again).
@@ -486,14 +467,6 @@ void Frontend::handle_answer(const std::string& id, int button) {
     } else {
       keeper_.discard_autosave();
     }
-  } else if (id == "open") {
-    std::optional<ui::WorkbenchRequest> waiting = std::move(open_waiting_);
-    open_waiting_.reset();
-    if (button != 1 || !waiting) {
-      workbench_.set_message("not opened: the unsaved changes are kept");
-      return;
-    }
-    handle_open_requests(*waiting, /*confirmed=*/true);
   } else if (id == "close") {
     if (button == 0) {  // Save, then close (a refused path keeps the window open, with the reason)
       save_session_to(workbench_.session_path());

@@ -94,11 +94,7 @@ class Frontend {
 
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
-  // `confirmed`: the user chose "Open anyway" over unsaved work.
-  void handle_open_requests(const ui::WorkbenchRequest& req, bool confirmed = false);
-  // With unsaved work, an open (sample, scene, dataset, session, parameter set) waits for the user's answer.
-  bool ask_before_open(const ui::WorkbenchRequest& req);
-  std::optional<ui::WorkbenchRequest> open_waiting_;
+  void handle_open_requests(const ui::WorkbenchRequest& req);
   void save_session_to(const std::string& path);
   void install_session(Session next, const SessionOptions& options, Baseline baseline);
   void poll_load();

@@ -4,9 +4,7 @@
 Each journey reads what the workbench writes: the session file Ctrl+S saves, and the window's title.
   1. at step 0 one nudge (Up) replaces the scene's path by a short one; Ctrl+Z brings the whole path back, at
      step 0, and Ctrl+Shift+Z the nudged one again;
-  2. a parameter set by its slider (Ctrl+click, a value, Enter) goes back to what it was with Ctrl+Z;
-  3. opening another scene while a nudge is unsaved asks first: Enter (Cancel) keeps the scene open; once
-     saved, the other scene opens without a question.
+  2. a parameter set by its slider (Ctrl+click, a value, Enter) goes back to what it was with Ctrl+Z.
 """
 import os
 import sys
@@ -80,37 +78,11 @@ class Undo(Taps):
         self.check(undone is not None and undone == before, f"Ctrl+Z sets K back: {undone} (expected {before})")
         self.kill()
 
-    def open_sphere(self):
-        self.type_into(POS_OPEN_FIELD, "scenes/press_sphere.json")
-        self.click(*POS_OPEN_BUTTON, settle=0.5)
-
-    def journey_open_asks(self):
-        if not self.open_cow():
-            return
-        self.at_step_zero()
-        self.key("Up")
-        time.sleep(KEEPER_SETTLE_S)
-        self.open_sphere()
-        time.sleep(5.0)   # an open without a question is in place well before this
-        title = self.title()
-        self.check("press_cow" in title and "press_sphere" not in title,
-                   f"with an unsaved nudge, Open asks first: the scene stays open ('{title}')")
-        self.key("Return")   # Enter answers Cancel, the button that keeps the work
-        time.sleep(1.0)
-        title = self.title()
-        self.check("press_cow" in title, f"Cancel keeps the scene and its nudge ('{title}')")
-        self.save()
-        time.sleep(KEEPER_SETTLE_S)
-        self.open_sphere()
-        self.check(self.wait_title("press_sphere", timeout=30) is not None,
-                   "once saved, the other scene opens without a question")
-        self.kill()
-
 
 def main():
     a = journey_args()
     j = Undo(a)
-    run_journeys(j, [j.journey_nudge, j.journey_slider, j.journey_open_asks], a.only)
+    run_journeys(j, [j.journey_nudge, j.journey_slider], a.only)
 
 
 if __name__ == "__main__":
