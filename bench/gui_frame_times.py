@@ -41,7 +41,8 @@ def start_gui(exe, scene, work, stats):
     if scene:
         cmd += ["--scene", scene]
     log = open(os.path.join(work, "gui.log"), "w")
-    proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT)
+    env = dict(os.environ, XDG_STATE_HOME=work)  # the session Ctrl+S writes goes to the temporary folder
+    proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, env=env)
     end = time.time() + 120
     while time.time() < end and proc.poll() is None:
         w = xdo("search", "--pid", proc.pid, "--name", "shearbench").split()
@@ -86,6 +87,16 @@ def pooled_frame_ms(stats, t_from_s, t_to_s):
     return sorted(ms)
 
 
+def saved_path_poses(work):
+    """How many poses the session saved after the drag holds (the first view's own path is short: a drag that
+    moved the indenter adds one per physics step of the drag); -1 when no session was saved."""
+    for root, _, files in os.walk(work):
+        if "session.json" in files:
+            with open(os.path.join(root, "session.json")) as f:
+                return len(json.load(f).get("path_X_EI", []))
+    return -1
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--exe", required=True)
@@ -105,12 +116,14 @@ def main():
     drag(wid, a.seconds, a.move_ms)
     t_to = time.time() - window_t
     time.sleep(2.5)  # the stats line that covers the drag's end
+    xdo("key", "--window", wid, "ctrl+s")  # the saved path says whether the drag moved the indenter
+    time.sleep(2.0)
     proc.kill()
     proc.wait()
     ms = pooled_frame_ms(stats, t_from + 1, t_to)
     if not ms:
         sys.exit(f"no frame times in {stats} between {t_from:.1f} s and {t_to:.1f} s")
-    figures = {"frames": len(ms), "seconds": round(t_to - t_from, 1), "p50_ms": percentile(ms, 0.5),
+    figures = {"path_poses_saved": saved_path_poses(work), "frames": len(ms), "seconds": round(t_to - t_from, 1), "p50_ms": percentile(ms, 0.5),
                "p90_ms": percentile(ms, 0.9), "p99_ms": percentile(ms, 0.99), "max_ms": ms[-1],
                "load_average_1min": os.getloadavg()[0], "window": "1280x800", "scene": a.scene or "first view"}
     print(json.dumps(figures))
