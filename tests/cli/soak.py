@@ -417,7 +417,20 @@ class Soak:
         # A click on the status bar ends the text edit as a person would (a Return alone did not always reach
         # ImGui 1.86's temporary input, and while it is active the shortcuts, Ctrl+S too, are off).
         self.click(640, 792, settle=0.5)
+        # ImGui applies a typed value at every character: "1.986" sets 1, 1.9, 1.98 on its way, and an autosave
+        # in between holds one of them. Each is a state the user's session passed through.
+        typed = str(value)
+        for k in range(1, len(typed)):
+            try:
+                partial = float(typed[:k])
+            except ValueError:
+                continue
+            m = self.model.copy()
+            m.params.setdefault("hydroshear", {})["mu"] = partial
+            self.history.append((self.now(), m))
         self.model.params.setdefault("hydroshear", {})["mu"] = value
+        self.log.write(f"[{self.now():7.1f}s] typed mu {value}\n")
+        self.log.flush()
         self.counts["param_edits"] += 1
         self.edited()
 
@@ -703,6 +716,7 @@ class Soak:
                             break
                 pid = self.proc.pid
                 self.log.write(f"[{self.now():7.1f}s] {f.__name__[4:]}\n")   # every action, for a failure's context
+                self.log.flush()
                 f()
                 done.add(f)
                 self.counts["actions"] += 1
