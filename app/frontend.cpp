@@ -58,7 +58,7 @@ Frontend::Frontend(const SessionOptions& session, const FrontendOptions& options
               {[this] { return session_.state->pending_edits(); }, [this] { return current_session_file(); }}),
       loader_([] { glfwPostEmptyEvent(); }) {
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
-  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
+  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model, session_.loop_answer_model);
   workbench_.set_metrics(field_metrics());
   workbench_.set_data_root(resolve_data_root(session.data_root));
   workbench_.set_camera(parse_camera(options.camera));
@@ -84,7 +84,7 @@ void Frontend::install_session(Session next, const SessionOptions& options, Base
   session_ = std::move(next);
   session_options_ = options;
   workbench_.set_session(session_.state.get(), session_.measured, session_.title, replay_ui(session_));
-  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model);
+  workbench_.set_param_set(session_.param_set, session_.scene.sensor_model, session_.loop_answer_model);
   session_.state->set_on_publish([] { glfwPostEmptyEvent(); });
   session_.state->start_thread();
   keeper_.expect_baseline(baseline);
@@ -118,7 +118,8 @@ void Frontend::poll_load() {
     char buf[96];
     std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", opened->read_s,
                   1e3 * (now_s() - t0));
-    workbench_.set_message("opened " + opened->what + " (parameter set " + session_.param_set.name + buf);
+    workbench_.set_message("opened " + opened->what + " (parameter set " + session_.param_set.name + buf +
+                           (session_.beside_note.empty() ? "" : "; " + session_.beside_note));
     if (opened->then) opened->then();
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());

@@ -7,19 +7,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <regex>
 
 #include "core/base/data_root.hpp"
 #include "core/base/display_path.hpp"
 #include "core/base/error.hpp"
+#include "core/base/format.hpp"
 #include "core/base/install_paths.hpp"
 #include "core/base/strings.hpp"
 #include "core/calibration/metrics.hpp"
 #include "core/data/json_read.hpp"
 #include "core/data/tsd.hpp"
+#include "core/loop/loop_answer.hpp"
 #include "core/loop/residual.hpp"
 #include "core/loop/residual_view.hpp"
 #include "core/models/model.hpp"
@@ -54,29 +58,51 @@ Scene builtin_default_scene() {
 
 namespace {
 
-// Each model starts from the session's parameter set, then the scene's table for it.
+// HydroShear or one of its model-form variants, as its family's descriptor lists them, optionally with effects
+// (the loop's answer, "hydroshear+dome_sway+..."); throws InputError for anything else.
+void check_beside_hydroshear(const std::string& beside) {
+  const std::vector<std::string> family = model_family("hydroshear").form_ids();
+  std::string form;
+  try {
+    form = parse_model_spec(beside).form;
+  } catch (const std::exception&) {
+  }
+  if (std::find(family.begin(), family.end(), form) != family.end()) return;
+  std::string names;
+  for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
+  throw InputError("--beside-hydroshear", "expected auto, none or one of " + names +
+                                              " (optionally with effects: hydroshear+lens_distortion), got '" + beside +
+                                              "'");
+}
+
+// "auto": the loop's answer for the sensor of a real recording when it has one, else the variant the loop selects
+// on the twin sets when the set holds fitted values for it.
+std::string auto_beside(const NamedParamSet& param_set, const LoopAnswer* answer) {
+  if (answer != nullptr) return answer->summary.after_model;
+  return param_set.tables.count(kBesideHydroshearAutoModel) != 0 ? kBesideHydroshearAutoModel : "";
+}
+
+// Each model starts from the session's parameter set (the loop's answer: the loop's own fit), then the scene's table.
 std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const SessionOptions& o,
-                                                     const NamedParamSet& param_set,
+                                                     const NamedParamSet& param_set, const LoopAnswer* answer,
                                                      const std::shared_ptr<const Indenter>& indenter) {
   std::vector<std::unique_ptr<ShearModel>> models;
   std::vector<std::string> ids;
   for (const ModelFamily& f : model_families()) ids.push_back(o.open.form_shown(f.id));
   std::string beside = o.open.beside_hydroshear;
-  if (beside == kBesideHydroshearAuto)
-    beside = param_set.tables.count(kBesideHydroshearAutoModel) != 0 ? kBesideHydroshearAutoModel : "";
+  if (beside == kBesideHydroshearAuto) beside = auto_beside(param_set, answer);
   if (!beside.empty()) {
-    // HydroShear or one of its model-form variants, as its family's descriptor lists them.
-    const std::vector<std::string> family = model_family("hydroshear").form_ids();
-    if (std::find(family.begin(), family.end(), beside) == family.end()) {
-      std::string names;
-      for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
-      throw InputError("--beside-hydroshear", "expected auto, none or one of " + names + ", got '" + beside + "'");
-    }
+    check_beside_hydroshear(beside);
     ids.insert(ids.begin() + 1, beside);
   }
   for (const std::string& id : ids) {
     auto m = make_spec_model(id, scene.sensor, indenter);
     m->set_params(param_set.params(id));
+    if (answer != nullptr && id == answer->summary.after_model) {
+      ParamSet p = m->params();
+      p.update_from_json(answer->summary.after_params, answer->report + ": /after/params");
+      m->set_params(p);
+    }
     if (auto it = scene.params.find(id); it != scene.params.end()) {
       ParamSet p = m->params();
       p.update_from_json(it->second, scene.path.empty() ? "scene" : scene.path);
@@ -130,6 +156,32 @@ void load_measured(Session& s, const std::string& data_root) {
   if (!s.measured.disp_px.empty())
     for (const Vec2& d : s.measured.disp_px.back()) s.replay.tracked_markers += d.allFinite();
   if (s.replay.tracked_markers == 0) s.title += "  [no marker tracked]";
+}
+
+// The data root's raw/ holds real recordings (imported by `shearbench import`), twin/ finite-element references;
+// a set fitted on a dataset elsewhere says which it is in its dataset.json.
+bool fitted_on_real_recording(const NamedParamSet& set, const std::string& data_root) {
+  const auto it = set.provenance.find("dataset");
+  if (it == set.provenance.end() || !it->is_string()) return false;
+  const std::string fitted_on = it->get<std::string>();
+  if (fitted_on.rfind("data:raw/", 0) == 0) return true;
+  try {
+    return read_dataset(resolve_user_path(fitted_on, data_root, fs::current_path().string())).kind == "real";
+  } catch (const std::exception&) {
+    return false;  // not on this machine: nothing says it is a real recording
+  }
+}
+
+// A real recording's sensor has a loop answer when the loop ran on the real set its parameter set was fitted on. A
+// twin set is a finite-element reference of no sensor (its runs' answers stay in their reports), and a scene has
+// no measured field to hold an answer against.
+std::optional<LoopAnswer> loop_answer_for(const Session& s, const std::string& data_root) {
+  if (s.scene.dataset_dir.empty() || read_dataset(s.scene.dataset_dir).kind != "real") return std::nullopt;
+  std::string skipped;
+  std::optional<LoopAnswer> answer = find_shipped_loop_answer(s.param_set, &skipped);
+  if (!skipped.empty()) std::fprintf(stderr, "warning: residual reports skipped: %s\n", skipped.c_str());
+  if (!answer || !fitted_on_real_recording(s.param_set, data_root)) return std::nullopt;
+  return answer;
 }
 
 }  // namespace
@@ -188,7 +240,15 @@ Session open_session(const SessionOptions& o) {
     const double shift = indenter_bottom_shift - indenter->mesh.bounds().min().z();
     for (Pose& X : s.scene.X_EI) X.translation().z() += shift;
   }
-  s.state = std::make_unique<AppState>(s.scene.sensor, indenter, make_models(s.scene, o, s.param_set, indenter),
+  const std::optional<LoopAnswer> answer = loop_answer_for(s, root);
+  if (answer) s.loop_answer_model = answer->summary.after_model;
+  if (answer && o.open.beside_hydroshear == kBesideHydroshearAuto)
+    s.beside_note = "beside HydroShear: the loop's answer for this sensor, " + answer->summary.answer_labelled + " (" +
+                    format_number(answer->summary.before_rmse_px, "%.3g") + " -> " +
+                    format_number(answer->summary.after_rmse_px, "%.3g") + " px on its validation split, " +
+                    display_path(answer->report, root) + ")";
+  s.state = std::make_unique<AppState>(s.scene.sensor, indenter,
+                                       make_models(s.scene, o, s.param_set, answer ? &*answer : nullptr, indenter),
                                        s.scene.X_EI, s.scene.dt_s);
   if (!s.scene.dataset_dir.empty()) load_measured(s, root);
   if (s.title.empty())

@@ -36,6 +36,8 @@ struct Session {
   ui::MeasuredData measured;
   ui::ReplayUi replay;
   std::string title;
+  std::string loop_answer_model;  // the loop's answer for a real recording's sensor (core/loop/loop_answer.hpp)
+  std::string beside_note;        // why the panel beside HydroShear shows what it shows, when the session chose it
 };
 
 Session open_session(const SessionOptions& options);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "core/effects/model_spec.hpp"
 #include "core/models/model_family.hpp"
 #include "core/workbench/value_check.hpp"
 #include "widgets/text_field.hpp"
@@ -13,8 +14,18 @@
 namespace sb::ui {
 
 std::string display_name(const std::string& id) {
-  const ModelForm* form = find_model_form(id);
-  return form != nullptr ? form->label : id;
+  if (const ModelForm* form = find_model_form(id)) return form->label;
+  // A form with effects (the loop's answer): "HydroShear + dome_sway + skin_indentation".
+  try {
+    const ModelSpec spec = parse_model_spec(id);
+    const ModelForm* form = find_model_form(spec.form);
+    if (form == nullptr || spec.effects.empty()) return id;
+    std::string name = form->label;
+    for (const std::string& e : spec.effects) name += " + " + e;
+    return name;
+  } catch (const std::exception&) {
+    return id;
+  }
 }
 
 namespace {

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 
+#include "core/effects/model_spec.hpp"
 #include "core/models/model_family.hpp"
+#include "core/workbench/session_file.hpp"
 
 #include "widgets/panels.hpp"
 #include "widgets/text_field.hpp"
@@ -36,8 +38,13 @@ void ParametersSection::draw(const AppSnapshot& snap, AppState& state, Workbench
 // FOTS: original | re-implementation; TacSL: raw | normalised. The choice replaces that panel's model at
 // the sync point (AppState::request_model), which replays the path to the current step.
 void ParametersSection::draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req) {
+  // The loop's answer ("hydroshear+dome_sway+...") is of its form's family.
   const auto in_family = [](const ModelFamily& f, const std::string& id) {
-    return find_model_family_of_form(id) == &f;
+    try {
+      return find_model_family_of_form(parse_model_spec(id).form) == &f;
+    } catch (const std::exception&) {
+      return false;
+    }
   };
   std::string beside;  // a second HydroShear slot is the panel beside HydroShear's
   for (const ModelFamily& f : model_families()) {
@@ -64,6 +71,10 @@ void ParametersSection::draw_variant_switches(const AppSnapshot& snap, Workbench
     if (ImGui::Selectable("none", beside.empty()) && !beside.empty()) req.beside_hydroshear = "";
     for (const std::string& v : model_family("hydroshear").form_ids())
       if (ImGui::Selectable(display_name(v).c_str(), beside == v) && beside != v) req.beside_hydroshear = v;
+    if (!loop_answer_.empty() &&
+        ImGui::Selectable(("the loop's answer: " + display_name(loop_answer_)).c_str(), beside == loop_answer_) &&
+        beside != loop_answer_)
+      req.beside_hydroshear = kBesideHydroshearAuto;
     ImGui::EndCombo();
   }
   if (ImGui::IsItemHovered())

@@ -15,10 +15,12 @@ namespace sb::ui {
 class ParametersSection {
  public:
   // The set the models started from (named in the section, provenance as tooltip, the value R resets a
-  // slider to), and the sensor of the open scene (a set fitted on another sensor is named as such).
-  void set_param_set(NamedParamSet set, const std::string& sensor_model) {
+  // slider to), the sensor of the open scene (a set fitted on another sensor is named as such), and the loop's
+  // answer for that sensor, offered beside HydroShear ("" when it has none).
+  void set_param_set(NamedParamSet set, const std::string& sensor_model, const std::string& loop_answer_model) {
     mismatch_ = sensor_mismatch(set, sensor_model);
     set_ = std::move(set);
+    loop_answer_ = loop_answer_model;
   }
   // A new session: the sliders start from its models' parameters.
   void start_session(const AppSnapshot& snap);
@@ -39,6 +41,7 @@ class ParametersSection {
   std::vector<std::vector<std::string>> notes_;  // per model, per parameter: a typed value set to its bound
   NamedParamSet set_ = published_param_set();
   std::string mismatch_;                       // sensor_mismatch() of the set and the open scene
+  std::string loop_answer_;                    // the loop's answer for the open recording's sensor, or ""
   std::map<std::string, std::string> labels_;  // set name -> its combo label
   bool show_published_ = false;
   std::uint64_t slider_gesture_ = 0;  // the slider drag in progress (0: none)

@@ -18,6 +18,16 @@ namespace sb::ui {
 
 namespace {
 
+// "name  mean" in at most `max_w` pixels: a long name (the loop's answer, a form with its effects) is cut with "..".
+std::string legend_label(const std::string& name, double mean_px, float max_w) {
+  char mean[32];
+  std::snprintf(mean, sizeof mean, "  %.2f", mean_px);
+  std::string shown = name;
+  while (shown.size() > 4 && ImGui::CalcTextSize((shown + mean).c_str()).x > max_w)
+    shown = shown.substr(0, shown.size() - 3) + "..";
+  return shown + mean;
+}
+
 // The models' colours, in slot order (the legend says which is which).
 constexpr ImU32 kModelColours[] = {IM_COL32(90, 170, 255, 255),  IM_COL32(255, 140, 60, 255),
                                    IM_COL32(110, 210, 110, 255), IM_COL32(235, 90, 110, 255),
@@ -175,8 +185,8 @@ void RmseSection::draw(const AppSnapshot& snap, AppState& state, const std::stri
   // The legend, top right: each model's name and mean in its colour.
   float y = plot.top;
   for (std::size_t m = 0; m < rows.size() && y + ImGui::GetFontSize() <= plot.top + plot.height + 1; ++m) {
-    char label[160];
-    std::snprintf(label, sizeof label, "%s  %.2f", names[m].c_str(), mean_of(rows[m]));
+    const std::string text = legend_label(names[m], mean_of(rows[m]), plot.width - 8);
+    const char* label = text.c_str();
     const float w = ImGui::CalcTextSize(label).x;
     // A dark box under each name, so the lines it crosses do not hide it.
     dl->AddRectFilled(ImVec2(plot.left + plot.width - w - 4, y),

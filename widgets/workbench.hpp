@@ -114,9 +114,10 @@ class Workbench {
   // The parameter set the models started from: named in the Parameters section (provenance as tooltip),
   // the value R resets a slider to.
   // The set the models started from, and the sensor of the open scene (a set fitted on another sensor is
-  // named as such under the combo).
-  void set_param_set(NamedParamSet set, const std::string& sensor_model) {
-    parameters_.set_param_set(std::move(set), sensor_model);
+  // named as such under the combo), and the loop's answer for that sensor ("" when it has none) the combo beside
+  // HydroShear offers.
+  void set_param_set(NamedParamSet set, const std::string& sensor_model, const std::string& loop_answer_model = "") {
+    parameters_.set_param_set(std::move(set), sensor_model, loop_answer_model);
   }
   std::string session_path() const { return session_.file(); }
   void set_output_folder(const std::string& folder) { session_.set_output_folder(folder); }

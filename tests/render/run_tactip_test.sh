@@ -15,5 +15,10 @@ rm -rf "$work"; mkdir -p "$work"
 printf '{"image_from_tool_deg": -161.39}\n' >"$work/sensor.json"
 "$exe" -q import --source tactip_shear --max-samples 1 --no-pin-prior --frames --sensor "$work/sensor.json" \
   --in "$raw" --out "$work/imported" >/dev/null
+# The loop's answer for this sensor (docs/residuals/real_tactip_full_hydroshear) beside HydroShear by default, at the
+# loop's fitted parameters: a panel the first view shows (not the contact variant the twin sets select).
+report=$(xvfb-run -a -s "-screen 0 1600x900x24" "$exe" render --dataset "$work/imported" --sample val_0014 --report --out "$work/report.png")
+echo "$report" | grep -q "HydroShear + dome_sway + tool_frame + skin_indentation" ||
+  { echo "render test: the loop's answer is not beside HydroShear on the real TacTip:" >&2; echo "$report" >&2; exit 1; }
 exec "$(dirname "$0")/run_render_test.sh" "$exe" "$compare" tactip "$out" "$baselines" "$min_ssim" \
   --dataset "$work/imported" --sample val_0014
