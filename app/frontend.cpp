@@ -119,7 +119,9 @@ void Frontend::poll_load() {
     std::snprintf(buf, sizeof buf, "; read in %.1f s on a worker, swapped in %.0f ms)", opened->read_s,
                   1e3 * (now_s() - t0));
     workbench_.set_message("opened " + opened->what + " (parameter set " + session_.param_set.name + buf +
-                           (session_.beside_note.empty() ? "" : "; " + session_.beside_note));
+                           (session_.beside_note.empty() ? "" : "; " + session_.beside_note) +
+                           (announce_replaced_work_ ? "; your unsaved work is kept: Ctrl+Z brings it back" : ""));
+    announce_replaced_work_ = false;
     if (opened->then) opened->then();
   } catch (const std::exception& e) {
     workbench_.set_message(std::string("error: ") + e.what());
@@ -209,6 +211,9 @@ void Frontend::handle(const ui::WorkbenchRequest& req, bool before_present) {
 
 // Everything that replaces the session: on the worker (reopen_then), so the window stays live.
 void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
+  if (req.undo_open) bring_back_replaced_work();
+  const bool opens = req.open_sample || req.open_session || req.open_dataset || req.param_set;
+  if (opens) keep_replaced_work();
   if (req.open_sample) {
     SessionOptions o = session_options_;
     o.open.sample_id = session_.replay.samples.at(*req.open_sample);
@@ -225,6 +230,28 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
     reopen_then(o, Baseline::kNone, "parameter set " + name,
                 [this, name] { workbench_.set_message("every model starts again from parameter set " + name); });
   }
+}
+
+// An open replaces the path, the parameters and their undo history. Over unsaved work it does not ask (a question
+// in the way of every open); it keeps the work it replaces, and Ctrl+Z past the new session's first edit brings it
+// back. Over saved work there is nothing to keep: the file holds it (and an earlier kept work stays undoable).
+void Frontend::keep_replaced_work() {
+  if (!options_.keep_work || !keeper_.dirty()) return;
+  replaced_work_ = ReplacedWork{session_file_for_saving(), workbench_.session_path(), session_.title};
+  announce_replaced_work_ = true;
+  workbench_.set_open_undo("the open: brings back your unsaved work in " + session_.title);
+}
+
+void Frontend::bring_back_replaced_work() {
+  if (!replaced_work_) return;
+  const ReplacedWork work = std::move(*replaced_work_);
+  replaced_work_.reset();
+  workbench_.set_open_undo("");
+  // Baseline kNone: the work comes back unsaved, as it was.
+  apply_session_file(work.file, Baseline::kNone, [this, work] {
+    workbench_.set_session_path(work.session_path);
+    workbench_.set_message("brought back your unsaved work in " + work.title + " (not yet saved: Ctrl+S saves it)");
+  });
 }
 
 // Save / Ctrl+S: the session file is adopted only once written (a refused path is not offered again).
@@ -380,6 +407,7 @@ SessionFile Frontend::current_session_file() const {
   f.arrow_gain = wb.scale().arrow_gain;
   f.colour_max_px = wb.scale().colour_max_px;
   f.camera = wb.camera_view();
+  wb.write_display_choices(f);
   f.residual_file = absolute(wb.residual_file());
   f.residual_fields = wb.residual_fields_shown();
   f.residual_corrected = wb.corrected_shown();
@@ -415,6 +443,7 @@ void Frontend::apply_session_edits(const SessionFile& f) {
   if (f.arrow_gain > 0) workbench_.scale().arrow_gain = static_cast<float>(f.arrow_gain);
   if (f.colour_max_px > 0) workbench_.scale().colour_max_px = static_cast<float>(f.colour_max_px);
   if (f.camera) workbench_.set_camera_view(*f.camera);
+  workbench_.read_display_choices(f);
   if (f.residual_file.empty()) {
     workbench_.clear_residual();
   } else {

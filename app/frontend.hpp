@@ -95,6 +95,16 @@ class Frontend {
  private:
   void handle(const ui::WorkbenchRequest& req, bool before_present);
   void handle_open_requests(const ui::WorkbenchRequest& req);
+  // The unsaved work an open replaced: its document, the file Ctrl+S wrote it to, and its title.
+  struct ReplacedWork {
+    SessionFile file;
+    std::string session_path;
+    std::string title;
+  };
+  void keep_replaced_work();
+  void bring_back_replaced_work();
+  std::optional<ReplacedWork> replaced_work_;
+  bool announce_replaced_work_ = false;  // the next "opened" line says the work is kept
   void save_session_to(const std::string& path);
   void install_session(Session next, const SessionOptions& options, Baseline baseline);
   void poll_load();

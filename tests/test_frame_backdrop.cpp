@@ -16,11 +16,28 @@ TEST_CASE("a real frame is dimmed by default, outlined or raw on request; the ge
   CHECK(backdrop_brightness(FrameBackdrop::kDimmed, true) == kDimmedFrameBrightness);
   // A scene's neutral gel image is no recorded frame: drawn as it is, no outline.
   CHECK(backdrop_brightness(FrameBackdrop::kDimmed, false) == 1.0);
-  CHECK_FALSE(backdrop_outlines_arrows(FrameBackdrop::kOutlined, false));
+  const Rgb violet = colour_of(ColourMap::kViridis, 0.0);
+  CHECK_FALSE(arrow_outline(FrameBackdrop::kOutlined, false, violet));
+  CHECK_FALSE(arrow_outline(FrameBackdrop::kDimmed, false, violet));
   CHECK(backdrop_brightness(FrameBackdrop::kOutlined, true) == 1.0);
-  CHECK(backdrop_outlines_arrows(FrameBackdrop::kOutlined, true));
+  CHECK(arrow_outline(FrameBackdrop::kOutlined, true, violet));
   CHECK(backdrop_brightness(FrameBackdrop::kRaw, true) == 1.0);
-  CHECK_FALSE(backdrop_outlines_arrows(FrameBackdrop::kRaw, true));
+  CHECK_FALSE(arrow_outline(FrameBackdrop::kRaw, true, violet));
+}
+
+TEST_CASE("over a dimmed frame an arrow's outline contrasts with it; over a raw one it is dark", "[frame_backdrop]") {
+  // viridis at 0 is (0.267, 0.005, 0.329): luminance 0.2126 * 0.267 + 0.7152 * 0.005 + 0.0722 * 0.329 = 0.084,
+  // dark; at 1 (0.993, 0.906, 0.144): 0.2111 + 0.6480 + 0.0104 = 0.870, light.
+  const Rgb dark = colour_of(ColourMap::kViridis, 0.0), light = colour_of(ColourMap::kViridis, 1.0);
+  CHECK(luminance(dark) == Approx(0.084).margin(1e-3));
+  CHECK(luminance(light) == Approx(0.870).margin(1e-3));
+  const auto under_dark = arrow_outline(FrameBackdrop::kDimmed, true, dark);
+  const auto under_light = arrow_outline(FrameBackdrop::kDimmed, true, light);
+  REQUIRE(under_dark);
+  REQUIRE(under_light);
+  CHECK(luminance(*under_dark) > 1 - kDarkArrowLuminance);                        // light under the dark arrow
+  CHECK(luminance(*under_light) < kDarkArrowLuminance);                           // dark under the light one
+  CHECK(luminance(*arrow_outline(FrameBackdrop::kOutlined, true, dark)) == 0.0);  // the raw frame's white pins
 }
 
 TEST_CASE("each panel keeps its own choice; the button cycles dimmed, outlined, raw", "[frame_backdrop]") {

@@ -62,10 +62,9 @@ NamedParamSet set_fitted_on(const std::string& dataset) {
 
 }  // namespace
 
-TEST_CASE("loop answer: the HydroShear run on the set's own dataset, not another base or dataset",
-          "[loop_answer]") {
+TEST_CASE("loop answer: the HydroShear run on the set's own dataset, not another base or dataset", "[loop_answer]") {
   const Reports r;
-  r.add("a_tacsl", report("tactip_shear", "tacsl", {"lens_distortion"}));         // another base model
+  r.add("a_tacsl", report("tactip_shear", "tacsl", {"lens_distortion"}));            // another base model
   r.add("b_other", report("fots_marker_calib", "hydroshear", {"lens_distortion"}));  // another dataset
   r.add("c_injected", report("tactip_shear+viscoelastic_creep", "hydroshear", {"lens_distortion"}));
   r.add("d_answer", report("tactip_shear", "hydroshear", {"lens_distortion"}));

@@ -71,6 +71,15 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   REQUIRE(r.camera);
   CHECK(r.camera->position == s.camera->position);
   CHECK(r.camera->focal_point == s.camera->focal_point);
+  // What the display was set to: the 3D markers' model, the colour map, each panel's frame backdrop.
+  s.marker_model = "fots-reimpl";
+  s.colour_map = sb::ColourMap::kHighContrast;
+  s.frame_backdrops = {{"FOTS", sb::FrameBackdrop::kRaw}, {"Measured", sb::FrameBackdrop::kOutlined}};
+  sb::save_session_file(path, s);
+  const sb::SessionFile shown = sb::load_session_file(path);
+  CHECK(shown.marker_model == "fots-reimpl");
+  CHECK(shown.colour_map == sb::ColourMap::kHighContrast);
+  CHECK(shown.frame_backdrops == s.frame_backdrops);
   // Without an analysis the section is left out, and reads back as none; so is an empty beside panel (the
   // key is absent, and files without the feature stay readable by older builds).
   s.residual_file.clear();
@@ -78,6 +87,12 @@ TEST_CASE("a session survives a save and a load unchanged", "[session]") {
   sb::save_session_file(path, s);
   CHECK(sb::load_session_file(path).residual_file.empty());
   CHECK_FALSE(sb::session_to_json(s)["open"].contains("beside_hydroshear"));
+  // The display's choices at their defaults are left out too.
+  s.marker_model.clear();
+  s.colour_map = sb::ColourMap::kViridis;
+  s.frame_backdrops.clear();
+  for (const char* key : {"marker_model", "colour_map", "frame_backdrops"})
+    CHECK_FALSE(sb::session_to_json(s)["display"].contains(key));
   fs::remove(path);
 }
 
@@ -92,13 +107,17 @@ TEST_CASE("bad session files name the file and the JSON pointer", "[session]") {
   CHECK_THAT(message_of(head + R"(, "params": {"tacsl": 3}})"), Catch::Contains("/params/tacsl"));
   CHECK_THAT(message_of(head + R"(, "display": {"arrow_gain": -1}})"), Catch::Contains("/display/arrow_gain"));
   CHECK_THAT(message_of(head + R"(, "colour": 1})"), Catch::Contains("colour"));  // a typo is not ignored
+  CHECK_THAT(message_of(head + R"(, "display": {"colour_map": "jet"}})"),
+             Catch::Contains("/display/colour_map") && Catch::Contains("'viridis'") && Catch::Contains("'jet'"));
+  CHECK_THAT(message_of(head + R"(, "display": {"frame_backdrops": {"FOTS": "dark"}}})"),
+             Catch::Contains("/display/frame_backdrops/FOTS"));
   CHECK_THAT(message_of(R"([1, 2])"), Catch::Contains("s.json"));
   // Version 1 had no residual section: a reader of version 1 rejected it as an unknown key, so a file
   // that has one is version 2, and a version 1 file claiming one is refused.
   CHECK_THAT(message_of(head + R"(, "residual": {"file": "r.json"}})"),
              Catch::Contains("/residual") && Catch::Contains("version 1"));
   CHECK_THAT(message_of(R"({"format": "shearbench-session", "version": 0, "open": {}})"),
-             Catch::Contains("reads 1 to 3"));
+             Catch::Contains("reads 1 to 4"));
 }
 
 TEST_CASE("a session file that is not JSON is reported with its line", "[session]") {

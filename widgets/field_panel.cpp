@@ -14,8 +14,8 @@ constexpr ImU32 kRestColour = IM_COL32(30, 30, 30, 200);
 constexpr ImU32 kContactColour = IM_COL32(230, 40, 40, 255);
 constexpr ImU32 kFrameColour = IM_COL32(90, 90, 100, 255);
 constexpr ImU32 kGelColour = IM_COL32(196, 188, 170, 255);
-// Drawn under each arrow, wider, when a panel outlines its arrows over a raw frame.
-constexpr ImU32 kArrowOutlineColour = IM_COL32(0, 0, 0, 230);
+// The outline under each arrow over a real frame (core/workbench/frame_backdrop: arrow_outline): nearly opaque.
+constexpr float kArrowOutlineAlpha = 0.9f;
 // Below this magnitude (image px) an arrow is drawn as a dot only.
 constexpr double kMinArrowPx = 0.02;
 
@@ -39,10 +39,11 @@ std::string elide(const std::string& text, float max_width) {
 }
 }  // namespace
 
-ImU32 colour_map(ColourMap map, float t) {
-  const Rgb c = colour_of(map, t);
-  return ImGui::ColorConvertFloat4ToU32(ImVec4(float(c.r), float(c.g), float(c.b), 1));
+ImU32 to_u32(const Rgb& c, float alpha) {
+  return ImGui::ColorConvertFloat4ToU32(ImVec4(float(c.r), float(c.g), float(c.b), alpha));
 }
+
+ImU32 colour_map(ColourMap map, float t) { return to_u32(colour_of(map, t), 1.0f); }
 
 namespace {
 // A text box with a translucent dark background; `anchor_bottom`: `at` is its bottom-left corner.
@@ -138,7 +139,6 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
   };
   const bool have_field = in.disp_px != nullptr && !in.disp_px->empty();
   const float dot = std::max(1.5f, 2.2f * zoom);
-  const bool outline = backdrop_outlines_arrows(in.backdrop, in.real_frame);
   bool any_cut = false;
   if (in.rest_px != nullptr) {
     for (std::size_t m = 0; m < in.rest_px->size(); ++m) {
@@ -158,12 +158,14 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
       if (!std::isfinite(d.x()) || !std::isfinite(d.y())) continue;  // a marker the tracker lost
       const double mag = d.norm();
       if (mag < kMinArrowPx) continue;
-      const ImU32 col = colour_map(scale.map, float(mag / scale.colour_max_px));
+      const Rgb rgb = colour_of(scale.map, mag / scale.colour_max_px);
+      const ImU32 col = to_u32(rgb, 1.0f);
+      const std::optional<Rgb> outline = arrow_outline(in.backdrop, in.real_frame, rgb);
       bool cut = false;
       const Vec2 a = drawn_arrow(d, scale.arrow_gain, scale.max_arrow_px, &cut) * zoom;
       const ImVec2 tip(r.x + float(a.x()), r.y + float(a.y()));
       const float thickness = std::max(1.5f, 0.9f * zoom);
-      if (outline) draw_arrow(dl, r, tip, kArrowOutlineColour, thickness + 2.5f);
+      if (outline) draw_arrow(dl, r, tip, to_u32(*outline, kArrowOutlineAlpha), thickness + 2.5f);
       draw_arrow(dl, r, tip, col, thickness);
       if (cut) {  // a second head behind the first: longer than drawn
         any_cut = true;

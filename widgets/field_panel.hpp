@@ -57,6 +57,7 @@ struct FieldPanelResult {
 
 // RGBA of a magnitude on colour map `map` (t in [0, 1], clamped; core/workbench/frame_backdrop).
 ImU32 colour_map(ColourMap map, float t);
+ImU32 to_u32(const Rgb& c, float alpha);
 
 // Draws at the cursor into a box of `width` pixels (title row, then the image). `interactive`: hover and
 // the enlarge button answer the mouse.

@@ -1,12 +1,15 @@
 #include "widgets/session_section.hpp"
 
 #include <imgui.h>
+#include <imgui_internal.h>  // GetActiveID, ClearActiveID: an adopted path ends the editing
 
 #include "widgets/text_field.hpp"
 
 namespace sb::ui {
 
 void SessionSection::draw(WorkbenchRequest& req) {
+  if (end_edit_ && ImGui::GetActiveID() == ImGui::GetID("##session")) ImGui::ClearActiveID();
+  end_edit_ = false;
   next_item_leaves_label_room();
   // A click selects the whole path, so what is typed replaces it (a path typed into the middle of the old one
   // named a file nobody meant).

@@ -11,11 +11,17 @@ class SessionSection {
  public:
   // The session file: what the quit dialog saves to. Adopted only once a save or an open succeeded; the
   // field shows it again after a failed open (revert).
+  // An adopted path also ends the field's editing: ImGui's Esc would otherwise put back the text the field had
+  // when the editing began (the old file) while the quit dialog and the next Ctrl+S write to the adopted one.
   void set_file(const std::string& path) {
     file_ = path;
     field_ = path;
+    end_edit_ = true;
   }
-  void revert() { field_ = file_; }
+  void revert() {
+    field_ = file_;
+    end_edit_ = true;
+  }
   const std::string& file() const { return file_; }
   // What the field says now (Ctrl+S saves there).
   const std::string& field() const { return field_; }
@@ -31,6 +37,7 @@ class SessionSection {
   std::string file_;   // the adopted session file
   bool unsaved_ = false;
   bool saved_once_ = false;
+  bool end_edit_ = false;  // the field's text was set from outside: stop editing it at the next draw
   std::string output_folder_;
 };
 

@@ -154,7 +154,7 @@ void Workbench::apply_action(Action action, WorkbenchRequest& req) {
     case Action::kScreenshot: req.screenshot = true; break;
     case Action::kToggleHelp: show_help_ = !show_help_; break;
     case Action::kSaveSession: req.save_session = session_.field(); break;
-    case Action::kUndo: state_->request_undo(); break;
+    case Action::kUndo: undo(req); break;
     case Action::kRedo: state_->request_redo(); break;
     case Action::kQuit: req.quit = true; break;
   }
@@ -168,11 +168,37 @@ void Workbench::say_if_path_replaced(const char* by) {
 }
 
 // Undo / Redo with what they would take back, as the tooltip names it.
-void Workbench::draw_undo_row() {
-  const auto button = [this](const char* label, const std::string& what, bool undo) {
+void Workbench::write_display_choices(SessionFile& f) const {
+  const AppSnapshot snap = state_->snapshot();
+  const int m = display_.marker_model();
+  // The first panel's model is the default: left out, as a file from before the choice was kept reads.
+  f.marker_model = m > 0 && m < static_cast<int>(snap.models.size()) ? snap.models[m].id : "";
+  f.colour_map = display_.scale().map;
+  f.frame_backdrops = backdrops_.chosen();
+}
+
+void Workbench::read_display_choices(const SessionFile& f) {
+  const AppSnapshot snap = state_->snapshot();
+  display_.set_marker_model(0);
+  for (int m = 0; m < static_cast<int>(snap.models.size()); ++m)
+    if (snap.models[m].id == f.marker_model) display_.set_marker_model(m);
+  display_.scale().map = f.colour_map;
+  backdrops_.assign(f.frame_backdrops);
+}
+
+// The session's own edits first; with none left, the open that replaced unsaved work.
+void Workbench::undo(WorkbenchRequest& req) {
+  if (snap_.undo_label.empty() && !open_undo_.empty())
+    req.undo_open = true;
+  else
+    state_->request_undo();
+}
+
+void Workbench::draw_undo_row(WorkbenchRequest& req) {
+  const auto button = [this, &req](const char* label, const std::string& what, bool undo) {
     ImGui::BeginDisabled(what.empty());
     // Small: on the pose section's last line, so the column below keeps its place.
-    if (ImGui::SmallButton(label)) undo ? state_->request_undo() : state_->request_redo();
+    if (ImGui::SmallButton(label)) undo ? this->undo(req) : state_->request_redo();
     ImGui::EndDisabled();
     if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled))
       ImGui::SetTooltip("%s",
@@ -180,7 +206,7 @@ void Workbench::draw_undo_row() {
                             ? (undo ? "nothing to undo" : "nothing to redo")
                             : ((undo ? "undo: " : "redo: ") + what + (undo ? " (Ctrl+Z)" : " (Ctrl+Shift+Z)")).c_str());
   };
-  button("Undo", snap_.undo_label, true);
+  button("Undo", snap_.undo_label.empty() ? open_undo_ : snap_.undo_label, true);
   ImGui::SameLine();
   button("Redo", snap_.redo_label, false);
 }
@@ -220,7 +246,7 @@ void Workbench::draw_controls(WorkbenchRequest& req) {
     pose_.draw(snap_, viewport_.dragging(), *state_);
     if (options_.interactive) {  // a headless render has nothing to undo: its image stays as it was
       ImGui::SameLine();
-      draw_undo_row();
+      draw_undo_row(req);
     }
   }
   if (ImGui::CollapsingHeader("Display", ImGuiTreeNodeFlags_DefaultOpen)) {

@@ -19,6 +19,7 @@
 #include "core/loop/residual_view.hpp"
 #include "core/workbench/app_state.hpp"
 #include "core/workbench/field_export.hpp"
+#include "core/workbench/session_file.hpp"
 #include "widgets/dialogs.hpp"
 #include "widgets/display_section.hpp"
 #include "widgets/export_row.hpp"
@@ -98,6 +99,9 @@ class Workbench {
   // The session file: what the quit dialog saves to. Adopted only once a save or an open succeeded; the
   // field shows it again after a failed open (revert_session_path).
   void set_session_path(const std::string& path) { session_.set_file(path); }
+  // What Ctrl+Z does once the session has no edit left to undo: bring back the unsaved work an open replaced
+  // ("": nothing to bring back). Named on the Undo button.
+  void set_open_undo(std::string what) { open_undo_ = std::move(what); }
   void revert_session_path() { session_.revert(); }
   // A session opening on a worker ("" when done): a progress line over the window, input held meanwhile.
   void set_loading(std::string what) { loading_.set(std::move(what)); }
@@ -105,6 +109,10 @@ class Workbench {
   // The 3D view's camera, for the session file.
   std::optional<CameraView> camera_view() const { return viewport_.camera_view(); }
   void set_camera_view(const CameraView& view) { viewport_.set_camera_view(view); }
+  // What a session file keeps of the display besides the camera and scale: the 3D markers' model (by id), the
+  // colour map and each panel's frame backdrop (core/workbench/session_file.hpp).
+  void write_display_choices(SessionFile& f) const;
+  void read_display_choices(const SessionFile& f);
   // Drops the residual analysis (its dataset was replaced): its panels, switches and Apply go with it.
   void clear_residual() { residual_.clear(); }
   void set_data_root(std::string root) {
@@ -183,7 +191,9 @@ class Workbench {
   float dragged_left_px_ = 0;            // where the user dragged the columns' divider (0: never)
   std::uint64_t view_drag_gesture_ = 0;  // the 3D view's drag in progress (0: none): one undo entry
   void say_if_path_replaced(const char* by);
-  void draw_undo_row();
+  void draw_undo_row(WorkbenchRequest& req);
+  void undo(WorkbenchRequest& req);
+  std::string open_undo_;  // what undoing the last open does ("": nothing to bring back)
   // The field area (the right column).
   std::string enlarged_;      // the enlarged field panel's name, "" for none
   PanelBackdrops backdrops_;  // each panel's choice of how a recorded frame sits under its arrows

@@ -28,6 +28,7 @@ struct WorkbenchRequest {
   std::optional<std::string> export_fields;                 // a folder: every model's field along the path, tsd/1 each
   std::optional<std::pair<int, std::string>> switch_model;  // (slot, model id): FOTS / TacSL variant
   std::optional<std::string> beside_hydroshear;             // a HydroShear variant in its own panel ("": remove it)
+  bool undo_open = false;  // bring back the unsaved work the last open replaced (Ctrl+Z with nothing else to undo)
   // The button the user chose in the question asked with Workbench::ask (its id, the button's index).
   std::optional<std::pair<std::string, int>> answer;
 };

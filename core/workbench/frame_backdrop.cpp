@@ -52,7 +52,12 @@ double backdrop_brightness(FrameBackdrop b, bool real_frame) {
 
 int dimmed_channel(int channel, double brightness) { return static_cast<int>(std::lround(channel * brightness)); }
 
-bool backdrop_outlines_arrows(FrameBackdrop b, bool real_frame) { return real_frame && b == FrameBackdrop::kOutlined; }
+std::optional<Rgb> arrow_outline(FrameBackdrop b, bool real_frame, const Rgb& arrow) {
+  constexpr Rgb kDark{0, 0, 0}, kLight{0.9, 0.9, 0.9};
+  if (!real_frame || b == FrameBackdrop::kRaw) return std::nullopt;
+  if (b == FrameBackdrop::kOutlined) return kDark;
+  return luminance(arrow) <= kDarkArrowLuminance ? kLight : kDark;
+}
 
 FrameBackdrop PanelBackdrops::of(const std::string& panel) const {
   for (const auto& [name, b] : chosen_)

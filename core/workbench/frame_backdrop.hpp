@@ -3,7 +3,9 @@
 // by, without a window (widgets/field_panel draws them). A real TacTip frame is white pins on black: thin
 // arrows in the colours of the pins read as part of the image, so by default the frame is dimmed.
 #include <array>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sb {
@@ -29,8 +31,6 @@ FrameBackdrop next_backdrop(FrameBackdrop b);
 double backdrop_brightness(FrameBackdrop b, bool real_frame);
 // An 8-bit channel of the frame as drawn (rounded). @pre 0 <= brightness <= 1.
 int dimmed_channel(int channel, double brightness);
-// Whether the arrows get a dark outline.
-bool backdrop_outlines_arrows(FrameBackdrop b, bool real_frame);
 
 // Each panel's choice by its title; a panel never chosen for is kDimmed.
 class PanelBackdrops {
@@ -38,6 +38,9 @@ class PanelBackdrops {
   FrameBackdrop of(const std::string& panel) const;
   void set(const std::string& panel, FrameBackdrop b);
   void cycle(const std::string& panel) { set(panel, next_backdrop(of(panel))); }
+  // Every choice made, in the order first made (what a session file keeps); assign() replaces them all.
+  const std::vector<std::pair<std::string, FrameBackdrop>>& chosen() const { return chosen_; }
+  void assign(std::vector<std::pair<std::string, FrameBackdrop>> chosen) { chosen_ = std::move(chosen); }
 
  private:
   std::vector<std::pair<std::string, FrameBackdrop>> chosen_;
@@ -59,5 +62,13 @@ std::string colour_map_name(ColourMap m);
 Rgb colour_of(ColourMap m, double t);
 // Rec. 709 relative luminance of a colour (linear weights on the channels as stored: a contrast measure).
 double luminance(const Rgb& c);
+
+// The outline drawn under an arrow of colour `arrow`, wider than it, over a real frame: for kOutlined a dark one
+// (the raw frame's white pins); for kDimmed one that contrasts with the arrow, light under a dark arrow (viridis's
+// low end on the dimmed pins and the black between them) and dark under a light one. None over the gel image of a
+// scene, nor for kRaw.
+std::optional<Rgb> arrow_outline(FrameBackdrop b, bool real_frame, const Rgb& arrow);
+// An arrow at or below this luminance gets the light outline over a dimmed frame.
+inline constexpr double kDarkArrowLuminance = 0.35;
 
 }  // namespace sb

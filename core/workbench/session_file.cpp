@@ -110,11 +110,47 @@ nlohmann::ordered_json session_to_json(const SessionFile& s) {
                               {"focal_point_mm", vec(s.camera->focal_point)},
                               {"view_up", vec(s.camera->view_up)}};
   }
+  if (!s.marker_model.empty()) j["display"]["marker_model"] = s.marker_model;
+  if (s.colour_map != ColourMap::kViridis) j["display"]["colour_map"] = colour_map_name(s.colour_map);
+  if (!s.frame_backdrops.empty()) {
+    j["display"]["frame_backdrops"] = nlohmann::ordered_json::object();
+    for (const auto& [panel, b] : s.frame_backdrops) j["display"]["frame_backdrops"][panel] = backdrop_name(b);
+  }
   if (!s.residual_file.empty())
     j["residual"] = {
         {"file", s.residual_file}, {"residual_fields", s.residual_fields}, {"corrected", s.residual_corrected}};
   return j;
 }
+
+namespace {
+
+// One of `names`' values by its name; fails naming the pointer and the choices.
+template <class T, std::size_t N>
+T choice_by_name(const json& v, const std::array<T, N>& choices, std::string (*name)(T), const std::string& file,
+                 const std::string& pointer) {
+  const std::string given = jsonin::string(v, file, pointer);
+  std::string all;
+  for (T c : choices) {
+    if (name(c) == given) return c;
+    all += (all.empty() ? "" : ", ") + ("'" + name(c) + "'");
+  }
+  jsonin::fail(file, pointer, "expected one of " + all + ", got '" + given + "'");
+}
+
+void read_display_choices(const json& d, const std::string& file, SessionFile& s) {
+  if (const json* v = jsonin::find(d, "marker_model"))
+    s.marker_model = jsonin::string(*v, file, "/display/marker_model");
+  if (const json* v = jsonin::find(d, "colour_map"))
+    s.colour_map = choice_by_name(*v, kColourMaps, colour_map_name, file, "/display/colour_map");
+  if (const json* b = jsonin::find(d, "frame_backdrops")) {
+    jsonin::require_object(*b, file, "/display/frame_backdrops");
+    for (const auto& [panel, v] : b->items())
+      s.frame_backdrops.emplace_back(
+          panel, choice_by_name(v, kFrameBackdrops, backdrop_name, file, "/display/frame_backdrops/" + panel));
+  }
+}
+
+}  // namespace
 
 SessionFile session_from_json(const json& j, const std::string& file) {
   jsonin::reject_unknown_keys(j, {"format", "version", "open", "params", "path_X_EI", "step", "display", "residual"},
@@ -165,7 +201,10 @@ SessionFile session_from_json(const json& j, const std::string& file) {
           "step " + std::to_string(s.step) + " is outside the path (" + std::to_string(s.path.size()) + " poses)");
   }
   if (const json* d = jsonin::find(j, "display")) {
-    jsonin::reject_unknown_keys(*d, {"auto_scale", "arrow_gain", "colour_max_px", "camera"}, file, "/display");
+    jsonin::reject_unknown_keys(
+        *d, {"auto_scale", "arrow_gain", "colour_max_px", "camera", "marker_model", "colour_map", "frame_backdrops"},
+        file, "/display");
+    read_display_choices(*d, file, s);
     if (const json* c = jsonin::find(*d, "camera")) s.camera = camera_from_json(*c, file, "/display/camera");
     if (const json* v = jsonin::find(*d, "auto_scale")) s.auto_scale = jsonin::boolean(*v, file, "/display/auto_scale");
     if (const json* v = jsonin::find(*d, "arrow_gain")) {

@@ -10,6 +10,7 @@
 
 #include "core/calibration/param_sets.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/workbench/frame_backdrop.hpp"
 
 namespace sb {
 
@@ -50,9 +51,9 @@ struct CameraView {
 };
 
 struct SessionFile {
-  // Version 2 added the optional "residual" section, version 3 the optional camera under "display";
-  // older files are still read.
-  static constexpr int kFormatVersion = 3;
+  // Version 2 added the optional "residual" section, version 3 the optional camera under "display", version 4
+  // the marker model, colour map and frame backdrops under "display"; older files are still read.
+  static constexpr int kFormatVersion = 4;
   static constexpr int kOldestReadableVersion = 1;
   SessionSource open;
   // What the user did: every model's parameters (model id -> table), the pose path X_EI(0..n-1)
@@ -65,6 +66,12 @@ struct SessionFile {
   double arrow_gain = 0.0;  // 0: the workbench's default
   double colour_max_px = 0.0;
   std::optional<CameraView> camera;  // none: the default (iso) view
+  // Written only when chosen, so files without them stay readable by older builds: the model whose field the 3D
+  // view's markers show (its id; empty: the first panel's), the colour map, and each field panel's frame
+  // backdrop by panel title (a panel not listed: dimmed).
+  std::string marker_model;
+  ColourMap colour_map = ColourMap::kViridis;
+  std::vector<std::pair<std::string, FrameBackdrop>> frame_backdrops;
   // A residual analysis shown in the Residual section (empty: none) and its two switches.
   std::string residual_file;
   bool residual_fields = false;

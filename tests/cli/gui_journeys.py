@@ -9,6 +9,8 @@ of the issue:
   2. a scene typed into the Session field: Ctrl+S there (a text field has the focus) refuses to overwrite
      it, Open opens it as a scene without adopting its path, Shift+Esc asks, Enter saves to the default
      session path (the XDG state folder), and the scene file is byte-identical afterwards (1, 2, 4, 6);
+  2b. a path typed into the Session field and saved with Ctrl+S stays the session file after an Esc: the next
+     Ctrl+S saves it again, not the default session (Esc once put the old path back in the field);
   3. Ctrl+S while a text field has the focus saves; the camera (key 1: top) is saved; a dataset typed
      relative to the data root ("twin/twin_sphere35") opens on a worker while frames keep coming, and the
      residual analysis of another dataset is not shown over the scene (3, 5, 6); the Enter that opens it is tapped
@@ -223,6 +225,31 @@ class Journeys:
                        "the saved session opens the scene that was opened")
         self.kill()
 
+    def journey_session_escape(self):
+        """A path typed into the Session field and saved with Ctrl+S is the session file: an Esc afterwards does
+        not put the old path back in the field (the next Ctrl+S wrote the default session)."""
+        mine = os.path.join(self.work, "mine.json")
+        self.start("--scene", "scenes/press_sphere.json")
+        if self.wait_title("press_sphere") is None:
+            return self.kill()
+        self.click(*POS_PARAMETERS_HEADER, settle=1.0)   # collapse Parameters: Session comes up
+        self.type_into(POS_SESSION_FIELD, mine)
+        t = time.time()
+        self.key("ctrl+s")   # the field still has the focus
+        time.sleep(1.5)
+        self.check(os.path.exists(mine) and os.path.getmtime(mine) > t, f"Ctrl+S in the Session field saved {mine}")
+        self.key("Escape")
+        time.sleep(0.5)
+        self.key("Right")    # an edit ...
+        time.sleep(1.5)
+        t = time.time()
+        self.key("ctrl+s")   # ... saved where the session is
+        time.sleep(2.0)
+        default_untouched = not os.path.exists(self.session) or os.path.getmtime(self.session) <= t
+        self.check(os.path.getmtime(mine) > t and default_untouched,
+                   f"after Esc the next Ctrl+S saves {os.path.basename(mine)} again, not the default session")
+        self.kill()
+
     def journey_open_dataset(self):
         residual = os.path.join(self.src, "docs", "residuals", "twin_frames_hydroshear", "residual.json")
         stats = os.path.join(self.work, "stats_open.jsonl")
@@ -380,8 +407,8 @@ def main():
     time.sleep(1.1)   # mtime granularity
     j = Journeys(a)
     try:
-        for journey in (j.journey_overwrite, j.journey_open_dataset, j.journey_reopen, j.journey_empty_sample,
-                        j.panel_width, j.journey_timeline):
+        for journey in (j.journey_overwrite, j.journey_session_escape, j.journey_open_dataset, j.journey_reopen,
+                        j.journey_empty_sample, j.panel_width, j.journey_timeline):
             j.say(f"--- {journey.__name__}")
             journey()
     finally:

@@ -4,7 +4,9 @@
 Each journey reads what the workbench writes: the session file Ctrl+S saves, and the window's title.
   1. at step 0 one nudge (Up) replaces the scene's path by a short one; Ctrl+Z brings the whole path back, at
      step 0, and Ctrl+Shift+Z the nudged one again;
-  2. a parameter set by its slider (Ctrl+click, a value, Enter) goes back to what it was with Ctrl+Z.
+  2. a parameter set by its slider (Ctrl+click, a value, Enter) goes back to what it was with Ctrl+Z;
+  3. opening another scene over unsaved work (a nudge) keeps that work: Ctrl+Z in the new scene, with nothing of
+     its own to undo, brings back the cow with its nudged path, unsaved.
 """
 import os
 import sys
@@ -79,10 +81,38 @@ class Undo(Taps):
         self.kill()
 
 
+    def tail_x(self):
+        """The indenter's last x on the saved path (m), or None."""
+        d = self.save()
+        return d["path_X_EI"][-1][0] if d and d.get("path_X_EI") else None
+
+    def journey_open(self):
+        if not self.open_cow():
+            return
+        self.key("Right")
+        time.sleep(1.5)    # the nudge stepped
+        saved = self.tail_x()   # saved: the first nudge is in the file
+        self.key("Right")  # ... the second is not
+        time.sleep(KEEPER_SETTLE_S)
+        self.type_into(POS_OPEN_FIELD, "scenes/press_sphere.json")
+        self.click(*POS_OPEN_BUTTON, settle=0.5)
+        if self.wait_title("press_sphere", timeout=30) is None:
+            return self.kill()
+        time.sleep(1.0)
+        self.key("ctrl+z")
+        self.check(self.wait_title("press_cow", timeout=30) is not None,
+                   "Ctrl+Z after opening another scene over unsaved work brings the cow back")
+        time.sleep(1.5)
+        back = self.tail_x()
+        self.check(back is not None and saved is not None and abs(back - (saved + 1e-4)) < 1e-9,
+                   f"... with its unsaved nudge: x = {back} m (saved {saved} m, one more nudge of 0.1 mm)")
+        self.kill()
+
+
 def main():
     a = journey_args()
     j = Undo(a)
-    run_journeys(j, [j.journey_nudge, j.journey_slider], a.only)
+    run_journeys(j, [j.journey_nudge, j.journey_slider, j.journey_open], a.only)
 
 
 if __name__ == "__main__":
