@@ -14,8 +14,11 @@ constexpr ImU32 kRestColour = IM_COL32(30, 30, 30, 200);
 constexpr ImU32 kContactColour = IM_COL32(230, 40, 40, 255);
 constexpr ImU32 kFrameColour = IM_COL32(90, 90, 100, 255);
 constexpr ImU32 kGelColour = IM_COL32(196, 188, 170, 255);
-// The outline under each arrow over a real frame (core/workbench/frame_backdrop: arrow_outline): nearly opaque.
-constexpr float kArrowOutlineAlpha = 0.9f;
+// The outline under each arrow over a real frame (core/workbench/frame_backdrop: arrow_outline), its alpha and the
+// width it adds to the arrow: a dark one nearly opaque; a light one (under a dark arrow on a dimmed frame) thinner
+// and half-transparent, so the arrow's own colour still reads.
+constexpr float kDarkOutlineAlpha = 0.9f, kDarkOutlineWidth = 2.5f;
+constexpr float kLightOutlineAlpha = 0.5f, kLightOutlineWidth = 1.5f;
 // Below this magnitude (image px) an arrow is drawn as a dot only.
 constexpr double kMinArrowPx = 0.02;
 
@@ -165,7 +168,11 @@ FieldPanelResult draw_field_panel(const FieldPanelInput& in, const FieldScale& s
       const Vec2 a = drawn_arrow(d, scale.arrow_gain, scale.max_arrow_px, &cut) * zoom;
       const ImVec2 tip(r.x + float(a.x()), r.y + float(a.y()));
       const float thickness = std::max(1.5f, 0.9f * zoom);
-      if (outline) draw_arrow(dl, r, tip, to_u32(*outline, kArrowOutlineAlpha), thickness + 2.5f);
+      if (outline) {
+        const bool light = luminance(*outline) > 0.5;
+        draw_arrow(dl, r, tip, to_u32(*outline, light ? kLightOutlineAlpha : kDarkOutlineAlpha),
+                   thickness + (light ? kLightOutlineWidth : kDarkOutlineWidth));
+      }
       draw_arrow(dl, r, tip, col, thickness);
       if (cut) {  // a second head behind the first: longer than drawn
         any_cut = true;
