@@ -62,12 +62,14 @@ namespace {
 // (the loop's answer, "hydroshear+dome_sway+..."); throws InputError for anything else.
 void check_beside_hydroshear(const std::string& beside) {
   const std::vector<std::string> family = model_family("hydroshear").form_ids();
-  std::string form;
-  try {
-    form = parse_model_spec(beside).form;
-  } catch (const std::exception&) {
-  }
-  if (std::find(family.begin(), family.end(), form) != family.end()) return;
+  const auto form_of = [](const std::string& id) -> std::string {
+    try {
+      return parse_model_spec(id).form;
+    } catch (const std::exception&) {
+      return {};  // not a model id at all: the message below names the choices
+    }
+  };
+  if (std::find(family.begin(), family.end(), form_of(beside)) != family.end()) return;
   std::string names;
   for (const auto& id : family) names += (names.empty() ? "" : ", ") + id;
   throw InputError("--beside-hydroshear", "expected auto, none or one of " + names +
@@ -177,10 +179,10 @@ bool fitted_on_real_recording(const NamedParamSet& set, const std::string& data_
 // no measured field to hold an answer against.
 std::optional<LoopAnswer> loop_answer_for(const Session& s, const std::string& data_root) {
   if (s.scene.dataset_dir.empty() || read_dataset(s.scene.dataset_dir).kind != "real") return std::nullopt;
+  if (!fitted_on_real_recording(s.param_set, data_root)) return std::nullopt;
   std::string skipped;
   std::optional<LoopAnswer> answer = find_shipped_loop_answer(s.param_set, &skipped);
   if (!skipped.empty()) std::fprintf(stderr, "warning: residual reports skipped: %s\n", skipped.c_str());
-  if (!answer || !fitted_on_real_recording(s.param_set, data_root)) return std::nullopt;
   return answer;
 }
 
