@@ -2,6 +2,7 @@
 #include <cstdio>
 
 #include "app/command.hpp"
+#include "core/base/data_root.hpp"
 #include "core/base/error.hpp"
 #include "core/data/importers.hpp"
 
@@ -27,7 +28,10 @@ void require_enough_for_pin_prior(const ImportArgs& a) {
                        std::to_string(need) + " or more, 0 for all, or --no-pin-prior");
 }
 
-int run_import(const ImportArgs& a, const GlobalOptions&) {
+int run_import(const ImportArgs& args, const GlobalOptions& g) {
+  ImportArgs a = args;
+  // "data:raw/tactip_shear", as every other command names a folder of the data root.
+  if (a.in.rfind("data:", 0) == 0) a.in = resolve_path(a.in, resolve_data_root(g.data_root_flag), "");
   TrackerOptions opts;
   parse_grid(a.grid, "--grid", opts);
   ImportReport report;
@@ -58,7 +62,7 @@ int run_import(const ImportArgs& a, const GlobalOptions&) {
 
 void add_flags(CLI::App& sub, ImportArgs& a) {
   sub.add_option("--source", a.source, "gsrobotics | incipient_slip | fots | feats | tactip_shear")->required();
-  sub.add_option("--in", a.in, "raw folder (e.g. <data>/raw/gsrobotics_tracking)")->required();
+  sub.add_option("--in", a.in, "raw folder (e.g. data:raw/gsrobotics_tracking, in the data root)")->required();
   sub.add_option("--out", a.out, "output directory (video sources: one dataset per recording inside)")->required();
   sub.add_option("--grid", a.grid, "marker grid for video sources (ROWSxCOLS or auto)")->capture_default_str();
   sub.add_option("--mm-per-px", a.mm_per_px, "scale for video sources")->capture_default_str();

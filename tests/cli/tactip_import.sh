@@ -12,7 +12,8 @@ data="${SHEARBENCH_DATA:?SHEARBENCH_DATA must name the data root}"
 raw="$data/raw/tactip_shear"
 [[ -f "$raw/validation/targets.csv" ]] || { echo "FAIL: missing $raw (set SHEARBENCH_DATA)"; exit 1; }
 
-"$exe" -q import --source tactip_shear --in "$raw" --out "$work/tactip" >"$work/stdout.txt"
+# Named in the data root as every other command names its folders (data:raw/...).
+"$exe" -q import --source tactip_shear --in data:raw/tactip_shear --out "$work/tactip" >"$work/stdout.txt"
 "$exe" -q check --dataset "$work/tactip" >"$work/check.txt"
 # The pins are rings on a dome, not a printed lattice: no rest-grid lens evidence (core/loop/rest_grid_lens).
 grep -q "rest grid: not a lattice" "$work/check.txt" || { echo "FAIL: check did not report the pins as not a lattice:"; cat "$work/check.txt"; exit 1; }
