@@ -236,19 +236,22 @@ void Frontend::handle_open_requests(const ui::WorkbenchRequest& req) {
 // in the way of every open); it keeps the work it replaces, and Ctrl+Z past the new session's first edit brings it
 // back. Over saved work there is nothing to keep: the file holds it (and an earlier kept work stays undoable).
 void Frontend::keep_replaced_work() {
-  if (!options_.keep_work || !keeper_.dirty()) return;
-  replaced_work_ = ReplacedWork{session_file_for_saving(), workbench_.session_path(), session_.title};
+  if (!options_.keep_work) return;
+  SessionFile work = session_file_for_saving();  // waits for the physics to take a nudge made a moment ago
+  if (!keeper_.dirty_now(now_s())) return;
+  replaced_work_ = ReplacedWork{std::move(work), workbench_.session_path(), session_.title};
   announce_replaced_work_ = true;
   workbench_.set_open_undo("the open: brings back your unsaved work in " + session_.title);
 }
 
+// Kept until it is back: an open that fails (its scene deleted meanwhile) leaves it to try again.
 void Frontend::bring_back_replaced_work() {
   if (!replaced_work_) return;
-  const ReplacedWork work = std::move(*replaced_work_);
-  replaced_work_.reset();
-  workbench_.set_open_undo("");
+  const ReplacedWork work = *replaced_work_;
   // Baseline kNone: the work comes back unsaved, as it was.
   apply_session_file(work.file, Baseline::kNone, [this, work] {
+    replaced_work_.reset();
+    workbench_.set_open_undo("");
     workbench_.set_session_path(work.session_path);
     workbench_.set_message("brought back your unsaved work in " + work.title + " (not yet saved: Ctrl+S saves it)");
   });

@@ -102,7 +102,7 @@ std::vector<std::unique_ptr<ShearModel>> make_models(const Scene& scene, const S
     m->set_params(param_set.params(id));
     if (answer != nullptr && id == answer->summary.after_model) {
       ParamSet p = m->params();
-      p.update_from_json(answer->summary.after_params, answer->report + ": /after/params");
+      p.update_from_json(answer->summary.after_params, answer->summary.file + ": /after/params");
       m->set_params(p);
     }
     if (auto it = scene.params.find(id); it != scene.params.end()) {
@@ -248,7 +248,7 @@ Session open_session(const SessionOptions& o) {
     s.beside_note = "beside HydroShear: the loop's answer for this sensor, " + answer->summary.answer_labelled + " (" +
                     format_number(answer->summary.before_rmse_px, "%.3g") + " -> " +
                     format_number(answer->summary.after_rmse_px, "%.3g") + " px on its validation split, " +
-                    display_path(answer->report, root) + ")";
+                    display_path(answer->summary.file, root) + ")";
   s.state = std::make_unique<AppState>(s.scene.sensor, indenter,
                                        make_models(s.scene, o, s.param_set, answer ? &*answer : nullptr, indenter),
                                        s.scene.X_EI, s.scene.dt_s);

@@ -71,7 +71,7 @@ TEST_CASE("loop answer: the HydroShear run on the set's own dataset, not another
   // The set names its dataset as a data-root path: its last component is the report's dataset name.
   const auto answer = find_loop_answer(set_fitted_on("data:raw/tactip_shear"), r.dir.string());
   REQUIRE(answer);
-  CHECK(answer->report == (r.dir / "d_answer" / "residual.json").string());
+  CHECK(answer->summary.file == (r.dir / "d_answer" / "residual.json").string());
   CHECK(answer->summary.after_model == "hydroshear+lens_distortion");
   CHECK(answer->summary.after_params.at("lens_distortion.k1").get<double>() == -0.1);
 }

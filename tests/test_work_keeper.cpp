@@ -48,6 +48,11 @@ TEST_CASE("the work is clean once the opened session's edits are applied, dirty 
   edit(s, 0.7);
   CHECK(keeper.tick(1.8)->dirty);
   CHECK(keeper.dirty());
+  // An edit between two ticks is seen by dirty_now, not by dirty until the next tick.
+  keeper.tick(2.4);
+  edit(s, 0.5);  // back to the baseline's value: clean
+  CHECK(keeper.dirty());
+  CHECK_FALSE(keeper.dirty_now(2.5));
   CHECK_FALSE(keeper.saved_once());
   fs::remove_all(dir);
 }

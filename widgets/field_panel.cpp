@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "widgets/keys.hpp"
+#include "widgets/panels.hpp"
 
 namespace sb::ui {
 
@@ -34,12 +35,6 @@ void draw_arrow(ImDrawList* dl, ImVec2 a, ImVec2 b, ImU32 col, float thickness) 
   dl->AddTriangleFilled(b, left, right, col);
 }
 
-std::string elide(const std::string& text, float max_width) {
-  if (ImGui::CalcTextSize(text.c_str()).x <= max_width) return text;
-  std::string t = text;
-  while (!t.empty() && ImGui::CalcTextSize((t + "..").c_str()).x > max_width) t.pop_back();
-  return t + "..";
-}
 }  // namespace
 
 ImU32 to_u32(const Rgb& c, float alpha) {

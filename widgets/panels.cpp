@@ -13,19 +13,22 @@
 
 namespace sb::ui {
 
+std::string elide(const std::string& text, float max_width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= max_width) return text;
+  std::string t = text;
+  while (!t.empty() && ImGui::CalcTextSize((t + "..").c_str()).x > max_width) t.pop_back();
+  return t + "..";
+}
+
 std::string display_name(const std::string& id) {
   if (const ModelForm* form = find_model_form(id)) return form->label;
   // A form with effects (the loop's answer): "HydroShear + dome_sway + skin_indentation".
-  try {
-    const ModelSpec spec = parse_model_spec(id);
-    const ModelForm* form = find_model_form(spec.form);
-    if (form == nullptr || spec.effects.empty()) return id;
-    std::string name = form->label;
-    for (const std::string& e : spec.effects) name += " + " + e;
-    return name;
-  } catch (const std::exception&) {
-    return id;
-  }
+  const ModelSpec spec = split_model_spec(id);
+  const ModelForm* form = find_model_form(spec.form);
+  if (form == nullptr || spec.effects.empty()) return id;
+  std::string name = form->label;
+  for (const std::string& e : spec.effects) name += " + " + e;
+  return name;
 }
 
 namespace {

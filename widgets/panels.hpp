@@ -60,6 +60,8 @@ void status_bar(const AppSnapshot& snap, double frame_ms, bool show_timings, con
 
 // Pretty model names for the panels.
 std::string display_name(const std::string& model_id);
+// `text` cut with ".." to fit `max_width` pixels in the current font (unchanged when it fits).
+std::string elide(const std::string& text, float max_width);
 
 // A tooltip whose text wraps at about 60 characters (the residual loop's reasons run to several hundred).
 void wrapped_tooltip(const std::string& text);

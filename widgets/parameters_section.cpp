@@ -40,11 +40,7 @@ void ParametersSection::draw(const AppSnapshot& snap, AppState& state, Workbench
 void ParametersSection::draw_variant_switches(const AppSnapshot& snap, WorkbenchRequest& req) {
   // The loop's answer ("hydroshear+dome_sway+...") is of its form's family.
   const auto in_family = [](const ModelFamily& f, const std::string& id) {
-    try {
-      return find_model_family_of_form(parse_model_spec(id).form) == &f;
-    } catch (const std::exception&) {
-      return false;
-    }
+    return find_model_family_of_form(split_model_spec(id).form) == &f;
   };
   std::string beside;  // a second HydroShear slot is the panel beside HydroShear's
   for (const ModelFamily& f : model_families()) {

@@ -22,10 +22,7 @@ namespace {
 std::string legend_label(const std::string& name, double mean_px, float max_w) {
   char mean[32];
   std::snprintf(mean, sizeof mean, "  %.2f", mean_px);
-  std::string shown = name;
-  while (shown.size() > 4 && ImGui::CalcTextSize((shown + mean).c_str()).x > max_w)
-    shown = shown.substr(0, shown.size() - 3) + "..";
-  return shown + mean;
+  return elide(name, max_w - ImGui::CalcTextSize(mean).x) + mean;
 }
 
 // The models' colours, in slot order (the legend says which is which).

@@ -14,15 +14,19 @@ std::string ModelSpec::id() const {
   return s;
 }
 
-ModelSpec parse_model_spec(const std::string& id) {
+ModelSpec split_model_spec(const std::string& id) {
   std::vector<std::string> parts;
   std::size_t begin = 0;
   for (std::size_t end; (end = id.find('+', begin)) != std::string::npos; begin = end + 1)
     parts.push_back(id.substr(begin, end - begin));
   parts.push_back(id.substr(begin));
-  for (const auto& p : parts)
-    if (p.empty()) throw std::invalid_argument("model '" + id + "': an empty name between '+' signs");
-  ModelSpec spec{parts.front(), {parts.begin() + 1, parts.end()}};
+  return ModelSpec{parts.front(), {parts.begin() + 1, parts.end()}};
+}
+
+ModelSpec parse_model_spec(const std::string& id) {
+  const ModelSpec spec = split_model_spec(id);
+  if (spec.form.empty() || std::find(spec.effects.begin(), spec.effects.end(), "") != spec.effects.end())
+    throw std::invalid_argument("model '" + id + "': an empty name between '+' signs");
   default_params(spec.form);  // throws, naming the known forms
   for (std::size_t i = 0; i < spec.effects.size(); ++i) {
     make_effect(spec.effects[i]);  // throws, naming the known effects

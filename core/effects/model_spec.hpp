@@ -22,6 +22,9 @@ struct ModelSpec {
 // Splits on '+'. Throws std::invalid_argument naming the part for an unknown form or effect, an empty
 // part or an effect named twice.
 ModelSpec parse_model_spec(const std::string& id);
+// The parts as written, unchecked and without building anything: for naming a model already built (a panel's
+// title every frame), where parse_model_spec's checks would make every effect once more.
+ModelSpec split_model_spec(const std::string& id);
 // The default table of the model: the form's table, then each effect's as "<effect>.<name>".
 ParamSet model_spec_params(const std::string& id);
 // The model itself (the form alone when there are no effects). Throws as parse_model_spec does.

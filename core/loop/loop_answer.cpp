@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <map>
+#include <mutex>
+#include <utility>
 #include <vector>
 
 #include "core/base/install_paths.hpp"
@@ -41,7 +44,7 @@ std::optional<LoopAnswer> find_loop_answer(const NamedParamSet& set, const std::
     }
     if (summary.dataset != dataset || summary.model_id != "hydroshear" || summary.after_model == summary.model_id)
       continue;
-    return LoopAnswer{file.string(), std::move(summary)};
+    return LoopAnswer{std::move(summary)};
   }
   return std::nullopt;
 }
@@ -53,7 +56,14 @@ std::optional<LoopAnswer> find_shipped_loop_answer(const NamedParamSet& set, std
   } catch (const std::exception&) {
     return std::nullopt;  // no home: no shipped reports (the sets themselves would not have loaded either)
   }
-  return find_loop_answer(set, (std::filesystem::path(home) / "docs" / "residuals").string(), skipped);
+  const std::string reports = (std::filesystem::path(home) / "docs" / "residuals").string();
+  static std::mutex mutex;  // sessions open on a worker
+  static std::map<std::pair<std::string, std::string>, std::optional<LoopAnswer>> known;
+  const std::lock_guard<std::mutex> lock(mutex);
+  const auto key = std::make_pair(reports, fitted_dataset_name(set));
+  auto it = known.find(key);
+  if (it == known.end()) it = known.emplace(key, find_loop_answer(set, reports, skipped)).first;
+  return it->second;
 }
 
 }  // namespace sb

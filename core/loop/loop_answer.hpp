@@ -12,8 +12,7 @@
 namespace sb {
 
 struct LoopAnswer {
-  std::string report;  // the residual.json it was read from
-  ResidualSummary summary;
+  ResidualSummary summary;  // summary.file: the residual.json it was read from
 };
 
 // The report under `reports_dir` (one folder per run, each with a residual.json) whose dataset is the one `set`
@@ -24,7 +23,9 @@ struct LoopAnswer {
 std::optional<LoopAnswer> find_loop_answer(const NamedParamSet& set, const std::string& reports_dir,
                                            std::string* skipped = nullptr);
 
-// `find_loop_answer` over shearbench's home (docs/residuals); nullopt when there is no home.
+// `find_loop_answer` over shearbench's home (docs/residuals); nullopt when there is no home. The shipped reports do
+// not change while shearbench runs: each set's answer is read once per process (every sample opened of a real
+// recording asks again, and reading every report takes a few tenths of a second).
 std::optional<LoopAnswer> find_shipped_loop_answer(const NamedParamSet& set, std::string* skipped = nullptr);
 
 }  // namespace sb

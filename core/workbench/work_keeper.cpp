@@ -60,9 +60,11 @@ void WorkKeeper::discard_autosave() {
   std::filesystem::remove(autosave_path_, ec);
 }
 
-bool WorkKeeper::unsaved_on_close(double now_s) {
+bool WorkKeeper::dirty_now(double now_s) {
   if (baseline_pending_ == WorkBaseline::kNone) work_.observe(fingerprint(), now_s);
-  return work_.dirty() && !close_confirmed_;
+  return work_.dirty();
 }
+
+bool WorkKeeper::unsaved_on_close(double now_s) { return dirty_now(now_s) && !close_confirmed_; }
 
 }  // namespace sb

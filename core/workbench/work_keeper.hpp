@@ -44,6 +44,9 @@ class WorkKeeper {
   // A session file was opened (the title says "saved" from now on).
   void opened_session_file() { saved_once_ = true; }
   bool dirty() const { return work_.dirty(); }
+  // Whether the work is unsaved at now_s, observed now rather than at the last tick (an edit made a moment
+  // before an open or a close counts).
+  bool dirty_now(double now_s);
   bool saved_once() const { return saved_once_; }
 
   bool has_autosave() const;
