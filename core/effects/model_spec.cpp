@@ -24,7 +24,7 @@ ModelSpec split_model_spec(const std::string& id) {
 }
 
 ModelSpec parse_model_spec(const std::string& id) {
-  const ModelSpec spec = split_model_spec(id);
+  ModelSpec spec = split_model_spec(id);
   if (spec.form.empty() || std::find(spec.effects.begin(), spec.effects.end(), "") != spec.effects.end())
     throw std::invalid_argument("model '" + id + "': an empty name between '+' signs");
   default_params(spec.form);  // throws, naming the known forms
